@@ -1,0 +1,31 @@
+"""jaxcable: differentiable, JIT-compiled dynamics of underwater cable systems.
+
+jaxcable works in float64 throughout (stiff cables need it): importing it enables
+`jax_enable_x64`.
+"""
+
+import jax as _jax
+
+_jax.config.update("jax_enable_x64", True)
+
+from ._environment import Environment as Environment
+from ._lagrangian import (
+    generalised_forces as generalised_forces,
+    kinetic_energy as kinetic_energy,
+    potential_energy as potential_energy,
+    tension as tension,
+)
+from ._materials import (
+    AbstractTensionLaw as AbstractTensionLaw,
+    KelvinVoigt as KelvinVoigt,
+    LinearElastic as LinearElastic,
+    NonlinearElastic as NonlinearElastic,
+    slack_switch as slack_switch,
+)
+from ._motion import AbstractMotion as AbstractMotion, Fixed as Fixed, Harmonic as Harmonic, Sampled as Sampled
+from ._network import Body as Body, Branch as Branch, CableNetwork as CableNetwork, LineType as LineType
+from ._simulate import SimulationResult as SimulationResult, default_solver as default_solver, simulate as simulate
+from ._state import State as State
+from ._statics import StaticSolution as StaticSolution, solve_statics as solve_statics
+
+__version__ = "0.1.0"

@@ -1,0 +1,62 @@
+"""Hydrodynamic loads: quadratic drag on line segments and on point bodies.
+
+The line drag per unit stretched length on a relative velocity `u = V − Ṙ` is
+
+    f = C_n |u_n| u_n + C_τ |u_τ| u_τ,   C_n = ½ ρ K_n d,   C_τ = ½ ρ K_τ π d,
+
+split into the parts normal (`u_n`) and tangential (`u_τ`) to the segment. These are the
+same reference areas as MoorDyn's Cd (on d·l) and CdAx (on π·d·l).
+"""
+
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, Float
+
+# A velocity far below anything physical (m/s). Keeps |u| differentiable at u = 0,
+# where the gradient of a plain norm is NaN; the drag there is ~1e-24 N, i.e. zero.
+_TINY_SPEED = 1e-12
+
+
+def safe_norm(v: Float[Array, "... 3"]) -> Float[Array, "..."]:
+    """`|v|` along the last axis, with a finite gradient at `v = 0`."""
+    return jnp.sqrt(jnp.sum(v * v, axis=-1) + _TINY_SPEED**2)
+
+
+def gauss_legendre(points: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes and weights of `points`-point Gauss–Legendre quadrature on `[0, 1]`."""
+    nodes, weights = np.polynomial.legendre.leggauss(points)
+    return 0.5 * (nodes + 1.0), 0.5 * weights
+
+
+def line_drag(
+    relative_velocity: Float[Array, "*batch 3"],
+    tangent: Float[Array, "*batch 3"],
+    normal_coefficient: Float[Array, "*batch"],
+    tangential_coefficient: Float[Array, "*batch"],
+) -> Float[Array, "*batch 3"]:
+    """Drag per unit length, `C_n |u_n| u_n + C_τ |u_τ| u_τ` (N/m).
+
+    **Arguments:**
+
+    - `relative_velocity`: u = V − Ṙ (m/s), water relative to the line.
+    - `tangent`: the unit tangent τ of the segment.
+    - `normal_coefficient`: C_n = ½ ρ K_n d (kg/m²).
+    - `tangential_coefficient`: C_τ = ½ ρ K_τ π d (kg/m²).
+    """
+    u_tangential = jnp.sum(relative_velocity * tangent, axis=-1, keepdims=True) * tangent
+    u_normal = relative_velocity - u_tangential
+    return (
+        normal_coefficient[..., None] * safe_norm(u_normal)[..., None] * u_normal
+        + tangential_coefficient[..., None] * safe_norm(u_tangential)[..., None] * u_tangential
+    )
+
+
+def body_drag(
+    relative_velocity: Float[Array, "*batch 3"], coefficient: Float[Array, "*batch"]
+) -> Float[Array, "*batch 3"]:
+    """Quadratic drag on a body, `c |u| u` (N).
+
+    Both of jaxcable's body laws have this form: `c = ½ ρ C_D A` for form drag, and
+    `c = k₀ m g` for Zhukov's specific-weight law `R = k₀ u² m g` (seed 001, eq. 3).
+    """
+    return coefficient[..., None] * safe_norm(relative_velocity)[..., None] * relative_velocity

@@ -1,0 +1,228 @@
+"""The equations of motion, from the Lagrangian of the polyline (seed 003).
+
+Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0, 1]` (eq. 7).
+
+- Kinetic energy `K = ½ Σ L ∫₀¹ Ṙᵀ μ Ṙ dξ`, with μ the mass per length: the line's m,
+  plus the added mass `ρ F (C_a (I − ττᵀ) + C_aτ ττᵀ)`, which acts on the relative
+  acceleration. Integrated exactly, K gives the consistent mass matrix (shape-function
+  weights 1/3 and 1/6); integrated at the two ends (trapezoid rule), the lumped one.
+- Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M − ρV) g z`.
+  The conservative forces are `−∂Π/∂x`, by `jax.grad`.
+- Non-conservative loads enter by their virtual work `Q = Σ ∫ f · ∂R/∂x |∂R/∂l| dl`:
+  drag by Gauss–Legendre quadrature along each segment, the viscous part of the tension,
+  and body drag.
+
+Prescribed nodes are eliminated (seed 003, eq. 8): with the free and constrained blocks
+of the mass matrix, `M_ff a_f = Q_f − M_fc a_c`. What remains at the constrained nodes,
+`M a − Q`, is the reaction of their supports.
+
+Everything here is a pure function of `(model, environment, t, positions, velocities)`.
+"""
+
+import jax
+import jax.numpy as jnp
+import lineax as lx
+import numpy as np
+from jaxtyping import Array, Float
+
+from ._environment import Environment
+from ._hydro import body_drag, gauss_legendre, line_drag, safe_norm
+from ._network import CableNetwork
+
+# ∫₀¹ N_a N_b dξ for the shape functions N = (1 − ξ, ξ), exact and at the ends.
+_SHAPE_WEIGHTS = {
+    "consistent": np.array([[1 / 3, 1 / 6], [1 / 6, 1 / 3]]),
+    "lumped": np.array([[1 / 2, 0.0], [0.0, 1 / 2]]),
+}
+
+
+# Conjugate-gradient tolerances on the residual force (N) of the consistent solve; with a
+# condition number of at most 3, 60 iterations is far more than convergence needs.
+_CG_RTOL, _CG_ATOL, _CG_MAX_STEPS = 1e-12, 1e-10, 60
+
+
+def _scatter(model: CableNetwork, at_start: Array, at_end: Array) -> Float[Array, "nodes 3"]:
+    """Sum per-segment arrays (of any trailing shape) onto the segments' end nodes."""
+    ids = model.segment_nodes.T.reshape(-1)
+    return jax.ops.segment_sum(jnp.concatenate([at_start, at_end]), ids, num_segments=model.n_nodes)
+
+
+def constrained_motion(model: CableNetwork, t) -> tuple[Array, Array, Array]:
+    """Positions (m), velocities (m/s) and accelerations (m/s²) of the constrained
+    nodes at time `t`, each of shape `(constrained, 3)`."""
+    reference = model.node_positions[model.constrained_nodes]
+    if not model.motions:
+        empty = jnp.zeros((0, 3))
+        return empty, empty, empty
+    r, v, a = (jnp.stack(k) for k in zip(*(m.kinematics(t) for m in model.motions)))
+    return reference + r, v, a
+
+
+def full_state(model: CableNetwork, t, free_positions, free_velocities):
+    """Node positions and velocities, shape `(nodes, 3)`, from the free unknowns."""
+    r, v, _ = constrained_motion(model, t)
+    positions = model.node_positions.at[model.free_nodes].set(free_positions).at[model.constrained_nodes].set(r)
+    velocities = jnp.zeros_like(positions).at[model.free_nodes].set(free_velocities)
+    return positions, velocities.at[model.constrained_nodes].set(v)
+
+
+def segment_geometry(model: CableNetwork, positions):
+    """Stretched length S (m), unit tangent τ and strain ε = S/L − 1 of each segment."""
+    start, end = positions[model.segment_nodes[:, 0]], positions[model.segment_nodes[:, 1]]
+    chord = end - start
+    stretched = safe_norm(chord)
+    return stretched, chord / stretched[:, None], stretched / model.segment_length - 1.0
+
+
+def strain_rate(model: CableNetwork, positions, velocities) -> Float[Array, " segments"]:
+    """ε̇ = τ · (v_j − v_i) / L (1/s)."""
+    _, tangent, _ = segment_geometry(model, positions)
+    dv = velocities[model.segment_nodes[:, 1]] - velocities[model.segment_nodes[:, 0]]
+    return jnp.sum(tangent * dv, axis=-1) / model.segment_length
+
+
+def tension(model: CableNetwork, positions, velocities) -> Float[Array, " segments"]:
+    """Segment tension T(ε, ε̇) (N)."""
+    _, _, strain = segment_geometry(model, positions)
+    return model.line.tension_law.tension(strain, strain_rate(model, positions, velocities))
+
+
+def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[Array, ""]:
+    """Π (J): elastic energy plus gravity minus buoyancy."""
+    line, body = model.line, model.body
+    _, _, strain = segment_geometry(model, positions)
+    elastic = jnp.sum(model.segment_length * line.tension_law.elastic_energy_density(strain))
+    z = positions[:, 2]
+    mid_depth = 0.5 * (z[model.segment_nodes[:, 0]] + z[model.segment_nodes[:, 1]])
+    wet_weight = (line.mass_per_length - env.water_density * line.area) * env.gravity * model.segment_length
+    body_weight = (body.mass - env.water_density * body.volume) * env.gravity
+    return elastic + jnp.sum(wet_weight * mid_depth) + jnp.sum(body_weight * z)
+
+
+def mass_per_length(model: CableNetwork, env: Environment, positions) -> Float[Array, "segments 3 3"]:
+    """μ = m I + ρ F (C_a (I − ττᵀ) + C_aτ ττᵀ) (kg/m), each segment's mass per unit
+    unstretched length, the fluid's added mass included."""
+    line = model.line
+    _, tangent, _ = segment_geometry(model, positions)
+    axial = tangent[:, :, None] * tangent[:, None, :]
+    added = env.water_density * line.area
+    eye = jnp.eye(3)
+    return (
+        line.mass_per_length[:, None, None] * eye
+        + (added * line.normal_added_mass)[:, None, None] * (eye - axial)
+        + (added * line.tangential_added_mass)[:, None, None] * axial
+    )
+
+
+def _body_mass(model: CableNetwork, env: Environment) -> Float[Array, " nodes"]:
+    body = model.body
+    return body.mass + body.added_mass * env.water_density * body.volume
+
+
+def _segment_blocks(model: CableNetwork, env: Environment, positions) -> Float[Array, "segments 2 2 3 3"]:
+    """Each segment's 6 × 6 mass matrix as 2 × 2 blocks: `W_ab L μ`."""
+    weights = _SHAPE_WEIGHTS[model.mass_matrix]
+    mu = mass_per_length(model, env, positions) * model.segment_length[:, None, None]
+    return weights[None, :, :, None, None] * mu[:, None, None]
+
+
+def inertial_forces(model: CableNetwork, env: Environment, positions, accelerations) -> Float[Array, "nodes 3"]:
+    """`M(x) a` (N): the generalised inertia of node accelerations `a` (m/s²), shape
+    `(nodes, 3)`."""
+    blocks = _segment_blocks(model, env, positions)
+    per_end = jnp.einsum("sabij,sbj->sai", blocks, accelerations[model.segment_nodes])
+    return _scatter(model, per_end[:, 0], per_end[:, 1]) + _body_mass(model, env)[:, None] * accelerations
+
+
+def lumped_blocks(model: CableNetwork, env: Environment, positions) -> Float[Array, "nodes 3 3"]:
+    """The 3 × 3 diagonal blocks of the lumped mass matrix (kg), shape `(nodes, 3, 3)`."""
+    blocks = _segment_blocks(model, env, positions)
+    return _scatter(model, blocks[:, 0, 0], blocks[:, 1, 1]) + _body_mass(model, env)[:, None, None] * jnp.eye(3)
+
+
+def kinetic_energy(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, ""]:
+    """K = ½ vᵀ M v (J), including the fluid's added mass."""
+    return 0.5 * jnp.sum(velocities * inertial_forces(model, env, positions, velocities))
+
+
+def dissipative_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
+    """Generalised forces (N) of drag, internal damping and body drag."""
+    line, body = model.line, model.body
+    rho = env.water_density
+    stretched, tangent, strain = segment_geometry(model, positions)
+
+    xi, w = gauss_legendre(model.drag_points)
+    ends = model.segment_nodes
+    along = lambda field: field[ends[:, 0], None] * (1 - xi)[:, None] + field[ends[:, 1], None] * xi[:, None]
+    relative = env.water_velocity(along(positions), t) - along(velocities)  # (segments, points, 3)
+    normal = 0.5 * rho * line.normal_drag * line.diameter  # C_n
+    tangential = 0.5 * rho * line.tangential_drag * jnp.pi * line.diameter  # C_τ
+    f = line_drag(relative, tangent[:, None, :], normal[:, None], tangential[:, None])
+    drag_start = stretched[:, None] * jnp.einsum("p,spk->sk", w * (1 - xi), f)
+    drag_end = stretched[:, None] * jnp.einsum("p,spk->sk", w * xi, f)
+
+    law = line.tension_law
+    viscous = law.tension(strain, strain_rate(model, positions, velocities)) - law.elastic_tension(strain)
+    pull = viscous[:, None] * tangent
+    forces = _scatter(model, drag_start + pull, drag_end - pull)
+
+    coefficient = 0.5 * rho * body.drag_area + body.specific_drag * body.organism_mass * env.gravity
+    return forces + body_drag(env.water_velocity(positions, t) - velocities, coefficient)
+
+
+def generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
+    """All generalised forces Q (N) on every node, shape `(nodes, 3)`."""
+    conservative = -jax.grad(potential_energy, argnums=2)(model, env, positions)
+    return conservative + dissipative_forces(model, env, t, positions, velocities)
+
+
+def free_accelerations(model: CableNetwork, env: Environment, t, free_positions, free_velocities):
+    """Solve `M_ff a_f = Q_f − M_fc a_c` for the free nodes' accelerations (m/s²).
+
+    Returns `(a_f, positions, velocities, a)`: the free accelerations, shape
+    `(free, 3)`, and the full node positions, velocities and accelerations.
+    """
+    positions, velocities = full_state(model, t, free_positions, free_velocities)
+    _, _, constrained_acc = constrained_motion(model, t)
+    free, constrained = model.free_nodes, model.constrained_nodes
+    known = jnp.zeros_like(positions).at[constrained].set(constrained_acc)
+    rhs = (generalised_forces(model, env, t, positions, velocities) - inertial_forces(model, env, positions, known))[free]
+
+    # The lumped matrix is block-diagonal: one 3 × 3 solve per node, and M_fc = 0.
+    inverse = jnp.linalg.inv(lumped_blocks(model, env, positions)[free])
+    a_free = jnp.einsum("nij,nj->ni", inverse, rhs)
+    if model.mass_matrix == "consistent":
+        # Each element's consistent matrix is [[2/3, 1/3], [1/3, 2/3]] times its lumped
+        # one, so the lumped-preconditioned consistent matrix has its spectrum in
+        # [1/3, 1]: conjugate gradients converge by a factor 0.27 per O(N) iteration,
+        # where a dense factorisation would cost O(N³).
+        structure = jax.ShapeDtypeStruct(rhs.shape, rhs.dtype)
+        zeros = jnp.zeros_like(positions)
+
+        def consistent(a):
+            return inertial_forces(model, env, positions, zeros.at[free].set(a))[free]
+
+        # The preconditioner and first guess change how fast CG converges, not where
+        # to, so no derivative flows through them (lineax forbids one).
+        fixed_inverse = jax.lax.stop_gradient(inverse)
+
+        def lumped_inverse(r):
+            return jnp.einsum("nij,nj->ni", fixed_inverse, r)
+
+        psd = lx.positive_semidefinite_tag
+        a_free = lx.linear_solve(
+            lx.FunctionLinearOperator(consistent, structure, psd),
+            rhs,
+            lx.CG(rtol=_CG_RTOL, atol=_CG_ATOL, max_steps=_CG_MAX_STEPS),
+            options={"preconditioner": lx.FunctionLinearOperator(lumped_inverse, structure, psd), "y0": jax.lax.stop_gradient(a_free)},
+        ).value
+    return a_free, positions, velocities, known.at[free].set(a_free)
+
+
+def reactions(model: CableNetwork, env: Environment, t, positions, velocities, accelerations):
+    """Force (N) that each constrained node's support exerts on the network, `(M a − Q)_c`,
+    shape `(constrained, 3)`."""
+    residual = inertial_forces(model, env, positions, accelerations) - generalised_forces(
+        model, env, t, positions, velocities
+    )
+    return residual[model.constrained_nodes]

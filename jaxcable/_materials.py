@@ -1,0 +1,196 @@
+"""Tension laws: how a segment's axial force depends on its strain and strain rate.
+
+Every law here is tension-only. The switch between slack and taut is a Heaviside
+function `H(ε)`, either sharp or smoothed over a strain band `[0, w]` by the cubic
+smoothstep `3s² − 2s³`, `s = ε / w`. Putting the band on the taut side keeps the laws
+strictly tension-only (no force at all in compression) and exact once `ε ≥ w`.
+
+Seed 003 writes the law as `T = (C_E ε + C_E1 ε²) H(ε)` but differentiates an energy
+whose derivative carries `3/2 C_E1`, which does not match the law. jaxcable defines
+the tension directly and takes the elastic energy as its integral,
+`Π_e = L ∫₀^ε T(e) de`, so that `∂Π_e/∂ε = L T(ε)` holds exactly.
+"""
+
+import abc
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, ArrayLike, Float
+
+# Three-point Gauss–Legendre on [0, 1]. The smoothed elastic tension is a polynomial of
+# degree 5 inside the smoothing band, which three points integrate exactly.
+_GL3_NODES = 0.5 * (1.0 + np.array([-np.sqrt(3.0 / 5.0), 0.0, np.sqrt(3.0 / 5.0)]))
+_GL3_WEIGHTS = 0.5 * np.array([5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0])
+
+
+def slack_switch(strain: ArrayLike, width: ArrayLike) -> Array:
+    """The Heaviside factor `H(ε)` that makes a law tension-only.
+
+    **Arguments:**
+
+    - `strain`: ε (–), any shape.
+    - `width`: w (–), the smoothing band; broadcasts against `strain`. `0` selects the
+        sharp switch `H = 1[ε > 0]`.
+
+    **Returns:**
+
+    `H(ε)` in `[0, 1]`, the shape of `strain` broadcast with `width`.
+    """
+    strain = jnp.asarray(strain)
+    width = jnp.asarray(width)
+    smooth = width > 0
+    # Double `where` so that the sharp branch never divides by zero, not even in the
+    # derivative.
+    s = jnp.clip(strain / jnp.where(smooth, width, 1.0), 0.0, 1.0)
+    return jnp.where(smooth, s * s * (3.0 - 2.0 * s), (strain > 0).astype(strain.dtype))
+
+
+class AbstractTensionLaw(eqx.Module):
+    """A tension-only constitutive law, `T(ε, ε̇) = (C_E ε + C_E1 ε² + C_v ε̇) H(ε)`.
+
+    Each parameter is a float array with one entry per segment (or a scalar that
+    broadcasts), so that a single law instance describes a whole network and any
+    parameter can be differentiated or swept.
+
+    Subclasses fix which of the three terms exist. The damping term, when present, does
+    no conservative work: it enters through virtual work, not through the energy. It
+    can make `T` briefly negative while a taut segment shortens quickly, as in MoorDyn.
+    """
+
+    axial_stiffness: eqx.AbstractVar[Float[Array, "*segments"]]
+    slack_width: eqx.AbstractVar[Float[Array, "*segments"]]
+
+    @abc.abstractmethod
+    def quadratic_stiffness(self) -> Float[Array, "*segments"]:
+        """C_E1 (N), the coefficient of ε² in the elastic tension."""
+
+    @abc.abstractmethod
+    def damping(self) -> Float[Array, "*segments"]:
+        """C_v (N·s), the coefficient of ε̇ in the tension."""
+
+    def elastic_tension(self, strain: Float[Array, "*segments"]) -> Array:
+        """The elastic part `(C_E ε + C_E1 ε²) H(ε)` (N)."""
+        return _switched_polynomial(
+            strain, self.axial_stiffness, self.quadratic_stiffness(), self.slack_width
+        )
+
+    def tension(
+        self, strain: Float[Array, "*segments"], strain_rate: Float[Array, "*segments"]
+    ) -> Array:
+        """The full tension `T(ε, ε̇)` (N), including damping."""
+        viscous = self.damping() * strain_rate * slack_switch(strain, self.slack_width)
+        return self.elastic_tension(strain) + viscous
+
+    def elastic_energy_density(self, strain: Float[Array, "*segments"]) -> Array:
+        """`∫₀^ε T_e(e) de` (N, i.e. J per metre of unstretched length).
+
+        Exact for both the sharp and the smoothed switch: Gauss–Legendre inside the
+        smoothing band, where the integrand is a quintic, and the closed form above it.
+        """
+        shape = jnp.shape(strain)
+        c_e = jnp.broadcast_to(self.axial_stiffness, shape)
+        c_e1 = jnp.broadcast_to(self.quadratic_stiffness(), shape)
+        width = jnp.broadcast_to(self.slack_width, shape)
+        inside = jnp.clip(strain, 0.0, width)
+        band_tension = _switched_polynomial(
+            inside[..., None] * _GL3_NODES, c_e[..., None], c_e1[..., None], width[..., None]
+        )
+        band = inside * jnp.sum(_GL3_WEIGHTS * band_tension, axis=-1)
+
+        def antiderivative(e):
+            return c_e * e**2 / 2 + c_e1 * e**3 / 3
+
+        above = jnp.maximum(strain, width)
+        return band + jnp.where(strain > width, antiderivative(above) - antiderivative(width), 0.0)
+
+
+def _switched_polynomial(strain, c_e, c_e1, width):
+    return strain * (c_e + c_e1 * strain) * slack_switch(strain, width)
+
+
+class LinearElastic(AbstractTensionLaw):
+    """Hooke's law, tension only: `T = C_E ε H(ε)`.
+
+    **Arguments:**
+
+    - `axial_stiffness`: C_E = EA (N), per segment or scalar.
+    - `slack_width`: w (–), the strain band over which the slack switch is smoothed;
+        `0` for the sharp switch.
+    """
+
+    axial_stiffness: Float[Array, "*segments"]
+    slack_width: Float[Array, "*segments"]
+
+    def __init__(self, axial_stiffness: ArrayLike, slack_width: ArrayLike = 1e-5):
+        self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
+        self.slack_width = jnp.asarray(slack_width, dtype=float)
+
+    def quadratic_stiffness(self):
+        return jnp.zeros_like(self.axial_stiffness)
+
+    def damping(self):
+        return jnp.zeros_like(self.axial_stiffness)
+
+
+class NonlinearElastic(AbstractTensionLaw):
+    """Seed 003's law: `T = (C_E ε + C_E1 ε²) H(ε)`.
+
+    **Arguments:**
+
+    - `axial_stiffness`: C_E (N).
+    - `quadratic_stiffness`: C_E1 (N); seed 003 uses 0.05–0.2 × C_E.
+    - `slack_width`: w (–), as for [`jaxcable.LinearElastic`][].
+    """
+
+    axial_stiffness: Float[Array, "*segments"]
+    quadratic_coefficient: Float[Array, "*segments"]
+    slack_width: Float[Array, "*segments"]
+
+    def __init__(
+        self, axial_stiffness: ArrayLike, quadratic_stiffness: ArrayLike, slack_width: ArrayLike = 1e-5
+    ):
+        self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
+        self.quadratic_coefficient = jnp.asarray(quadratic_stiffness, dtype=float)
+        self.slack_width = jnp.asarray(slack_width, dtype=float)
+
+    def quadratic_stiffness(self):
+        return self.quadratic_coefficient
+
+    def damping(self):
+        return jnp.zeros_like(self.axial_stiffness)
+
+
+class KelvinVoigt(AbstractTensionLaw):
+    """Seed 002's viscoelastic law: `T = (C_E ε + C_E1 ε² + C_v ε̇) H(ε)`.
+
+    **Arguments:**
+
+    - `axial_stiffness`: C_E (N).
+    - `quadratic_stiffness`: C_E1 (N).
+    - `axial_damping`: C_v (N·s); seed 002 takes 0.02 × C_E (in seconds × N).
+    - `slack_width`: w (–), as for [`jaxcable.LinearElastic`][].
+    """
+
+    axial_stiffness: Float[Array, "*segments"]
+    quadratic_coefficient: Float[Array, "*segments"]
+    axial_damping: Float[Array, "*segments"]
+    slack_width: Float[Array, "*segments"]
+
+    def __init__(
+        self,
+        axial_stiffness: ArrayLike,
+        quadratic_stiffness: ArrayLike,
+        axial_damping: ArrayLike,
+        slack_width: ArrayLike = 1e-5,
+    ):
+        self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
+        self.quadratic_coefficient = jnp.asarray(quadratic_stiffness, dtype=float)
+        self.axial_damping = jnp.asarray(axial_damping, dtype=float)
+        self.slack_width = jnp.asarray(slack_width, dtype=float)
+
+    def quadratic_stiffness(self):
+        return self.quadratic_coefficient
+
+    def damping(self):
+        return self.axial_damping

@@ -1,0 +1,414 @@
+"""The model: a cable network as a graph of nodes and straight segments.
+
+A single line, a branched system and a net are all the same object: segments are the
+edges of a graph, given by `segment_nodes`, and every per-segment or per-node quantity is
+an array whose first axis is indexed by segment or node. Float arrays are ordinary
+pytree leaves, so any of them can be differentiated, swept with `eqx.tree_at`, or
+vmapped; the topology (integer arrays and motions' structure) is never batched.
+"""
+
+from collections.abc import Mapping, Sequence
+from typing import NamedTuple
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import Array, ArrayLike, Float, Int
+
+from . import _checks as checks
+from ._materials import AbstractTensionLaw
+from ._motion import AbstractMotion
+
+MASS_MATRICES = ("consistent", "lumped")
+
+
+class LineType(eqx.Module):
+    """The properties of a cable, per unit unstretched length.
+
+    Every field is a scalar or an array with one entry per segment.
+
+    **Arguments:**
+
+    - `mass_per_length`: m (kg/m), in air.
+    - `diameter`: d (m), the hydrodynamic diameter used for drag.
+    - `tension_law`: a [`jaxcable.AbstractTensionLaw`][], such as
+        [`jaxcable.NonlinearElastic`][].
+    - `area`: F (m²), the displaced cross-section for buoyancy and added mass;
+        `π d² / 4` by default.
+    - `normal_drag`: K_n (–), giving C_n = ½ ρ K_n d. MoorDyn's `Cd`.
+    - `tangential_drag`: K_τ (–), giving C_τ = ½ ρ K_τ π d. MoorDyn's `CdAx`.
+    - `normal_added_mass`: C_a (–), added mass per length `C_a ρ F` normal to the line.
+        MoorDyn's `Ca`.
+    - `tangential_added_mass`: C_aτ (–), the same along the line. MoorDyn's `CaAx`.
+    """
+
+    mass_per_length: Float[Array, "*segments"]
+    diameter: Float[Array, "*segments"]
+    tension_law: AbstractTensionLaw
+    area: Float[Array, "*segments"]
+    normal_drag: Float[Array, "*segments"]
+    tangential_drag: Float[Array, "*segments"]
+    normal_added_mass: Float[Array, "*segments"]
+    tangential_added_mass: Float[Array, "*segments"]
+
+    def __init__(
+        self,
+        mass_per_length: ArrayLike,
+        diameter: ArrayLike,
+        tension_law: AbstractTensionLaw,
+        area: ArrayLike | None = None,
+        normal_drag: ArrayLike = 1.2,
+        tangential_drag: ArrayLike = 0.008,
+        normal_added_mass: ArrayLike = 1.0,
+        tangential_added_mass: ArrayLike = 0.0,
+    ):
+        if not isinstance(tension_law, AbstractTensionLaw):
+            raise ValueError(f"LineType.tension_law must be a jaxcable tension law, got {tension_law!r}")
+        self.mass_per_length = checks.float_array("LineType.mass_per_length", mass_per_length)
+        self.diameter = checks.float_array("LineType.diameter", diameter)
+        self.area = (
+            jnp.pi * self.diameter**2 / 4
+            if area is None
+            else checks.float_array("LineType.area", area)
+        )
+        self.tension_law = tension_law
+        self.normal_drag = checks.float_array("LineType.normal_drag", normal_drag)
+        self.tangential_drag = checks.float_array("LineType.tangential_drag", tangential_drag)
+        self.normal_added_mass = checks.float_array("LineType.normal_added_mass", normal_added_mass)
+        self.tangential_added_mass = checks.float_array(
+            "LineType.tangential_added_mass", tangential_added_mass
+        )
+        for name in ("mass_per_length", "diameter", "area"):
+            checks.positive(f"LineType.{name}", getattr(self, name))
+        for name in ("normal_drag", "tangential_drag", "normal_added_mass", "tangential_added_mass"):
+            checks.positive(f"LineType.{name}", getattr(self, name), allow_zero=True)
+        law = tension_law
+        checks.float_array("LineType.tension_law.axial_stiffness", law.axial_stiffness)
+        checks.positive("LineType.tension_law.axial_stiffness", law.axial_stiffness)
+        checks.float_array("LineType.tension_law.quadratic_stiffness", law.quadratic_stiffness())
+        checks.float_array("LineType.tension_law.damping", law.damping())
+        checks.positive("LineType.tension_law.damping", law.damping(), allow_zero=True)
+        checks.float_array("LineType.tension_law.slack_width", law.slack_width)
+        checks.positive("LineType.tension_law.slack_width", law.slack_width, allow_zero=True)
+
+
+class Body(eqx.Module):
+    """A point body at a node: a buoy, a clump weight, a diverter, a cage.
+
+    Every field is a scalar or an array with one entry per node. Its drag is
+    `(½ ρ C_D A + k₀ m_o g) |u| u` on the relative velocity u: form drag, Zhukov's
+    specific-weight law `R = k₀ u² m_o g` (seed 001, eq. 3), or both.
+
+    **Arguments:**
+
+    - `mass`: M (kg), in air.
+    - `volume`: V (m³), displaced; buoyancy is ρ V g.
+    - `drag_area`: C_D A (m²), MoorDyn's `CdA`.
+    - `specific_drag`: k₀ (s²/m²), the specific-weight drag coefficient.
+    - `organism_mass`: m_o (kg), the mass that k₀ refers to; `mass` by default.
+    - `added_mass`: C_a (–), added mass `C_a ρ V`, MoorDyn's `Ca`.
+    """
+
+    mass: Float[Array, "*nodes"]
+    volume: Float[Array, "*nodes"]
+    drag_area: Float[Array, "*nodes"]
+    specific_drag: Float[Array, "*nodes"]
+    organism_mass: Float[Array, "*nodes"]
+    added_mass: Float[Array, "*nodes"]
+
+    def __init__(
+        self,
+        mass: ArrayLike = 0.0,
+        volume: ArrayLike = 0.0,
+        drag_area: ArrayLike = 0.0,
+        specific_drag: ArrayLike = 0.0,
+        organism_mass: ArrayLike | None = None,
+        added_mass: ArrayLike = 0.0,
+    ):
+        self.mass = checks.float_array("Body.mass", mass)
+        self.volume = checks.float_array("Body.volume", volume)
+        self.drag_area = checks.float_array("Body.drag_area", drag_area)
+        self.specific_drag = checks.float_array("Body.specific_drag", specific_drag)
+        self.organism_mass = (
+            self.mass if organism_mass is None else checks.float_array("Body.organism_mass", organism_mass)
+        )
+        self.added_mass = checks.float_array("Body.added_mass", added_mass)
+        for name in ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass"):
+            checks.positive(f"Body.{name}", getattr(self, name), allow_zero=True)
+
+
+class Branch(NamedTuple):
+    """One edge of a network's graph, divided into equal segments.
+
+    - `start`, `end`: indices of the junction nodes it joins.
+    - `line`: its [`jaxcable.LineType`][] (scalar fields).
+    - `length`: its unstretched length (m).
+    - `segments`: how many segments to divide it into.
+    """
+
+    start: int
+    end: int
+    line: LineType
+    length: float
+    segments: int
+
+
+class CableNetwork(eqx.Module):
+    """A cable system: nodes joined by straight, extensible segments.
+
+    **Arguments:**
+
+    - `node_positions`: reference positions (m), shape `(nodes, 3)`. For a constrained
+        node this is the position its motion is measured from; for a free node it is the
+        initial guess for statics and the default initial state.
+    - `segment_nodes`: integer array, shape `(segments, 2)`: the two nodes each segment
+        joins.
+    - `segment_length`: unstretched lengths L (m), shape `(segments,)`.
+    - `line`: a [`jaxcable.LineType`][] whose fields are scalars or per-segment arrays.
+    - `constraints`: a mapping from node index to its [`jaxcable.AbstractMotion`][]
+        ([`jaxcable.Fixed`][], [`jaxcable.Harmonic`][], [`jaxcable.Sampled`][]). Every
+        other node is free.
+    - `bodies`: a mapping from node index to a [`jaxcable.Body`][] (scalar fields).
+    - `mass_matrix`: `"consistent"` (the kinetic energy of the polyline, weights 1/3 and
+        1/6, seed 003) or `"lumped"` (half of each segment to each end, as MoorDyn).
+    - `drag_points`: Gauss–Legendre points per segment for the drag's virtual work.
+
+    **Raises:**
+
+    `ValueError` naming the field and value for non-finite input, non-positive lengths,
+    masses, stiffnesses or diameters, node indices out of range, a segment joining a
+    node to itself, mismatched shapes, an unknown option, or a connected part of the
+    network that no constrained node holds.
+    """
+
+    node_positions: Float[Array, "nodes 3"]
+    segment_nodes: Int[Array, "segments 2"]
+    segment_length: Float[Array, " segments"]
+    line: LineType
+    body: Body
+    constrained_nodes: Int[Array, " constrained"]
+    free_nodes: Int[Array, " free"]
+    motions: tuple[AbstractMotion, ...]
+    mass_matrix: str = eqx.field(static=True)
+    drag_points: int = eqx.field(static=True)
+
+    def __init__(
+        self,
+        node_positions: ArrayLike,
+        segment_nodes: ArrayLike,
+        segment_length: ArrayLike,
+        line: LineType,
+        constraints: Mapping[int, AbstractMotion],
+        bodies: Mapping[int, Body] | None = None,
+        mass_matrix: str = "consistent",
+        drag_points: int = 3,
+    ):
+        self.mass_matrix = checks.option("CableNetwork.mass_matrix", mass_matrix, MASS_MATRICES)
+        if not (isinstance(drag_points, int) and drag_points >= 1):
+            raise ValueError(f"CableNetwork.drag_points must be a positive integer, got {drag_points!r}")
+        self.drag_points = drag_points
+
+        self.node_positions = checks.float_array("CableNetwork.node_positions", node_positions)
+        if self.node_positions.ndim != 2 or self.node_positions.shape[1] != 3:
+            raise ValueError(
+                f"CableNetwork.node_positions must have shape (nodes, 3), got {self.node_positions.shape}"
+            )
+        n_nodes = self.node_positions.shape[0]
+
+        edges = np.asarray(segment_nodes)
+        if edges.ndim != 2 or edges.shape[1] != 2 or edges.shape[0] == 0:
+            raise ValueError(f"CableNetwork.segment_nodes must have shape (segments, 2), got {edges.shape}")
+        if not np.issubdtype(edges.dtype, np.integer):
+            raise ValueError(f"CableNetwork.segment_nodes must be integers, got dtype {edges.dtype}")
+        out_of_range = (edges < 0) | (edges >= n_nodes)
+        if np.any(out_of_range):
+            s, k = np.argwhere(out_of_range)[0]
+            raise ValueError(
+                f"CableNetwork.segment_nodes[{s}, {k}] = {edges[s, k]} is out of range for {n_nodes} nodes"
+            )
+        loops = np.flatnonzero(edges[:, 0] == edges[:, 1])
+        if loops.size:
+            s = loops[0]
+            raise ValueError(f"CableNetwork.segment_nodes[{s}] joins node {edges[s, 0]} to itself")
+        n_segments = edges.shape[0]
+        self.segment_nodes = jnp.asarray(edges, dtype=jnp.int32)
+
+        self.segment_length = checks.float_array("CableNetwork.segment_length", segment_length, (n_segments,))
+        checks.positive("CableNetwork.segment_length", self.segment_length)
+        self.line = _broadcast_leaves("CableNetwork.line", line, n_segments)
+
+        constrained = sorted(int(k) for k in constraints)
+        for k in constrained:
+            if not 0 <= k < n_nodes:
+                raise ValueError(f"CableNetwork.constraints has node {k}, out of range for {n_nodes} nodes")
+            if not isinstance(constraints[k], AbstractMotion):
+                raise ValueError(f"CableNetwork.constraints[{k}] must be a motion, got {constraints[k]!r}")
+        self.constrained_nodes = jnp.asarray(constrained, dtype=jnp.int32)
+        self.free_nodes = jnp.asarray(sorted(set(range(n_nodes)) - set(constrained)), dtype=jnp.int32)
+        self.motions = tuple(constraints[k] for k in constrained)
+
+        bodies = dict(bodies or {})
+        for k, b in bodies.items():
+            if not 0 <= int(k) < n_nodes:
+                raise ValueError(f"CableNetwork.bodies has node {k}, out of range for {n_nodes} nodes")
+            if not isinstance(b, Body):
+                raise ValueError(f"CableNetwork.bodies[{k}] must be a Body, got {b!r}")
+        self.body = _scatter_bodies(bodies, n_nodes)
+
+        _check_held(edges, n_nodes, constrained)
+
+    @property
+    def n_nodes(self) -> int:
+        return self.node_positions.shape[0]
+
+    @property
+    def n_segments(self) -> int:
+        return self.segment_nodes.shape[0]
+
+    @classmethod
+    def from_branches(
+        cls,
+        junctions: ArrayLike,
+        branches: Sequence[Branch],
+        constraints: Mapping[int, AbstractMotion],
+        bodies: Mapping[int, Body] | None = None,
+        **options,
+    ) -> "CableNetwork":
+        """Build a network from its junctions and the branches between them.
+
+        Each branch is divided into `branch.segments` equal segments. Junction `k` keeps
+        node index `k`; interior nodes follow, branch by branch. Interior nodes start on
+        the straight chord when the branch is taut there; a branch longer than its chord
+        starts on a parabola sagging downward, stretched by 0.1 % so that every segment
+        carries tension. That makes a good initial guess for
+        [`jaxcable.solve_statics`][], which needs taut segments to get going.
+
+        **Arguments:**
+
+        - `junctions`: positions (m), shape `(junctions, 3)`.
+        - `branches`: the edges, as [`jaxcable.Branch`][]. All must use the same class
+            of tension law; use [`jaxcable.KelvinVoigt`][] with zero coefficients to mix.
+        - `constraints`, `bodies`, `**options`: as for [`jaxcable.CableNetwork`][],
+            indexed by junction.
+        """
+        junctions = checks.float_array("CableNetwork.from_branches junctions", junctions)
+        if junctions.ndim != 2 or junctions.shape[1] != 3:
+            raise ValueError(f"junctions must have shape (junctions, 3), got {junctions.shape}")
+        if not branches:
+            raise ValueError("branches must not be empty")
+        positions = [np.asarray(junctions)]
+        edges, lengths, lines = [], [], []
+        next_node = junctions.shape[0]
+        for b, branch in enumerate(branches):
+            if not (isinstance(branch.segments, int) and branch.segments >= 1):
+                raise ValueError(f"branches[{b}].segments must be a positive integer, got {branch.segments!r}")
+            for name in ("start", "end"):
+                k = getattr(branch, name)
+                if not 0 <= k < junctions.shape[0]:
+                    raise ValueError(
+                        f"branches[{b}].{name} = {k} is out of range for {junctions.shape[0]} junctions"
+                    )
+            checks.positive(f"branches[{b}].length", checks.float_array(f"branches[{b}].length", branch.length))
+            n = branch.segments
+            start, end = np.asarray(junctions[branch.start]), np.asarray(junctions[branch.end])
+            positions.append(_initial_chain(start, end, n, float(branch.length))[1:-1])
+            chain = [branch.start, *range(next_node, next_node + n - 1), branch.end]
+            next_node += n - 1
+            edges += list(zip(chain[:-1], chain[1:]))
+            lengths.append(np.full(n, branch.length / n))
+            lines += [branch.line] * n
+        return cls(
+            node_positions=np.concatenate(positions),
+            segment_nodes=np.asarray(edges),
+            segment_length=np.concatenate(lengths),
+            line=_stack_lines(lines),
+            constraints=constraints,
+            bodies=bodies,
+            **options,
+        )
+
+
+# Initial stretch of a sagged branch: enough to put every segment clear of the slack
+# switch, small next to the strains that equilibrium will settle on for soft ropes.
+_GUESS_STRETCH = 1e-3
+
+
+def _initial_chain(start: np.ndarray, end: np.ndarray, n: int, length: float) -> np.ndarray:
+    """`n + 1` points from `start` to `end`: straight if the chord is at least the
+    stretched length, otherwise a downward parabola whose polyline is that long."""
+    chord = end - start
+    span = np.linalg.norm(chord)
+    target = length * (1 + _GUESS_STRETCH)
+    if span == 0 or span >= target:
+        return start + np.linspace(0.0, 1.0, n + 1)[:, None] * chord
+    down = np.array([0.0, 0.0, -1.0]) + chord[2] / span**2 * chord  # −z, less its part along the chord
+    if np.linalg.norm(down) < 1e-9 * span:  # a vertical chord: sag sideways
+        down = np.array([1.0, 0.0, 0.0])
+    down /= np.linalg.norm(down)
+
+    fine = np.linspace(0.0, 1.0, 64 * n + 1)[:, None]
+
+    def curve(sag):
+        points = start + fine * chord + 4 * sag * fine * (1 - fine) * down
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+        return points, arc
+
+    low, high = 0.0, target
+    for _ in range(100):  # bisection on the sag, to machine precision
+        mid = 0.5 * (low + high)
+        low, high = (mid, high) if curve(mid)[1][-1] < target else (low, mid)
+    points, arc = curve(0.5 * (low + high))
+    # Equal arc lengths, so that every segment starts with the same stretch.
+    stations = np.linspace(0.0, arc[-1], n + 1)
+    return np.stack([np.interp(stations, arc, points[:, k]) for k in range(3)], axis=1)
+
+
+def _broadcast_leaves(name: str, module: eqx.Module, size: int):
+    """Broadcast every float leaf of `module` to shape `(size,)`, naming a mismatch."""
+    leaves, treedef = jax.tree_util.tree_flatten_with_path(module)
+    out = [checks.float_array(name + jax.tree_util.keystr(path), leaf, (size,)) for path, leaf in leaves]
+    return jax.tree.unflatten(treedef, out)
+
+
+def _stack_lines(lines: Sequence[LineType]) -> LineType:
+    kinds = {type(line.tension_law) for line in lines}
+    if len(kinds) > 1:
+        names = sorted(k.__name__ for k in kinds)
+        raise ValueError(
+            f"all branches must share one class of tension law, got {names}; express them all "
+            "as KelvinVoigt (with zero coefficients where a term is absent)"
+        )
+    return jax.tree.map(lambda *xs: jnp.stack([jnp.asarray(x, dtype=float) for x in xs]), *lines)
+
+
+def _scatter_bodies(bodies: Mapping[int, Body], n_nodes: int) -> Body:
+    zero = Body()
+    if not bodies:
+        return jax.tree.map(lambda x: jnp.zeros(n_nodes), zero)
+    nodes = jnp.asarray(sorted(bodies), dtype=jnp.int32)
+    stacked = jax.tree.map(lambda *xs: jnp.stack(xs), *[bodies[k] for k in sorted(bodies)])
+    return jax.tree.map(lambda x: jnp.zeros(n_nodes).at[nodes].set(x), stacked)
+
+
+def _check_held(edges: np.ndarray, n_nodes: int, constrained: list[int]) -> None:
+    """Raise unless every connected part of the graph has a constrained node."""
+    labels = np.arange(n_nodes)
+    while True:
+        merged = np.minimum(labels[edges[:, 0]], labels[edges[:, 1]])
+        updated = labels.copy()
+        np.minimum.at(updated, edges[:, 0], merged)
+        np.minimum.at(updated, edges[:, 1], merged)
+        updated = updated[updated]
+        if np.array_equal(updated, labels):
+            break
+        labels = updated
+    held = set(labels[constrained].tolist())
+    for component in np.unique(labels):
+        if component not in held:
+            members = np.flatnonzero(labels == component)
+            shown = ", ".join(map(str, members[:8])) + (", ..." if members.size > 8 else "")
+            raise ValueError(
+                f"CableNetwork: nodes [{shown}] form a part of the network with no constrained "
+                "node, so nothing holds it; fix or prescribe the motion of at least one of them"
+            )

@@ -1,0 +1,186 @@
+"""Time integration with diffrax, and the result object users read tensions from."""
+
+from typing import Any
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import optimistix as optx
+from jaxtyping import Array, ArrayLike, Float, Int
+
+from . import _lagrangian as lag
+from ._environment import Environment
+from ._network import CableNetwork
+from ._state import State
+
+
+def default_solver() -> diffrax.AbstractSolver:
+    """`Kvaerno5` with a full Newton root finder, jaxcable's default for taut cables.
+
+    diffrax's default root finder for implicit solvers, `VeryChord`, reuses one
+    Jacobian across Newton iterations; on a taut line the elastic Jacobian changes as
+    segments slacken and re-tension, and `VeryChord` then rejects steps over and over.
+    `benchmarks/solvers.py` measures the difference (see `benchmarks/README.md`).
+    """
+    return diffrax.Kvaerno5(root_finder=diffrax.with_stepsize_controller_tols(optx.Newton)())
+
+
+class SimulationResult(eqx.Module):
+    """What a simulation produced, at the output times.
+
+    **Attributes:**
+
+    - `times`: output times (s), shape `(times,)`.
+    - `positions`, `velocities`: of every node (m, m/s), shape `(times, nodes, 3)`.
+    - `strain`: ε (–), shape `(times, segments)`.
+    - `tension`: T (N), shape `(times, segments)`.
+    - `reactions`: force (N) of each constrained node's support on the network, in the
+        order of `model.constrained_nodes`, shape `(times, constrained, 3)`.
+    - `stats`: diffrax's statistics (`num_steps`, `num_accepted_steps`,
+        `num_rejected_steps`).
+    - `result`: diffrax's result code; see `success`.
+    """
+
+    times: Float[Array, " times"]
+    positions: Float[Array, "times nodes 3"]
+    velocities: Float[Array, "times nodes 3"]
+    strain: Float[Array, "times segments"]
+    tension: Float[Array, "times segments"]
+    reactions: Float[Array, "times constrained 3"]
+    stats: dict[str, Any]
+    result: diffrax.RESULTS
+
+    @property
+    def success(self) -> Array:
+        """`True` where the solve reached the final time."""
+        return self.result == diffrax.RESULTS.successful
+
+
+def vector_field(t, y, args):
+    """`d(x_f, v_f)/dt = (v_f, a_f)`, the first-order form of `M_ff a_f = Q_f − M_fc a_c`."""
+    model, env = args
+    free_positions, free_velocities = y
+    a_free, *_ = lag.free_accelerations(model, env, t, free_positions, free_velocities)
+    return free_velocities, a_free
+
+
+def simulate(
+    model: CableNetwork,
+    env: Environment,
+    t1: float,
+    *,
+    t0: float = 0.0,
+    ts: ArrayLike | None = None,
+    initial: State | None = None,
+    solver: diffrax.AbstractSolver | None = None,
+    rtol: float = 1e-6,
+    atol: float = 1e-6,
+    dt0: float | None = None,
+    max_steps: int = 1_000_000,
+    adjoint: diffrax.AbstractAdjoint | None = None,
+    progress: bool = False,
+    throw: bool = True,
+) -> SimulationResult:
+    """Integrate the motion of `model` in `env` from `t0` to `t1`.
+
+    The unknowns are the free nodes' positions and velocities; constrained nodes follow
+    their motions. Compiles on the first call for a given network topology and options;
+    later calls with new float values (stiffness, drag, amplitude, ...) reuse it.
+
+    **Arguments:**
+
+    - `model`, `env`: the network and the water.
+    - `t1`, `t0`: end and start time (s).
+    - `ts`: output times (s); 201 evenly spaced times from `t0` to `t1` by default.
+    - `initial`: the initial [`jaxcable.State`][]; `model.node_positions` at rest by
+        default. Use `solve_statics(...).state` to start from equilibrium.
+    - `solver`: any diffrax solver; [`jaxcable.default_solver`][] by default. Explicit
+        solvers (`diffrax.Tsit5()`) are faster on soft or coarse lines.
+    - `rtol`, `atol`: step-size controller tolerances, on positions (m) and velocities
+        (m/s).
+    - `dt0`: first step (s); chosen by diffrax by default.
+    - `max_steps`: the most steps before the solve is declared failed.
+    - `adjoint`: diffrax's adjoint for reverse-mode gradients;
+        `RecursiveCheckpointAdjoint` by default.
+    - `progress`: show a tqdm progress bar over simulated time.
+    - `throw`: raise on solver failure (default). Set `False` inside `vmap` sweeps and
+        read `result.success` per case instead.
+
+    **Returns:**
+
+    A [`jaxcable.SimulationResult`][].
+
+    **Raises:**
+
+    With `throw=True`, an error carrying diffrax's message when the solve fails (too
+    many steps, step size collapse). Non-finite states are rejected steps, not output.
+    """
+    if not t1 > t0:
+        raise ValueError(f"simulate: t1 must be greater than t0, got t0={t0}, t1={t1}")
+    ts = jnp.linspace(t0, t1, 201) if ts is None else jnp.asarray(ts, dtype=float)
+    if ts.ndim != 1 or ts.size == 0:
+        raise ValueError(f"simulate: ts must be a non-empty 1-D array, got shape {ts.shape}")
+    if isinstance(ts, jax.core.Tracer) is False and not (float(ts[0]) >= t0 and float(ts[-1]) <= t1):
+        raise ValueError(f"simulate: ts must lie within [t0, t1] = [{t0}, {t1}], got [{float(ts[0])}, {float(ts[-1])}]")
+    initial_positions = model.node_positions if initial is None else initial.positions
+    initial_velocities = jnp.zeros_like(initial_positions) if initial is None else initial.velocities
+    if initial_positions.shape != model.node_positions.shape:
+        raise ValueError(
+            f"simulate: initial.positions must have shape {model.node_positions.shape}, "
+            f"got {initial_positions.shape}"
+        )
+    return _simulate(
+        model,
+        env,
+        (initial_positions, initial_velocities),
+        jnp.asarray(t0, dtype=float),
+        jnp.asarray(t1, dtype=float),
+        ts,
+        default_solver() if solver is None else solver,
+        rtol,
+        atol,
+        dt0,
+        max_steps,
+        diffrax.RecursiveCheckpointAdjoint() if adjoint is None else adjoint,
+        diffrax.TqdmProgressMeter() if progress else diffrax.NoProgressMeter(),
+        throw,
+    )
+
+
+@eqx.filter_jit
+def _simulate(model, env, initial, t0, t1, ts, solver, rtol, atol, dt0, max_steps, adjoint, meter, throw):
+    free = model.free_nodes
+    y0 = (initial[0][free], initial[1][free])
+    solution = diffrax.diffeqsolve(
+        diffrax.ODETerm(vector_field),
+        solver,
+        t0,
+        t1,
+        dt0,
+        y0,
+        args=(model, env),
+        saveat=diffrax.SaveAt(ts=ts),
+        stepsize_controller=diffrax.PIDController(rtol=rtol, atol=atol),
+        max_steps=max_steps,
+        adjoint=adjoint,
+        progress_meter=meter,
+        throw=throw,
+    )
+
+    def outputs(t, free_positions, free_velocities):
+        _, positions, velocities, accelerations = lag.free_accelerations(
+            model, env, t, free_positions, free_velocities
+        )
+        _, _, strain = lag.segment_geometry(model, positions)
+        return (
+            positions,
+            velocities,
+            strain,
+            lag.tension(model, positions, velocities),
+            lag.reactions(model, env, t, positions, velocities, accelerations),
+        )
+
+    positions, velocities, strain, tension, reactions = jax.vmap(outputs)(solution.ts, *solution.ys)
+    stats = {k: solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
+    return SimulationResult(solution.ts, positions, velocities, strain, tension, reactions, stats, solution.result)

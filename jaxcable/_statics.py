@@ -1,0 +1,122 @@
+"""Static equilibrium under gravity, buoyancy and a steady current."""
+
+import equinox as eqx
+import jax.numpy as jnp
+import optimistix as optx
+from jaxtyping import Array, Float, Int
+
+from . import _checks as checks, _lagrangian as lag
+from ._environment import Environment
+from ._network import CableNetwork
+from ._state import State
+
+
+class StaticSolution(eqx.Module):
+    """The equilibrium of a network.
+
+    **Attributes:**
+
+    - `state`: node positions (m) and zero velocities, usable as the initial state of
+        [`jaxcable.simulate`][].
+    - `strain`: ε (–), shape `(segments,)`.
+    - `tension`: T (N), shape `(segments,)`.
+    - `reactions`: force (N) of each support on the network, shape `(constrained, 3)`.
+    - `residual`: the largest remaining force (N) on a free node.
+    - `result`: optimistix's result code; `result == optimistix.RESULTS.successful` on
+        success.
+    - `steps`: solver iterations.
+    """
+
+    state: State
+    strain: Float[Array, " segments"]
+    tension: Float[Array, " segments"]
+    reactions: Float[Array, "constrained 3"]
+    residual: Float[Array, ""]
+    result: optx.RESULTS
+    steps: Int[Array, ""]
+
+
+def solve_statics(
+    model: CableNetwork,
+    env: Environment,
+    *,
+    t: float = 0.0,
+    initial: State | None = None,
+    rtol: float = 1e-10,
+    atol: float = 1e-10,
+    max_steps: int = 500,
+    force_tolerance: float = 1e-6,
+    throw: bool = True,
+) -> StaticSolution:
+    """Find the static equilibrium of `model` in `env`, with constrained nodes at their
+    positions at time `t` (s).
+
+    Solves `Q_f(x, 0) = 0` for the free node positions by Levenberg–Marquardt on the
+    force residual, scaled by the line's weight so that the tolerances are relative.
+    A current contributes steady drag. The elastic laws are tension-only, so the initial
+    positions matter: a slack guess has no stiffness to move it. Start from a shape
+    with every segment slightly stretched (as [`jaxcable.CableNetwork.from_branches`][]
+    makes for a straight taut line), or from a sagged guess.
+
+    **Arguments:**
+
+    - `model`, `env`: the network and the water.
+    - `t`: the time (s) at which constrained nodes are placed.
+    - `initial`: a starting guess; `model.node_positions` by default.
+    - `rtol`, `atol`: tolerances on the positions (m).
+    - `max_steps`: solver iterations before giving up.
+    - `force_tolerance`: the largest residual force on a free node that counts as
+        equilibrium, relative to the heaviest segment's weight.
+    - `throw`: raise if the solver fails; otherwise check `result`.
+
+    **Returns:**
+
+    A [`jaxcable.StaticSolution`][].
+    """
+    start = model.node_positions if initial is None else initial.positions
+    zeros_free = jnp.zeros((model.free_nodes.shape[0], 3))
+    # Force scale: the heaviest segment's wet weight, or its dry weight if neutral.
+    weight = model.line.mass_per_length * env.gravity * model.segment_length
+    scale = jnp.maximum(jnp.max(weight), 1e-12)
+
+    def residual(free_positions, _):
+        positions, _ = lag.full_state(model, t, free_positions, zeros_free)
+        velocities = jnp.zeros_like(positions)  # at rest, constrained nodes included
+        forces = lag.generalised_forces(model, env, t, positions, velocities)
+        return forces[model.free_nodes] / scale
+
+    solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
+    solution = optx.least_squares(
+        residual, solver, start[model.free_nodes], max_steps=max_steps, throw=False
+    )
+    remaining = jnp.max(jnp.abs(residual(solution.value, None)), initial=0.0)
+    # Levenberg–Marquardt stops when its steps vanish, which also happens on a slack
+    # guess with no stiffness at all; only a small force residual means equilibrium.
+    result = optx.RESULTS.where(
+        remaining <= force_tolerance, solution.result, optx.RESULTS.nonlinear_divergence
+    )
+    if throw:
+        failed = result != optx.RESULTS.successful
+        message = (
+            "solve_statics found no equilibrium: the largest force left on a free node is "
+            "{} N after {} iterations. Start from positions where every segment is taut, "
+            "or raise max_steps."
+        )
+        if checks.is_concrete(failed):
+            if bool(failed):
+                raise RuntimeError(message.format(float(remaining * scale), int(solution.stats["num_steps"])))
+        else:
+            remaining = eqx.error_if(remaining, failed, message.format("a large", "its"))
+    positions, _ = lag.full_state(model, t, solution.value, zeros_free)
+    velocities = jnp.zeros_like(positions)
+    _, _, strain = lag.segment_geometry(model, positions)
+    accelerations = jnp.zeros_like(positions)
+    return StaticSolution(
+        state=State(positions, velocities),
+        strain=strain,
+        tension=lag.tension(model, positions, velocities),
+        reactions=lag.reactions(model, env, t, positions, velocities, accelerations),
+        residual=remaining * scale,
+        result=result,
+        steps=solution.stats["num_steps"],
+    )

@@ -1,0 +1,85 @@
+"""Seed 003's anchored cable: the core validation case.
+
+Bezverkhyy & Korniienko, *the influence of nonlinear-elastic material properties on the
+dynamics of underwater cable systems*. One end is anchored at depth H = 200 m; the other
+is attached to a floating object at the surface and driven along x by
+`x_N = A sin(ωt) + X_N` (eq. 6), with the wave amplitude law
+`A = 0.085 (g T_w² / 2π)^0.75`.
+
+The paper gives C_n, C_τ and C_a as dimensional coefficients; they are converted here to
+jaxcable's K_n, K_τ and C_a with the diameter of a solid section of area F. The paper
+does not give C_E. jaxcable takes C_E = 3.0e7 N, which is E ≈ 100 GPa (a steel wire
+rope's effective modulus on its metallic area) times F = 0.0003 m²; a 3 kg/m line with
+that area is a steel rope. The unstretched length is the chord from anchor to fairlead
+at the design angle.
+"""
+
+import numpy as np
+
+from .._environment import Environment
+from .._materials import NonlinearElastic
+from .._motion import Fixed, Harmonic
+from .._network import Branch, CableNetwork, LineType
+
+DEPTH = 200.0  # H (m)
+MASS_PER_LENGTH = 3.0  # m (kg/m)
+AREA = 0.0003  # F (m²)
+NORMAL_DRAG = 15.6  # C_n (kg/m²)
+TANGENTIAL_DRAG = 0.78  # C_τ (kg/m²)
+ADDED_MASS = 0.4  # m_a (kg/m), on the whole relative acceleration (seed 003, eq. 4)
+AXIAL_STIFFNESS = 3.0e7  # C_E (N): our choice, see the module docstring
+WAVE_PERIOD = 5.6  # T_w (s)
+
+
+def seed003_amplitude(period: float = WAVE_PERIOD, gravity: float = 9.81) -> float:
+    """Seed 003's fairlead amplitude A = 0.085 (g T_w² / 2π)^0.75 (m)."""
+    return 0.085 * (gravity * period**2 / (2 * np.pi)) ** 0.75
+
+
+def seed003_line(
+    n_segments: int = 20,
+    angle_degrees: float = 30.0,
+    quadratic_ratio: float = 0.1,
+    period: float = WAVE_PERIOD,
+    slack_width: float = 1e-5,
+    mass_matrix: str = "consistent",
+) -> tuple[CableNetwork, Environment]:
+    """Seed 003's anchored line, driven at its top.
+
+    **Arguments:**
+
+    - `n_segments`: segments along the line.
+    - `angle_degrees`: α, the design angle to the seabed (30, 45 or 60 in the paper).
+    - `quadratic_ratio`: C_E1 / C_E (0, 0.05, 0.1 or 0.2 in the paper).
+    - `period`: T_w (s), the period of the fairlead motion.
+    - `slack_width`: the slack switch's smoothing band (strain).
+    - `mass_matrix`: `"consistent"` or `"lumped"`.
+
+    **Returns:**
+
+    `(model, environment)`: node 0 is the anchor at (0, 0, −H); the last junction, node
+    1, is the fairlead at (H cot α, 0, 0).
+    """
+    env = Environment(water_density=1025.0, gravity=9.81)
+    rho = float(env.water_density)
+    diameter = float(np.sqrt(4 * AREA / np.pi))
+    alpha = np.radians(angle_degrees)
+    anchor = np.array([0.0, 0.0, -DEPTH])
+    fairlead = np.array([DEPTH / np.tan(alpha), 0.0, 0.0])
+    line = LineType(
+        mass_per_length=MASS_PER_LENGTH,
+        diameter=diameter,
+        area=AREA,
+        tension_law=NonlinearElastic(AXIAL_STIFFNESS, quadratic_ratio * AXIAL_STIFFNESS, slack_width),
+        normal_drag=NORMAL_DRAG / (0.5 * rho * diameter),
+        tangential_drag=TANGENTIAL_DRAG / (0.5 * rho * np.pi * diameter),
+        normal_added_mass=ADDED_MASS / (rho * AREA),
+        tangential_added_mass=ADDED_MASS / (rho * AREA),
+    )
+    model = CableNetwork.from_branches(
+        junctions=np.stack([anchor, fairlead]),
+        branches=[Branch(0, 1, line, float(np.linalg.norm(fairlead - anchor)), n_segments)],
+        constraints={0: Fixed(), 1: Harmonic(seed003_amplitude(period), period, direction=(1.0, 0.0, 0.0))},
+        mass_matrix=mass_matrix,
+    )
+    return model, env

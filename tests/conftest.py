@@ -1,0 +1,1 @@
+import jaxcable  # noqa: F401  (enables float64 before any test builds an array)
