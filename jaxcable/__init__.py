@@ -24,7 +24,12 @@ from ._materials import (
 )
 from ._motion import AbstractMotion as AbstractMotion, Fixed as Fixed, Harmonic as Harmonic, Sampled as Sampled
 from ._network import Body as Body, Branch as Branch, CableNetwork as CableNetwork, LineType as LineType
-from ._simulate import SimulationResult as SimulationResult, default_solver as default_solver, simulate as simulate
+from ._simulate import (
+    SimulationResult as SimulationResult,
+    default_solver as default_solver,
+    simulate as simulate,
+    stiff_solver as stiff_solver,
+)
 from ._state import State as State
 from ._statics import StaticSolution as StaticSolution, solve_statics as solve_statics
 

@@ -119,9 +119,8 @@ def _body_mass(model: CableNetwork, env: Environment) -> Float[Array, " nodes"]:
     return body.mass + body.added_mass * env.water_density * body.volume
 
 
-def _segment_blocks(model: CableNetwork, env: Environment, positions) -> Float[Array, "segments 2 2 3 3"]:
+def _segment_blocks(model: CableNetwork, env: Environment, positions, weights) -> Float[Array, "segments 2 2 3 3"]:
     """Each segment's 6 × 6 mass matrix as 2 × 2 blocks: `W_ab L μ`."""
-    weights = _SHAPE_WEIGHTS[model.mass_matrix]
     mu = mass_per_length(model, env, positions) * model.segment_length[:, None, None]
     return weights[None, :, :, None, None] * mu[:, None, None]
 
@@ -129,14 +128,15 @@ def _segment_blocks(model: CableNetwork, env: Environment, positions) -> Float[A
 def inertial_forces(model: CableNetwork, env: Environment, positions, accelerations) -> Float[Array, "nodes 3"]:
     """`M(x) a` (N): the generalised inertia of node accelerations `a` (m/s²), shape
     `(nodes, 3)`."""
-    blocks = _segment_blocks(model, env, positions)
+    blocks = _segment_blocks(model, env, positions, _SHAPE_WEIGHTS[model.mass_matrix])
     per_end = jnp.einsum("sabij,sbj->sai", blocks, accelerations[model.segment_nodes])
     return _scatter(model, per_end[:, 0], per_end[:, 1]) + _body_mass(model, env)[:, None] * accelerations
 
 
 def lumped_blocks(model: CableNetwork, env: Environment, positions) -> Float[Array, "nodes 3 3"]:
-    """The 3 × 3 diagonal blocks of the lumped mass matrix (kg), shape `(nodes, 3, 3)`."""
-    blocks = _segment_blocks(model, env, positions)
+    """The 3 × 3 blocks of the lumped mass matrix (kg), shape `(nodes, 3, 3)`, whichever
+    matrix the model uses: they are also the consistent solve's preconditioner."""
+    blocks = _segment_blocks(model, env, positions, _SHAPE_WEIGHTS["lumped"])
     return _scatter(model, blocks[:, 0, 0], blocks[:, 1, 1]) + _body_mass(model, env)[:, None, None] * jnp.eye(3)
 
 

@@ -9,19 +9,33 @@ import jax.numpy as jnp
 import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float, Int
 
-from . import _lagrangian as lag
+from . import _checks as checks, _lagrangian as lag
 from ._environment import Environment
 from ._network import CableNetwork
 from ._state import State
 
 
 def default_solver() -> diffrax.AbstractSolver:
-    """`Kvaerno5` with a full Newton root finder, jaxcable's default for taut cables.
+    """`diffrax.Tsit5()`: jaxcable's default, chosen from measurements.
+
+    On seed 003's taut, snapping line (C_E = 3e7 N) the step size is limited by
+    accuracy, not stability: slackening and snap loads need short steps whatever the
+    method. There, at equal tolerances, Tsit5 took about as many steps as `Kvaerno5`
+    (8,069 against 7,339 with a Newton root finder, 10 segments, 10 s) at a small
+    fraction of the cost per step, since an implicit step must form and factor the
+    Jacobian. `benchmarks/seed003.py` measures it; `benchmarks/README.md` has the figures.
+    Use [`jaxcable.stiff_solver`][] where stability, not accuracy, limits the step.
+    """
+    return diffrax.Tsit5()
+
+
+def stiff_solver() -> diffrax.AbstractSolver:
+    """`Kvaerno5` with a full Newton root finder, for stability-limited (stiff) runs.
 
     diffrax's default root finder for implicit solvers, `VeryChord`, reuses one
-    Jacobian across Newton iterations; on a taut line the elastic Jacobian changes as
-    segments slacken and re-tension, and `VeryChord` then rejects steps over and over.
-    `benchmarks/solvers.py` measures the difference (see `benchmarks/README.md`).
+    Jacobian across iterations; as segments slacken and re-tension that Jacobian goes
+    stale and steps are rejected. On seed 003's line (10 segments, 10 s) it took 15,277
+    steps where Newton took 7,339.
     """
     return diffrax.Kvaerno5(root_finder=diffrax.with_stepsize_controller_tols(optx.Newton)())
 
@@ -95,8 +109,9 @@ def simulate(
     - `ts`: output times (s); 201 evenly spaced times from `t0` to `t1` by default.
     - `initial`: the initial [`jaxcable.State`][]; `model.node_positions` at rest by
         default. Use `solve_statics(...).state` to start from equilibrium.
-    - `solver`: any diffrax solver; [`jaxcable.default_solver`][] by default. Explicit
-        solvers (`diffrax.Tsit5()`) are faster on soft or coarse lines.
+    - `solver`: any diffrax solver; [`jaxcable.default_solver`][] (Tsit5) by default,
+        or [`jaxcable.stiff_solver`][] (Kvaerno5 with Newton) where stiffness, not
+        accuracy, limits the step.
     - `rtol`, `atol`: step-size controller tolerances, on positions (m) and velocities
         (m/s).
     - `dt0`: first step (s); chosen by diffrax by default.
@@ -121,7 +136,7 @@ def simulate(
     ts = jnp.linspace(t0, t1, 201) if ts is None else jnp.asarray(ts, dtype=float)
     if ts.ndim != 1 or ts.size == 0:
         raise ValueError(f"simulate: ts must be a non-empty 1-D array, got shape {ts.shape}")
-    if isinstance(ts, jax.core.Tracer) is False and not (float(ts[0]) >= t0 and float(ts[-1]) <= t1):
+    if checks.is_concrete(ts) and not (float(ts[0]) >= t0 and float(ts[-1]) <= t1):
         raise ValueError(f"simulate: ts must lie within [t0, t1] = [{t0}, {t1}], got [{float(ts[0])}, {float(ts[-1])}]")
     initial_positions = model.node_positions if initial is None else initial.positions
     initial_velocities = jnp.zeros_like(initial_positions) if initial is None else initial.velocities

@@ -6,7 +6,6 @@
 import argparse
 import time
 
-import diffrax
 import numpy as np
 
 import jaxcable as jc
@@ -33,7 +32,7 @@ def main() -> None:
     start = time.perf_counter()
     result = jc.simulate(
         model, env, args.duration, initial=static.state, ts=np.linspace(0, args.duration, 601),
-        solver=diffrax.Tsit5(), progress=True,
+        progress=True,
     )
     tension = np.asarray(result.tension)
     print(f"dynamics: {int(result.stats['num_steps'])} steps, {time.perf_counter() - start:.1f} s (compile included)")

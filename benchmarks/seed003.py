@@ -1,0 +1,129 @@
+"""Seed 003's anchored line: compile time, run time and peak tension against N.
+
+The line is anchored at 200 m depth at a 30° design angle (m = 3 kg/m, F = 0.0003 m²,
+C_n = 15.6, C_τ = 0.78, C_a = 0.4, C_E = 3e7 N, C_E1 = 0.1 C_E) and its top is driven at
+T_w = 5.6 s with seed 003's amplitude law (see `jaxcable.examples.seed003_line`). Each
+run starts from static equilibrium. Accuracy is reported against a reference solve of the
+same N (Tsit5 at rtol = atol = 1e-10): the relative error of the peak tension and the
+largest tension error over the history, relative to the peak.
+
+    python benchmarks/seed003.py                       # N = 10, 20, 50, 100; 60 s
+    python benchmarks/seed003.py --segments 10 20 --duration 10 --solvers tsit5
+
+Results are appended to benchmarks/results/seed003.json.
+"""
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import time
+from pathlib import Path
+
+import diffrax
+import jax
+import numpy as np
+
+import jaxcable as jc
+from jaxcable.examples import seed003_line
+
+SOLVERS = {
+    "default": jc.default_solver,
+    "kvaerno5-verychord": lambda: diffrax.Kvaerno5(),
+    "kvaerno5-newton": jc.stiff_solver,
+    "tsit5": diffrax.Tsit5,
+    "dopri5": diffrax.Dopri5,
+}
+
+
+def timed(run, repeats):
+    """Compile-and-run time of the first call, then the median of `repeats` warm calls."""
+    start = time.perf_counter()
+    result = jax.block_until_ready(run())
+    first = time.perf_counter() - start
+    warm = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        jax.block_until_ready(run())
+        warm.append(time.perf_counter() - start)
+    run_time = statistics.median(warm)
+    return result, max(first - run_time, 0.0), run_time
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--segments", type=int, nargs="+", default=[10, 20, 50, 100])
+    parser.add_argument("--duration", type=float, default=60.0)
+    parser.add_argument("--solvers", nargs="+", default=["default", "dopri5", "kvaerno5-newton"], choices=sorted(SOLVERS))
+    parser.add_argument("--mass-matrix", default="consistent", choices=["consistent", "lumped"])
+    parser.add_argument("--rtol", type=float, default=1e-6)
+    parser.add_argument("--atol", type=float, default=1e-6)
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--max-steps", type=int, default=2_000_000)
+    parser.add_argument("--no-reference", action="store_true", help="skip the accuracy reference solve")
+    parser.add_argument("--out", default=str(Path(__file__).parent / "results" / "seed003.json"))
+    args = parser.parse_args()
+
+    ts = np.linspace(0.0, args.duration, int(args.duration * 20) + 1)  # 20 Hz output
+    records = []
+    for n in args.segments:
+        model, env = seed003_line(n, mass_matrix=args.mass_matrix)
+        static = jc.solve_statics(model, env)
+        reference = None
+        if not args.no_reference:
+            reference = jc.simulate(
+                model, env, args.duration, ts=ts, initial=static.state, solver=diffrax.Tsit5(),
+                rtol=1e-10, atol=1e-10, max_steps=args.max_steps,
+            )
+        for name in args.solvers:
+            solver = SOLVERS[name]()
+
+            def run():
+                return jc.simulate(
+                    model, env, args.duration, ts=ts, initial=static.state, solver=solver,
+                    rtol=args.rtol, atol=args.atol, max_steps=args.max_steps, throw=False,
+                )
+
+            result, compile_time, run_time = timed(run, args.repeats)
+            tension = np.asarray(result.tension)
+            record = {
+                "segments": n,
+                "solver": name if name != "default" else f"default ({type(solver).__name__})",
+                "mass_matrix": args.mass_matrix,
+                "rtol": args.rtol,
+                "atol": args.atol,
+                "duration_s": args.duration,
+                "success": bool(result.success),
+                "steps": int(result.stats["num_steps"]),
+                "rejected_steps": int(result.stats["num_rejected_steps"]),
+                "compile_s": compile_time,
+                "run_s": run_time,
+                "peak_tension_N": float(tension.max()),
+                "static_top_tension_N": float(static.tension[-1]),
+            }
+            if reference is not None:
+                ref = np.asarray(reference.tension)
+                record["peak_tension_rel_error"] = float(abs(tension.max() - ref.max()) / ref.max())
+                record["max_tension_error_rel_peak"] = float(np.max(np.abs(tension - ref)) / ref.max())
+            records.append(record)
+            print(json.dumps(record), flush=True)
+
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    history = json.loads(out.read_text()) if out.exists() else []
+    history.append(
+        {
+            "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+            "machine": f"{platform.node()} {platform.machine()} ({os.cpu_count()} cores)",
+            "devices": [str(d) for d in jax.devices()],
+            "jax": jax.__version__,
+            "diffrax": diffrax.__version__,
+            "records": records,
+        }
+    )
+    out.write_text(json.dumps(history, indent=1))
+
+
+if __name__ == "__main__":
+    main()
