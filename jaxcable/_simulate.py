@@ -53,7 +53,8 @@ class SimulationResult(eqx.Module):
         order of `model.constrained_nodes`, shape `(times, constrained, 3)`.
     - `stats`: diffrax's statistics (`num_steps`, `num_accepted_steps`,
         `num_rejected_steps`).
-    - `result`: diffrax's result code; see `success`.
+    - `result`: diffrax's result code; see `success`. After a failure (with
+        `throw=False`), outputs past the failure time are `inf`.
     """
 
     times: Float[Array, " times"]

@@ -1,0 +1,76 @@
+"""The simulation's contract: shapes, failure reporting, progress, solver choice."""
+
+import diffrax
+import numpy as np
+import pytest
+
+import jaxcable as jc
+
+
+@pytest.fixture(scope="module")
+def scene():
+    line = jc.LineType(mass_per_length=2.0, diameter=0.03, tension_law=jc.LinearElastic(2e6))
+    model = jc.CableNetwork.from_branches(
+        [[0.0, 0.0, -30.0], [30.0, 0.0, 0.0]],
+        [jc.Branch(0, 1, line, 43.0, 4)],
+        {0: jc.Fixed(), 1: jc.Harmonic(0.5, 4.0)},
+        bodies={1: jc.Body(mass=5.0)},
+    )
+    env = jc.Environment(current=(0.3, 0.0, 0.0))
+    return model, env, jc.solve_statics(model, env)
+
+
+def test_result_shapes_and_constrained_nodes(scene):
+    model, env, static = scene
+    ts = np.linspace(0.0, 1.0, 11)
+    result = jc.simulate(model, env, 1.0, ts=ts, initial=static.state)
+    assert bool(result.success)
+    n_t, n_n, n_s = 11, model.n_nodes, model.n_segments
+    assert result.times.shape == (n_t,)
+    assert result.positions.shape == result.velocities.shape == (n_t, n_n, 3)
+    assert result.strain.shape == result.tension.shape == (n_t, n_s)
+    assert result.reactions.shape == (n_t, 2, 3)
+    # The driven node is exactly where its motion puts it: x = X + A sin(2πt/T).
+    expected = 30.0 + 0.5 * np.sin(2 * np.pi * ts / 4.0)
+    np.testing.assert_allclose(result.positions[:, 1, 0], expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(result.velocities[:, 1, 0], 0.5 * 2 * np.pi / 4.0 * np.cos(2 * np.pi * ts / 4.0), atol=1e-12)
+    np.testing.assert_allclose(result.positions[:, 0], np.broadcast_to([0.0, 0.0, -30.0], (n_t, 3)), atol=0)
+    assert {"num_steps", "num_accepted_steps", "num_rejected_steps"} <= set(result.stats)
+
+
+def test_failure_raises_by_default(scene):
+    model, env, static = scene
+    with pytest.raises(Exception, match="maximum number of solver steps"):
+        jc.simulate(model, env, 1.0, initial=static.state, max_steps=5)
+
+
+def test_failure_is_reported_without_throw(scene):
+    model, env, static = scene
+    result = jc.simulate(model, env, 1.0, initial=static.state, max_steps=5, throw=False)
+    assert not bool(result.success)
+    assert result.result == diffrax.RESULTS.max_steps_reached
+
+
+def test_any_diffrax_solver_and_progress(scene, capsys):
+    model, env, static = scene
+    # Two different solvers integrating the same equations must agree (independent
+    # discretisations of the same ODE), and the progress meter must print.
+    a = jc.simulate(model, env, 0.5, initial=static.state, solver=diffrax.Dopri8(), rtol=1e-10, atol=1e-10)
+    b = jc.simulate(model, env, 0.5, initial=static.state, solver=jc.stiff_solver(), rtol=1e-8, atol=1e-8, progress=True)
+    np.testing.assert_allclose(a.tension, b.tension, rtol=1e-5, atol=1e-3)
+    assert "100.00%" in capsys.readouterr().err
+
+
+def test_statics_state_is_at_rest(scene):
+    # With both ends held where statics put them, the equilibrium must stay put: tension
+    # constant and velocities zero. Position errors of the integrator's tolerance times
+    # the segment stiffness (~2e5 N/m) show up in the tension, hence the tight rtol.
+    model, env, static = scene
+    still = jc.Environment(current=(0.3, 0.0, 0.0))
+    frozen = jc.CableNetwork(
+        model.node_positions, model.segment_nodes, model.segment_length, model.line,
+        {0: jc.Fixed(), 1: jc.Fixed()}, bodies={1: jc.Body(mass=5.0)},
+    )
+    result = jc.simulate(frozen, still, 2.0, initial=static.state, ts=np.linspace(0, 2.0, 5), rtol=1e-10, atol=1e-10)
+    np.testing.assert_allclose(result.tension, np.broadcast_to(static.tension, result.tension.shape), rtol=1e-6)
+    np.testing.assert_allclose(result.velocities, 0.0, atol=1e-6)
