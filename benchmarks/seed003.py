@@ -10,7 +10,8 @@ largest tension error over the history, relative to the peak.
     python benchmarks/seed003.py                       # N = 10, 20, 50, 100; 60 s
     python benchmarks/seed003.py --segments 10 20 --duration 10 --solvers tsit5
 
-Results are appended to benchmarks/results/seed003.json.
+Results are appended to benchmarks/results/seed003.json;
+`python benchmarks/seed003.py --report` prints them as the table in benchmarks/README.md.
 """
 
 import argparse
@@ -65,7 +66,11 @@ def main():
                         help="tolerance of the Tsit5 reference solve that accuracy is measured against")
     parser.add_argument("--no-reference", action="store_true", help="skip the accuracy reference solve")
     parser.add_argument("--out", default=str(Path(__file__).parent / "results" / "seed003.json"))
+    parser.add_argument("--report", action="store_true", help="print the recorded results as a markdown table")
     args = parser.parse_args()
+    if args.report:
+        report(Path(args.out))
+        return
 
     ts = np.linspace(0.0, args.duration, int(args.duration * 20) + 1)  # 20 Hz output
     records = []
@@ -126,6 +131,23 @@ def main():
         }
     )
     out.write_text(json.dumps(history, indent=1))
+
+
+def report(path: Path) -> None:
+    """Print every recorded run as one markdown table, one row per configuration."""
+    print("| N | mass | solver | steps (rejected) | compile (s) | run (s) | peak T (kN) | peak err | max err / peak | machine |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for session in json.loads(path.read_text()):
+        for r in session["records"]:
+            accuracy = (
+                f"{100 * r['peak_tension_rel_error']:.2f} % | {100 * r['max_tension_error_rel_peak']:.1f} %"
+                if "peak_tension_rel_error" in r else "– | –"
+            )
+            print(
+                f"| {r['segments']} | {r['mass_matrix']} | {r['solver']} | {r['steps']} ({r['rejected_steps']}) "
+                f"| {r['compile_s']:.1f} | {r['run_s']:.2f} | {r['peak_tension_N'] / 1e3:.1f} | {accuracy} "
+                f"| {session['machine'].split(' ', 1)[1]}, {r['duration_s']:.0f} s simulated |"
+            )
 
 
 if __name__ == "__main__":

@@ -2,10 +2,14 @@
 
 Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0, 1]` (eq. 7).
 
-- Kinetic energy `K = ½ Σ L ∫₀¹ Ṙᵀ μ Ṙ dξ`, with μ the mass per length: the line's m,
-  plus the added mass `ρ F (C_a (I − ττᵀ) + C_aτ ττᵀ)`, which acts on the relative
-  acceleration. Integrated exactly, K gives the consistent mass matrix (shape-function
-  weights 1/3 and 1/6); integrated at the two ends (trapezoid rule), the lumped one.
+- Kinetic energy `K = ½ Σ L ∫₀¹ m |Ṙ|² dξ`. Integrated exactly, it gives the consistent
+  mass matrix (shape-function weights 1/3 and 1/6); integrated at the two ends
+  (trapezoid rule), the lumped one.
+- Added mass is Morison's inertia force, `−ρ F (C_a (I − ττᵀ) + C_aτ ττᵀ) R̈`, entered by
+  its virtual work as seed 003 and MoorDyn do, and moved to the left-hand side: the mass
+  matrix M(x) carries `μ = m I + ρ F (...)` per length. When C_a ≠ C_aτ, M depends on the
+  segments' directions and `½ vᵀMv + Π` is not conserved: it changes at the rate
+  `½ vᵀ Ṁ v` (tested). With isotropic added mass it is conserved exactly.
 - Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M − ρV) g z`.
   The conservative forces are `−∂Π/∂x`, by `jax.grad`.
 - Non-conservative loads enter by their virtual work `Q = Σ ∫ f · ∂R/∂x |∂R/∂l| dl`:
@@ -141,7 +145,10 @@ def lumped_blocks(model: CableNetwork, env: Environment, positions) -> Float[Arr
 
 
 def kinetic_energy(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, ""]:
-    """K = ½ vᵀ M v (J), including the fluid's added mass."""
+    """½ vᵀ M(x) v (J): the kinetic energy of the line, bodies and added fluid mass.
+
+    With the line's added mass anisotropic (C_a ≠ C_aτ), this plus `potential_energy` is
+    not a conserved quantity even without drag; see the module docstring."""
     return 0.5 * jnp.sum(velocities * inertial_forces(model, env, positions, velocities))
 
 

@@ -336,32 +336,35 @@ _GUESS_STRETCH = 1e-3
 
 def _initial_chain(start: np.ndarray, end: np.ndarray, n: int, length: float) -> np.ndarray:
     """`n + 1` points from `start` to `end`: straight if the chord is at least the
-    stretched length, otherwise a downward parabola whose polyline is that long."""
+    stretched length, otherwise on a downward parabola, spaced so that each of the `n`
+    chords is at least `length / n` stretched by `_GUESS_STRETCH`."""
     chord = end - start
     span = np.linalg.norm(chord)
-    target = length * (1 + _GUESS_STRETCH)
-    if span == 0 or span >= target:
+    target = length / n * (1 + _GUESS_STRETCH)
+    if span == 0 or span >= n * target:
         return start + np.linspace(0.0, 1.0, n + 1)[:, None] * chord
     down = np.array([0.0, 0.0, -1.0]) + chord[2] / span**2 * chord  # −z, less its part along the chord
     if np.linalg.norm(down) < 1e-9 * span:  # a vertical chord: sag sideways
         down = np.array([1.0, 0.0, 0.0])
     down /= np.linalg.norm(down)
-
     fine = np.linspace(0.0, 1.0, 64 * n + 1)[:, None]
 
-    def curve(sag):
-        points = start + fine * chord + 4 * sag * fine * (1 - fine) * down
-        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
-        return points, arc
+    def nodes(sag):
+        # Points at equal arc length along the parabola, so the chords are nearly equal.
+        curve = start + fine * chord + 4 * sag * fine * (1 - fine) * down
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(curve, axis=0), axis=1))])
+        stations = np.linspace(0.0, arc[-1], n + 1)
+        return np.stack([np.interp(stations, arc, curve[:, k]) for k in range(3)], axis=1)
 
-    low, high = 0.0, target
-    for _ in range(100):  # bisection on the sag, to machine precision
+    def shortest(sag):
+        return np.min(np.linalg.norm(np.diff(nodes(sag), axis=0), axis=1))
+
+    # Every chord grows with the sag, so bisect until the shortest is stretched enough.
+    low, high = 0.0, n * target
+    for _ in range(100):
         mid = 0.5 * (low + high)
-        low, high = (mid, high) if curve(mid)[1][-1] < target else (low, mid)
-    points, arc = curve(0.5 * (low + high))
-    # Equal arc lengths, so that every segment starts with the same stretch.
-    stations = np.linspace(0.0, arc[-1], n + 1)
-    return np.stack([np.interp(stations, arc, points[:, k]) for k in range(3)], axis=1)
+        low, high = (mid, high) if shortest(mid) < target else (low, mid)
+    return nodes(high)
 
 
 def _broadcast_leaves(name: str, module: eqx.Module, size: int):

@@ -74,22 +74,7 @@ def solve_statics(
     A [`jaxcable.StaticSolution`][].
     """
     start = model.node_positions if initial is None else initial.positions
-    zeros_free = jnp.zeros((model.free_nodes.shape[0], 3))
-    # Force scale: the heaviest segment's wet weight, or its dry weight if neutral.
-    weight = model.line.mass_per_length * env.gravity * model.segment_length
-    scale = jnp.maximum(jnp.max(weight), 1e-12)
-
-    def residual(free_positions, _):
-        positions, _ = lag.full_state(model, t, free_positions, zeros_free)
-        velocities = jnp.zeros_like(positions)  # at rest, constrained nodes included
-        forces = lag.generalised_forces(model, env, t, positions, velocities)
-        return forces[model.free_nodes] / scale
-
-    solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
-    solution = optx.least_squares(
-        residual, solver, start[model.free_nodes], max_steps=max_steps, throw=False
-    )
-    remaining = jnp.max(jnp.abs(residual(solution.value, None)), initial=0.0)
+    solution, positions, remaining, scale = _solve(model, env, start, t, rtol, atol, max_steps)
     # Levenberg–Marquardt stops when its steps vanish, which also happens on a slack
     # guess with no stiffness at all; only a small force residual means equilibrium.
     result = optx.RESULTS.where(
@@ -107,7 +92,6 @@ def solve_statics(
                 raise RuntimeError(message.format(float(remaining * scale), int(solution.stats["num_steps"])))
         else:
             remaining = eqx.error_if(remaining, failed, message.format("a large", "its"))
-    positions, _ = lag.full_state(model, t, solution.value, zeros_free)
     velocities = jnp.zeros_like(positions)
     _, _, strain = lag.segment_geometry(model, positions)
     accelerations = jnp.zeros_like(positions)
@@ -120,3 +104,25 @@ def solve_statics(
         result=result,
         steps=solution.stats["num_steps"],
     )
+
+
+@eqx.filter_jit
+def _solve(model, env, start, t, rtol, atol, max_steps):
+    """The Levenberg–Marquardt solve, compiled once per topology and option set.
+
+    Returns the optimistix solution, the node positions, the largest residual force on a
+    free node relative to `scale`, and `scale` (N): the heaviest segment's dry weight.
+    """
+    zeros_free = jnp.zeros((model.free_nodes.shape[0], 3))
+    scale = jnp.maximum(jnp.max(model.line.mass_per_length * env.gravity * model.segment_length), 1e-12)
+
+    def residual(free_positions, _):
+        positions, _ = lag.full_state(model, t, free_positions, zeros_free)
+        velocities = jnp.zeros_like(positions)  # at rest, constrained nodes included
+        return lag.generalised_forces(model, env, t, positions, velocities)[model.free_nodes] / scale
+
+    solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
+    solution = optx.least_squares(residual, solver, start[model.free_nodes], max_steps=max_steps, throw=False)
+    positions, _ = lag.full_state(model, t, solution.value, zeros_free)
+    remaining = jnp.max(jnp.abs(residual(solution.value, None)), initial=0.0)
+    return solution, positions, remaining, scale

@@ -234,14 +234,9 @@ def test_reactions_carry_the_weight(catenaries, irvine):
     np.testing.assert_allclose(np.hypot(*reactions[0, :2]), irvine.H, rtol=5e-4)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="jaxcable bug: _network._initial_chain spaces the nodes by the parabola's arc "
-    "length, and the coarse polyline's chords are shorter, so the guess is compressed",
-)
 def test_default_guess_is_taut_when_coarse():
     """`CableNetwork.from_branches` promises a sagged guess "stretched by 0.1 % so that
-    every segment carries tension" (its docstring)."""
+    every segment carries tension" (its docstring), also when coarse."""
     n = 5
     model = catenary_model(n)
     positions = np.asarray(model.node_positions)
@@ -250,12 +245,6 @@ def test_default_guess_is_taut_when_coarse():
     assert np.all(strain > 0), strain
 
 
-@pytest.mark.xfail(
-    raises=RuntimeError,
-    strict=True,
-    reason="jaxcable bug: _network._initial_chain spaces nodes by the parabola's arc length, "
-    "so a coarse polyline guess is compressed (slack) and solve_statics cannot start",
-)
 def test_catenary_coarse_from_default_guess(irvine):
     model = catenary_model(5)
     static = solve(model, jc.Environment(water_density=RHO, gravity=G))
