@@ -92,7 +92,9 @@ class AbstractTensionLaw(eqx.Module):
         c_e = jnp.broadcast_to(self.axial_stiffness, shape)
         c_e1 = jnp.broadcast_to(self.quadratic_stiffness(), shape)
         width = jnp.broadcast_to(self.slack_width, shape)
-        inside = jnp.clip(strain, 0.0, width)
+        # `where`, not `clip`/`maximum`: at the tie ε = w those split the derivative in
+        # half, and the force there must be the whole T(w).
+        inside = jnp.where(strain < width, jnp.maximum(strain, 0.0), width)
         band_tension = _switched_polynomial(
             inside[..., None] * _GL3_NODES, c_e[..., None], c_e1[..., None], width[..., None]
         )
@@ -101,8 +103,8 @@ class AbstractTensionLaw(eqx.Module):
         def antiderivative(e):
             return c_e * e**2 / 2 + c_e1 * e**3 / 3
 
-        above = jnp.maximum(strain, width)
-        return band + jnp.where(strain > width, antiderivative(above) - antiderivative(width), 0.0)
+        above = jnp.where(strain >= width, strain, width)
+        return band + jnp.where(strain >= width, antiderivative(above) - antiderivative(width), 0.0)
 
 
 def _switched_polynomial(strain, c_e, c_e1, width):

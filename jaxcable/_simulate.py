@@ -6,6 +6,7 @@ import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float, Int
 
@@ -137,8 +138,11 @@ def simulate(
     ts = jnp.linspace(t0, t1, 201) if ts is None else jnp.asarray(ts, dtype=float)
     if ts.ndim != 1 or ts.size == 0:
         raise ValueError(f"simulate: ts must be a non-empty 1-D array, got shape {ts.shape}")
-    if checks.is_concrete(ts) and not (float(ts[0]) >= t0 and float(ts[-1]) <= t1):
-        raise ValueError(f"simulate: ts must lie within [t0, t1] = [{t0}, {t1}], got [{float(ts[0])}, {float(ts[-1])}]")
+    if checks.is_concrete(ts):
+        # Through numpy: indexing a jax array inside a user's `jit` would give a tracer.
+        first, last = np.asarray(ts)[[0, -1]]
+        if not (first >= t0 and last <= t1):
+            raise ValueError(f"simulate: ts must lie within [t0, t1] = [{t0}, {t1}], got [{first}, {last}]")
     initial_positions = model.node_positions if initial is None else initial.positions
     initial_velocities = jnp.zeros_like(initial_positions) if initial is None else initial.velocities
     if initial_positions.shape != model.node_positions.shape:

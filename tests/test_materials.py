@@ -202,12 +202,6 @@ def test_energy_derivative_is_elastic_tension(width, index):
     np.testing.assert_allclose(grad, expected, rtol=1e-12, atol=1e-12 * c_e * 1e-3)
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="jaxcable bug: at ε == slack_width exactly, jnp.clip/jnp.maximum split the "
-    "derivative 1/2-1/2 at the tie and the `strain > width` branch is off, so "
-    "d(energy)/dε = T(w)/2 (_materials.py, elastic_energy_density)",
-)
 @pytest.mark.parametrize("index", [0, 1, 2], ids=["linear", "nonlinear", "kelvin_voigt"])
 def test_energy_derivative_at_band_edge(index):
     """∂Π_e/∂ε at the band's top edge, ε = w exactly, must be T_e(w) = C_E w + C_E1 w²."""
