@@ -9,7 +9,6 @@ has to say where the node is.
 
 import abc
 
-import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -77,9 +76,12 @@ class Harmonic(AbstractMotion):
 
 
 class Sampled(AbstractMotion):
-    """A displacement given as a time series, interpolated by piecewise cubic Hermite
-    polynomials (C¹, so the velocity is continuous and the acceleration piecewise
-    continuous). Outside the sampled interval the end values are held.
+    """A displacement given as a time series, interpolated by a natural cubic spline.
+
+    The spline is C², so the velocity and acceleration that the equations need converge
+    with the sampling (the acceleration at second order away from the ends; the natural
+    end conditions set it to zero at the first and last sample). Outside the sampled
+    interval the end values are held.
 
     **Arguments:**
 
@@ -87,7 +89,9 @@ class Sampled(AbstractMotion):
     - `displacements`: displacements (m), shape `(samples, 3)`.
     """
 
-    interpolation: diffrax.CubicInterpolation
+    times: Float[Array, " samples"]
+    displacements: Float[Array, "samples 3"]
+    curvatures: Float[Array, "samples 3"]
 
     def __init__(self, times: ArrayLike, displacements: ArrayLike):
         times = checks.float_array("Sampled.times", times)
@@ -101,10 +105,30 @@ class Sampled(AbstractMotion):
             )
         if checks.is_concrete(times) and not bool(jnp.all(jnp.diff(times) > 0)):
             raise ValueError("Sampled.times must be strictly increasing")
-        coefficients = diffrax.backward_hermite_coefficients(times, displacements)
-        self.interpolation = diffrax.CubicInterpolation(times, coefficients)
+        self.times = times
+        self.displacements = displacements
+        self.curvatures = _natural_spline_curvatures(times, displacements)
 
     def displacement(self, t):
-        ts = self.interpolation.ts
-        return self.interpolation.evaluate(jnp.clip(t, ts[0], ts[-1]))
+        ts, ys, ms = self.times, self.displacements, self.curvatures
+        t = jnp.clip(t, ts[0], ts[-1])
+        k = jnp.clip(jnp.searchsorted(ts, t, side="right") - 1, 0, ts.shape[0] - 2)
+        h = ts[k + 1] - ts[k]
+        a, b = (ts[k + 1] - t) / h, (t - ts[k]) / h
+        return a * ys[k] + b * ys[k + 1] + ((a**3 - a) * ms[k] + (b**3 - b) * ms[k + 1]) * h**2 / 6
 
+
+def _natural_spline_curvatures(times: Array, values: Array) -> Array:
+    """Second derivatives at the knots of the natural cubic spline through `values`
+    (shape `(samples, 3)`): the tridiagonal system of the C² conditions, with zero
+    curvature at both ends."""
+    if times.shape[0] < 3:
+        return jnp.zeros_like(values)
+    h = jnp.diff(times)
+    slopes = jnp.diff(values, axis=0) / h[:, None]
+    rhs = 6 * jnp.diff(slopes, axis=0)
+    lower = jnp.concatenate([jnp.zeros(1), h[1:-1]])
+    upper = jnp.concatenate([h[1:-1], jnp.zeros(1)])
+    interior = jax.lax.linalg.tridiagonal_solve(lower, 2 * (h[:-1] + h[1:]), upper, rhs)
+    zero = jnp.zeros((1, values.shape[1]))
+    return jnp.concatenate([zero, interior, zero])
