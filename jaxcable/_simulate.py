@@ -17,17 +17,19 @@ from ._state import State
 
 
 def default_solver() -> diffrax.AbstractSolver:
-    """`diffrax.Tsit5()`: jaxcable's default, chosen from measurements.
+    """`diffrax.Dopri5()`: jaxcable's default, chosen from measurements.
 
     On seed 003's taut, snapping line (C_E = 3e7 N) the step size is limited by
     accuracy, not stability: slackening and snap loads need short steps whatever the
-    method. There, at equal tolerances, Tsit5 took about as many steps as `Kvaerno5`
-    (8,069 against 7,339 with a Newton root finder, 10 segments, 10 s) at a small
-    fraction of the cost per step, since an implicit step must form and factor the
-    Jacobian. `benchmarks/seed003.py` measures it; `benchmarks/README.md` has the figures.
+    method. With 10 segments over 10 s at rtol = atol = 1e-6, an explicit Runge–Kutta
+    method took about as many steps as `Kvaerno5` (Tsit5 4,055; Kvaerno5 with Newton
+    3,952) and ran 45× faster, since an implicit step must form and factor the Jacobian.
+    Of the explicit methods, Dopri5 took 11–28 % fewer steps than Tsit5 (fewer rejected
+    across snap loads) and ran as fast to 1.6× faster at 10–100 segments over 60 s.
+    `benchmarks/seed003.py` measures it; `benchmarks/README.md` has the figures.
     Use [`jaxcable.stiff_solver`][] where stability, not accuracy, limits the step.
     """
-    return diffrax.Tsit5()
+    return diffrax.Dopri5()
 
 
 def stiff_solver() -> diffrax.AbstractSolver:
@@ -35,8 +37,8 @@ def stiff_solver() -> diffrax.AbstractSolver:
 
     diffrax's default root finder for implicit solvers, `VeryChord`, reuses one
     Jacobian across iterations; as segments slacken and re-tension that Jacobian goes
-    stale and steps are rejected. On seed 003's line (10 segments, 10 s) it took 15,277
-    steps where Newton took 7,339.
+    stale and steps are rejected. On seed 003's line (10 segments, 10 s) it took 8,277
+    steps where Newton took 3,952, though each was cheaper.
     """
     return diffrax.Kvaerno5(root_finder=diffrax.with_stepsize_controller_tols(optx.Newton)())
 
@@ -111,7 +113,7 @@ def simulate(
     - `ts`: output times (s); 201 evenly spaced times from `t0` to `t1` by default.
     - `initial`: the initial [`jaxcable.State`][]; `model.node_positions` at rest by
         default. Use `solve_statics(...).state` to start from equilibrium.
-    - `solver`: any diffrax solver; [`jaxcable.default_solver`][] (Tsit5) by default,
+    - `solver`: any diffrax solver; [`jaxcable.default_solver`][] (Dopri5) by default,
         or [`jaxcable.stiff_solver`][] (Kvaerno5 with Newton) where stiffness, not
         accuracy, limits the step.
     - `rtol`, `atol`: step-size controller tolerances, on positions (m) and velocities
