@@ -23,8 +23,25 @@ from ._materials import (
     slack_switch as slack_switch,
 )
 from ._motion import AbstractMotion as AbstractMotion, Fixed as Fixed, Harmonic as Harmonic, Sampled as Sampled
+from ._moordyn import read_moordyn as read_moordyn
+from ._motion_file import read_motion_file as read_motion_file
 from ._network import Body as Body, Branch as Branch, CableNetwork as CableNetwork, LineType as LineType
+from ._output import write as write_output
+from ._plots import plot_run as plot_run
+from ._run import SceneRun as SceneRun, load_scene as load_scene, run_scene as run_scene
+from ._scene import (
+    BuiltScene as BuiltScene,
+    LineSpec as LineSpec,
+    LineTypeSpec as LineTypeSpec,
+    PointSpec as PointSpec,
+    RunSettings as RunSettings,
+    Scene as Scene,
+    SceneError as SceneError,
+    Water as Water,
+)
+from ._scene_file import read_scene as read_scene
 from ._simulate import (
+    SOLVERS as SOLVERS,
     SimulationResult as SimulationResult,
     default_solver as default_solver,
     simulate as simulate,

@@ -43,6 +43,17 @@ def stiff_solver() -> diffrax.AbstractSolver:
     return diffrax.Kvaerno5(root_finder=diffrax.with_stepsize_controller_tols(optx.Newton)())
 
 
+SOLVERS = {
+    "dopri5": default_solver,
+    "tsit5": diffrax.Tsit5,
+    "dopri8": diffrax.Dopri8,
+    "kvaerno5": stiff_solver,
+}
+"""Solvers by the names scene files and the command line use: explicit Runge–Kutta
+`dopri5` (the default), `tsit5` and `dopri8`, and implicit `kvaerno5`
+([`jaxcable.stiff_solver`][]). Each entry makes a fresh diffrax solver."""
+
+
 class SimulationResult(eqx.Module):
     """What a simulation produced, at the output times.
 

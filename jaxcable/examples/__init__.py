@@ -1,3 +1,21 @@
-"""Bundled example scenes, as Python builders returning `(model, environment)`."""
+"""Bundled examples: scene files in `scenes/`, and Python builders returning
+`(model, environment)`."""
+
+from pathlib import Path
 
 from ._seed003 import seed003_amplitude as seed003_amplitude, seed003_line as seed003_line
+
+_SCENES = Path(__file__).parent / "scenes"
+
+
+def scene_names() -> list[str]:
+    """Names of the bundled example scenes, for `jaxcable run NAME`."""
+    return sorted(p.stem for p in _SCENES.glob("*.toml"))
+
+
+def scene_path(name: str) -> Path:
+    """The path of the bundled example scene `name`."""
+    path = _SCENES / f"{name}.toml"
+    if not path.exists():
+        raise ValueError(f"no bundled example scene {name!r}; bundled: {scene_names()}")
+    return path

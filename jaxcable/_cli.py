@@ -1,0 +1,173 @@
+"""The `jaxcable` command line: run or describe a scene file or a MoorDyn input file.
+
+    jaxcable run INPUT [--duration S] [--motion FILE] [--out FILE] [--dt-out S]
+                       [--plot FILE.png] [--solver NAME] [--segments N] [--channels ...]
+    jaxcable info INPUT [--segments N] [--duration S]
+    jaxcable examples
+
+INPUT is a jaxcable scene (`.toml`), a MoorDyn v2 input file (any other suffix), or the
+name of a bundled example scene (see `jaxcable examples`).
+"""
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from . import _output as output
+from ._advice import advice
+from ._motion_file import read_motion_file
+from ._run import load_scene, run_scene
+from ._scene import Scene, SceneError
+from ._simulate import SOLVERS
+from .examples import scene_path, scene_names
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the `jaxcable` command; returns the exit status."""
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 2
+    try:
+        return args.handler(args)
+    except SceneError as error:
+        print(f"jaxcable: error: {error}", file=sys.stderr)
+        return 2
+    except RuntimeError as error:  # a failed statics or dynamics solve
+        print(f"jaxcable: solver failed: {error}", file=sys.stderr)
+        return 1
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="jaxcable", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    commands = parser.add_subparsers(dest="command")
+
+    run = commands.add_parser("run", help="solve statics, then simulate; write and plot the results")
+    run.add_argument("input", help="scene (.toml), MoorDyn input file, or bundled example name")
+    run.add_argument("--duration", type=float, help="simulated time (s); 0 solves statics only")
+    run.add_argument("--motion", type=Path, help="table of time x y z for each coupled point, in order")
+    run.add_argument("--out", type=Path, help="output file: .csv, .out (MoorDyn layout), .npz or .nc")
+    run.add_argument("--dt-out", type=float, help="output interval (s); default: the file's dtOut, or 0.1 s")
+    run.add_argument("--plot", type=Path, help="save tension histories and line shapes to this image")
+    run.add_argument("--solver", choices=sorted(SOLVERS), help="ODE solver (default: the scene's, or dopri5)")
+    run.add_argument("--segments", type=int, help="divide every line into this many segments")
+    run.add_argument("--channels", nargs="+", help="output channels, e.g. FairTen1 AnchTen1 L1N10PZ")
+    run.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
+    run.set_defaults(handler=_run)
+
+    info = commands.add_parser("info", help="print the parsed model, what is ignored, and advice")
+    info.add_argument("input", help="scene (.toml), MoorDyn input file, or bundled example name")
+    info.add_argument("--segments", type=int, help="divide every line into this many segments")
+    info.add_argument("--duration", type=float, help="simulated time (s) the advice assumes")
+    info.set_defaults(handler=_info)
+
+    examples = commands.add_parser("examples", help="list the bundled example scenes")
+    examples.set_defaults(handler=_examples)
+    return parser
+
+
+def _load(args) -> Scene:
+    path = Path(args.input)
+    if not path.exists() and args.input in scene_names():
+        path = scene_path(args.input)
+    scene = load_scene(path)
+    if args.segments is not None:
+        scene = scene.with_segments(args.segments)
+    return scene
+
+
+def _run(args) -> int:
+    scene = _load(args)
+    duration = args.duration
+    if args.motion is not None:
+        coupled = scene.coupled_points
+        if not coupled:
+            raise SceneError(f"--motion {args.motion}: the scene has no coupled points to move")
+        times, positions = read_motion_file(args.motion, len(coupled))
+        if times[0] > 0:
+            raise SceneError(f"--motion {args.motion}: the table starts at {times[0]:g} s; it must cover t = 0")
+        duration = times[-1] if duration is None else duration
+        if duration > times[-1]:
+            raise SceneError(f"--duration {duration:g} s runs past the motion table's last time, {times[-1]:g} s")
+        scene = scene.with_motion_table(times, positions, str(args.motion))
+    for note in scene.notes:
+        print(f"note: {note}", file=sys.stderr)
+    channels = tuple(args.channels or ())
+    run = run_scene(scene, duration=duration, dt_out=args.dt_out, solver=args.solver, progress=not args.no_progress)
+    for note in run.notes:
+        print(f"warning: {note}", file=sys.stderr)
+    if args.out is not None:
+        output.write(args.out, run, channels)
+        print(f"wrote {args.out}")
+    if args.plot is not None:
+        from ._plots import plot_run
+
+        plot_run(run, args.plot, tuple(c for c in channels if not c.upper().endswith(("PX", "PY", "PZ"))))
+        print(f"wrote {args.plot}")
+    print(run.summary())
+    return 0
+
+
+def _info(args) -> int:
+    scene = _load(args)
+    built = scene.build()
+    model = built.model
+    water = scene.water
+    duration = scene.run.duration if args.duration is None else args.duration
+    print(f"{scene.source}")
+    depth = "unbounded" if water.depth is None else f"{water.depth:g} m"
+    print(f"water: density {water.density:g} kg/m³, g = {water.gravity:g} m/s², depth {depth}, current {water.current} m/s")
+    print(f"model: {model.n_nodes} nodes ({model.free_nodes.size} free), {model.n_segments} segments, "
+          f"{model.mass_matrix} mass matrix")
+    print("line types:")
+    for t in scene.line_types:
+        damping = (
+            f"C_v = {t.axial_damping:g} N·s" if not t.axial_damping_ratio
+            else f"ζ = {t.axial_damping_ratio:g} of critical per segment"
+        )
+        print(f"  {t.name}: m = {t.mass_per_length:g} kg/m, d = {t.diameter:g} m, EA = {t.axial_stiffness:g} N, "
+              f"C_E1 = {t.quadratic_stiffness:g} N, {damping}, K_n = {t.normal_drag:g}, K_τ = {t.tangential_drag:g}, "
+              f"C_a = {t.normal_added_mass:g}, C_aτ = {t.tangential_added_mass:g}")
+    print("points:")
+    for k, p in enumerate(scene.points):
+        extra = ""
+        if p.kind == "coupled":
+            extra = f", motion {type(p.motion).__name__}" if p.motion is not None else ", held (no motion given)"
+        if p.body is not None:
+            extra += (f", body: mass {float(p.body.mass):g} kg, volume {float(p.body.volume):g} m³, "
+                      f"CdA {float(p.body.drag_area):g} m²")
+        print(f"  {p.name} ({p.kind}) at {p.position}{extra}")
+    print("lines:")
+    for k, line in enumerate(scene.lines):
+        segments = built.line_segments[k]
+        damping = float(np.asarray(model.line.tension_law.damping())[segments[0]])
+        a, b = scene.points[line.start].name, scene.points[line.end].name
+        print(f"  {line.name}: {line.line_type} from {a} to {b}, {line.length:g} m in {line.segments} segments "
+              f"of {line.length / line.segments:.4g} m, C_v = {damping:.4g} N·s")
+    run = scene.run
+    print(f"run: {duration:g} s, solver {run.solver} (rtol {run.rtol:g}, atol {run.atol:g}), output every "
+          f"{run.dt_out or 0.1:g} s")
+    print("channels: " + " ".join(scene.channels or ["FairTen<k> AnchTen<k> for every line"]))
+    print("ignored or assumed:" if scene.notes else "ignored or assumed: nothing")
+    for note in scene.notes:
+        print(f"  {note}")
+    print("advice:")
+    for line in advice(built, duration):
+        print(f"  {line}")
+    return 0
+
+
+def _examples(args) -> int:
+    del args
+    for name in scene_names():
+        print(f"{name:20s} {scene_path(name)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

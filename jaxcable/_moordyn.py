@@ -1,0 +1,317 @@
+"""A reader for MoorDyn v2 input files.
+
+MoorDyn's format is sections of whitespace-separated tables, each opened by a header
+line containing `---` and the section's name, then a line of column names and a line of
+units (`OPTIONS` and `OUTPUTS` have neither). The coefficients map onto jaxcable's one to
+one: MoorDyn's `Cd` is referred to d·l and `CdAx` to π·d·l, exactly as K_n and K_τ are,
+and `Ca`, `CaAx` are jaxcable's normal and tangential added-mass coefficients on
+π d²/4 — so they are copied, not converted. The column `BA/-zeta` is axial damping in
+N·s when positive and a fraction of critical damping when negative; the reader turns it
+into `axial_damping` or `axial_damping_ratio` (see [`jaxcable.LineTypeSpec`][]).
+
+Features jaxcable does not model raise a [`jaxcable.SceneError`][] where leaving them
+out would change the system (rods, 6-DOF bodies, nonlinear or viscoelastic stiffness
+tables, VIV, constant point forces) and are listed in `Scene.notes` where the model is
+still meaningful without them (bending stiffness of a long line, seabed contact
+parameters, MoorDyn's time-step and initial-condition options).
+"""
+
+import re
+from pathlib import Path
+
+from ._network import Body
+from ._scene import LineSpec, LineTypeSpec, PointSpec, RunSettings, Scene, SceneError, Water, located, unique_names
+
+# Section names as MoorDyn recognises them, most specific first: a header matches the
+# first entry any of whose aliases it contains.
+_SECTIONS = (
+    ("LINE TYPES", ("LINE DICTIONARY", "LINE TYPES")),
+    ("ROD TYPES", ("ROD DICTIONARY", "ROD TYPES")),
+    ("BODIES", ("BODIES", "BODY LIST", "BODY PROPERTIES")),
+    ("RODS", ("RODS", "ROD LIST", "ROD PROPERTIES")),
+    ("POINTS", ("POINTS", "POINT LIST", "POINT PROPERTIES", "CONNECTION PROPERTIES", "NODE PROPERTIES")),
+    ("LINES", ("LINES", "LINE LIST", "LINE PROPERTIES")),
+    ("SYROPE IC", ("SYROPE IC",)),
+    ("FAILURE", ("FAILURE",)),
+    ("EXTERNAL LOADS", ("EXTERNAL LOADS",)),
+    ("OPTIONS", ("OPTIONS",)),
+    ("OUTPUTS", ("OUTPUT",)),
+)
+_UNSUPPORTED_SECTIONS = {
+    "ROD TYPES": "rods",
+    "RODS": "rods",
+    "BODIES": "6-DOF bodies",
+    "SYROPE IC": "the Syrope rope model",
+    "FAILURE": "line failure",
+    "EXTERNAL LOADS": "external loads",
+}
+_LINE_TYPE_COLUMNS = ("TypeName", "Diam", "Mass/m", "EA", "BA/-zeta", "EI", "Cd", "Ca", "CdAx", "CaAx")
+_POINT_COLUMNS = ("ID", "Type", "X", "Y", "Z", "Mass", "Volume", "CdA", "Ca")
+_POINT_FORCE_COLUMNS = ("ID", "Type", "X", "Y", "Z", "Mass", "Volume", "FX", "FY", "FZ", "CdA", "Ca")
+_LINE_COLUMNS = ("ID", "LineType", "AttachA", "AttachB", "UnstrLen", "NumSegs", "LineOutputs")
+_POINT_KINDS = {
+    "fixed": ("ANCHOR", "FIXED", "FIX"),
+    "coupled": ("FAIRLEAD", "VESSEL", "VES", "COUPLED", "CPLD"),
+    "free": ("POINT", "CONNECT", "CON", "FREE"),
+}
+# Options that tune MoorDyn's own integrator, initial-condition generator or files:
+# jaxcable integrates adaptively and solves statics directly, so they do not apply.
+_NOT_APPLICABLE = {
+    "dtm", "dt", "cfl", "tscheme", "dtic", "icdt", "tmaxic", "ictmax", "cdscaleic", "icdfac",
+    "threshic", "icthresh", "gendynamicic", "icgendynamic", "fileic", "icfile",
+}
+_COSMETIC = {"echo", "writelog", "writeunits", "disableoutput", "disableouttime"}
+_SEABED = {"kbot", "kb", "cbot", "cb", "frictioncoefficient", "fricdamp", "statdynfricscale", "seafloorfile"}
+_WAVES = {"wavekin", "dtwave", "currents", "unifycurrentgrid"}
+
+
+def read_moordyn(path: str | Path) -> Scene:
+    """Read a MoorDyn v2 input file as a [`jaxcable.Scene`][].
+
+    Points keep MoorDyn's numbering (point `k` is `scene.points[k - 1]`), as do lines,
+    so output channels such as `FairTen1` mean what they mean in MoorDyn. Coupled
+    (`Vessel`) points are held at their positions until a motion is given
+    ([`jaxcable.Scene.with_motion_table`][], or `jaxcable run --motion`). The mass matrix
+    is lumped, as MoorDyn's is.
+
+    **Raises:**
+
+    [`jaxcable.SceneError`][] naming the file, line number and column for a missing
+    section, an unknown point type or line type, a line attached to a point that does
+    not exist, a non-positive length, a non-numeric field, or a feature jaxcable does
+    not model.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8", errors="replace")
+    except OSError as error:
+        raise SceneError(f"cannot read {path}: {error.strerror}") from error
+    lines = text.splitlines()
+    sections = _find_sections(lines)
+    source = str(path)
+    notes: list[str] = []
+
+    for name, what in _UNSUPPORTED_SECTIONS.items():
+        rows = _rows(lines, sections, name)
+        if rows:
+            number, _ = rows[0]
+            raise SceneError(f"{source}, line {number}: section {name} defines {what}, which jaxcable does not model")
+    for required in ("LINE TYPES", "POINTS", "LINES"):
+        if required not in sections:
+            aliases = " / ".join(dict(_SECTIONS)[required])
+            raise SceneError(f"{source}: missing section {required} (a header line with '---' and {aliases})")
+
+    line_types = tuple(_line_type(source, n, row, notes) for n, row in _rows(lines, sections, "LINE TYPES"))
+    unique_names(line_types, "line type", source)
+    points = tuple(_point(source, n, row, k) for k, (n, row) in enumerate(_rows(lines, sections, "POINTS")))
+    type_names = [t.name for t in line_types]
+    mdlines = tuple(
+        _line(source, n, row, k, len(points), type_names) for k, (n, row) in enumerate(_rows(lines, sections, "LINES"))
+    )
+    if not points:
+        raise SceneError(f"{source}: section POINTS has no rows")
+    if not mdlines:
+        raise SceneError(f"{source}: section LINES has no rows")
+    options = _options(source, lines, sections, notes)
+    channels = tuple(_outputs(lines, sections))
+
+    depth = options.get("wtrdpth")
+    for point in points:
+        if depth is not None and point.position[2] < -depth:
+            notes.append(f"{point.where}: point {point.name} lies below the seabed at z = {-depth} m")
+    if any(p.kind == "coupled" for p in points):
+        notes.append("coupled points are held fixed unless a motion table is given (jaxcable run --motion)")
+    water = Water(
+        density=options.get("wtrdnsty", options.get("rho", 1025.0)),
+        gravity=options.get("g", options.get("gravity", 9.80665)),
+        depth=depth,
+    )
+    run = RunSettings(dt_out=options.get("dtout") or None, mass_matrix="lumped")
+    return Scene(points, line_types, mdlines, water, run, channels, tuple(notes), source)
+
+
+def _find_sections(lines: list[str]) -> dict[str, int]:
+    """Map each section found to the index of its header line."""
+    found = {}
+    for i, line in enumerate(lines):
+        if "---" not in line:
+            continue
+        upper = line.upper()
+        for name, aliases in _SECTIONS:
+            if any(alias in upper for alias in aliases):
+                found.setdefault(name, i)
+                break
+    return found
+
+
+def _rows(lines: list[str], sections: dict[str, int], name: str) -> list[tuple[int, list[str]]]:
+    """The non-blank rows of a section as `(line number, fields)`, up to the next `---`."""
+    if name not in sections:
+        return []
+    start = sections[name] + (1 if name in ("OPTIONS", "OUTPUTS") else 3)
+    rows = []
+    for i in range(start, len(lines)):
+        if "---" in lines[i]:
+            break
+        fields = lines[i].split()
+        if fields:
+            rows.append((i + 1, fields))
+    return rows
+
+
+def _number(source: str, line: int, column: str, token: str) -> float:
+    try:
+        return float(token)
+    except ValueError:
+        raise SceneError(f"{source}, line {line}, column {column}: {token!r} is not a number") from None
+
+
+def _require(source: str, line: int, fields: list[str], columns: tuple[str, ...], section: str) -> None:
+    if len(fields) < len(columns):
+        raise SceneError(
+            f"{source}, line {line}: a {section} row needs {len(columns)} fields ({' '.join(columns)}), "
+            f"got {len(fields)}"
+        )
+
+
+def _line_type(source: str, line: int, fields: list[str], notes: list[str]) -> LineTypeSpec:
+    _require(source, line, fields, _LINE_TYPE_COLUMNS, "LINE TYPES")
+    where = f"{source}, line {line}"
+    name, diameter, mass, ea, ba, ei = fields[:6]
+    if "|" in ea or "|" in ba or ea.upper().startswith("SYROPE:"):
+        raise SceneError(f"{where}, column EA/BA: viscoelastic or Syrope models ({ea} / {ba}) are not supported")
+    for column, token in (("EA", ea), ("BA/-zeta", ba)):
+        if not _is_number(token):
+            raise SceneError(
+                f"{where}, column {column}: {token!r} is a lookup table or not a number; nonlinear "
+                "tables are not supported (give a constant)"
+            )
+    if not _is_number(ei):
+        notes.append(f"{where}: line type {name}: bending stiffness table {ei!r} ignored (jaxcable has no bending)")
+    elif float(ei) != 0:
+        notes.append(
+            f"{where}: line type {name}: bending stiffness EI = {float(ei):g} N·m² ignored "
+            "(jaxcable models cables without bending)"
+        )
+    values = {c: _number(source, line, c, t) for c, t in zip(_LINE_TYPE_COLUMNS[6:], fields[6:10])}
+    extras = fields[10:]
+    for k, token in enumerate(extras):
+        if _number(source, line, f"{11 + k}", token) != 0:
+            raise SceneError(
+                f"{where}, column {11 + k}: {token} — vortex-induced vibration and the other columns after "
+                "CaAx are not supported"
+            )
+    damping = _number(source, line, "BA/-zeta", ba)
+    with located(where):
+        return LineTypeSpec(
+            name=name,
+            mass_per_length=_number(source, line, "Mass/m", mass),
+            diameter=_number(source, line, "Diam", diameter),
+            axial_stiffness=_number(source, line, "EA", ea),
+            axial_damping=max(damping, 0.0),
+            axial_damping_ratio=max(-damping, 0.0),
+            normal_drag=values["Cd"],
+            tangential_drag=values["CdAx"],
+            normal_added_mass=values["Ca"],
+            tangential_added_mass=values["CaAx"],
+            where=where,
+        )
+
+
+def _point(source: str, line: int, fields: list[str], index: int) -> PointSpec:
+    _require(source, line, fields, _POINT_COLUMNS, "POINTS")
+    where = f"{source}, line {line}"
+    columns = _POINT_FORCE_COLUMNS if len(fields) >= len(_POINT_FORCE_COLUMNS) else _POINT_COLUMNS
+    values = {c: t for c, t in zip(columns, fields)}
+    if not values["ID"].isdigit() or int(values["ID"]) != index + 1:
+        raise SceneError(f"{where}, column ID: point IDs must run 1, 2, 3, ...; expected {index + 1}, got {values['ID']!r}")
+    kind_word = re.match(r"[A-Za-z]*", values["Type"]).group(0).upper()
+    if kind_word == "BODY":
+        raise SceneError(f"{where}, column Type: {values['Type']!r} attaches the point to a 6-DOF body, which jaxcable does not model")
+    kinds = [k for k, words in _POINT_KINDS.items() if kind_word in words]
+    if not kinds:
+        known = ", ".join(w.capitalize() for words in _POINT_KINDS.values() for w in words)
+        raise SceneError(f"{where}, column Type: unknown point type {values['Type']!r}; expected one of {known}")
+    number = {c: _number(source, line, c, values[c]) for c in columns[2:]}
+    forces = [number.get(c, 0.0) for c in ("FX", "FY", "FZ")]
+    if any(forces):
+        raise SceneError(f"{where}, columns FX FY FZ: constant point forces {forces} are not supported")
+    body = None
+    if any(number[c] for c in ("Mass", "Volume", "CdA", "Ca")):
+        with located(where):
+            body = Body(mass=number["Mass"], volume=number["Volume"], drag_area=number["CdA"], added_mass=number["Ca"])
+    position = (number["X"], number["Y"], number["Z"])
+    return PointSpec(str(index + 1), kinds[0], position, body, None, where)
+
+
+def _line(source: str, line: int, fields: list[str], index: int, n_points: int, type_names: list[str]) -> LineSpec:
+    _require(source, line, fields, _LINE_COLUMNS, "LINES")
+    where = f"{source}, line {line}"
+    values = dict(zip(_LINE_COLUMNS, fields))
+    if not values["ID"].isdigit() or int(values["ID"]) != index + 1:
+        raise SceneError(f"{where}, column ID: line IDs must run 1, 2, 3, ...; expected {index + 1}, got {values['ID']!r}")
+    if values["LineType"] not in type_names:
+        raise SceneError(f"{where}, column LineType: unknown line type {values['LineType']!r}; defined: {type_names}")
+    ends = []
+    for column in ("AttachA", "AttachB"):
+        token = values[column]
+        match = re.fullmatch(r"(?i)(C|CON|P|POINT)?(\d+)", token)
+        if match is None:
+            if re.fullmatch(r"(?i)(R|ROD)\d+[AB]?", token):
+                raise SceneError(f"{where}, column {column}: {token!r} attaches to a rod, which jaxcable does not model")
+            raise SceneError(f"{where}, column {column}: {token!r} is not a point (expected a number such as 1 or P1)")
+        k = int(match.group(2))
+        if not 1 <= k <= n_points:
+            raise SceneError(f"{where}, column {column}: point {k} does not exist ({n_points} points are defined)")
+        ends.append(k - 1)
+    length = _number(source, line, "UnstrLen", values["UnstrLen"])
+    if not length > 0:
+        raise SceneError(f"{where}, column UnstrLen: the unstretched length must be positive, got {length:g}")
+    if not values["NumSegs"].isdigit() or int(values["NumSegs"]) < 1:
+        raise SceneError(f"{where}, column NumSegs: expected a positive integer, got {values['NumSegs']!r}")
+    return LineSpec(str(index + 1), values["LineType"], ends[0], ends[1], length, int(values["NumSegs"]), where)
+
+
+def _options(source: str, lines: list[str], sections: dict[str, int], notes: list[str]) -> dict[str, float]:
+    """Numeric options jaxcable uses, by lower-case name; the rest become notes."""
+    used = {"g", "gravity", "rho", "wtrdnsty", "wtrdpth", "dtout"}
+    options = {}
+    for line, fields in _rows(lines, sections, "OPTIONS"):
+        if len(fields) < 2:
+            continue
+        value, name = fields[0], fields[1]
+        key = name.lower()
+        where = f"{source}, line {line}"
+        if key in used:
+            options[key] = _number(source, line, name, value)
+            if key in ("g", "gravity", "rho", "wtrdnsty", "wtrdpth") and not options[key] > 0:
+                raise SceneError(f"{where}: option {name} must be positive, got {value}")
+        elif key in _SEABED:
+            notes.append(f"{where}: option {name} = {value} ignored (seabed contact is not modelled yet)")
+        elif key in _WAVES:
+            if _is_number(value) and float(value) == 0:
+                continue
+            notes.append(f"{where}: option {name} = {value} ignored (MoorDyn's wave and current input; still water)")
+        elif key in _NOT_APPLICABLE:
+            notes.append(f"{where}: option {name} = {value} not needed (jaxcable steps adaptively and solves statics directly)")
+        elif key not in _COSMETIC:
+            notes.append(f"{where}: unknown option {name} = {value} ignored")
+    return options
+
+
+def _outputs(lines: list[str], sections: dict[str, int]):
+    """Channel names listed in the OUTPUTS section, up to `END`."""
+    for _, fields in _rows(lines, sections, "OUTPUTS"):
+        for token in fields:
+            if token.upper() == "END":
+                return
+            yield token
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+

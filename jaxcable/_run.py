@@ -1,0 +1,168 @@
+"""Running a scene: statics, then dynamics, with the results as numpy arrays."""
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import _output as output
+from ._moordyn import read_moordyn
+from ._scene import BuiltScene, Scene, SceneError
+from ._scene_file import read_scene
+from ._simulate import SOLVERS, simulate
+from ._statics import StaticSolution, solve_statics
+
+DEFAULT_DT_OUT = 0.1  # s
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read `path` as a jaxcable scene if it ends in `.toml`, otherwise as a MoorDyn v2
+    input file ([`jaxcable.read_scene`][], [`jaxcable.read_moordyn`][])."""
+    path = Path(path)
+    return read_scene(path) if path.suffix.lower() == ".toml" else read_moordyn(path)
+
+
+@dataclass(frozen=True)
+class SceneRun:
+    """A scene's equilibrium and, unless the duration was 0, its motion.
+
+    Arrays are numpy, indexed by output time first. With a duration of 0 there is one
+    output time, 0 s, and the state is the equilibrium.
+
+    - `built`: the [`jaxcable.BuiltScene`][] that ran.
+    - `static`: its [`jaxcable.StaticSolution`][], the initial state.
+    - `times`: (s), shape `(times,)`.
+    - `positions`, `velocities`: (m, m/s), shape `(times, nodes, 3)`.
+    - `tension`: (N), shape `(times, segments)`.
+    - `reactions`: force (N) of each support on the network, in the order of
+        `built.model.constrained_nodes`, shape `(times, constrained, 3)`.
+    - `steps`: solver steps taken (0 for statics only).
+    - `statics_seconds`, `dynamics_seconds`: wall time (s), compilation included.
+    - `notes`: what the user should know about this run (seabed penetration, ...).
+    """
+
+    built: BuiltScene
+    static: StaticSolution
+    times: np.ndarray
+    positions: np.ndarray
+    velocities: np.ndarray
+    tension: np.ndarray
+    reactions: np.ndarray
+    steps: int
+    statics_seconds: float
+    dynamics_seconds: float
+    notes: tuple[str, ...]
+
+    def channels(self, names: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
+        """Output channels by MoorDyn name, `Time` first; the scene's own channels, or
+        every line's `FairTen<k>` and `AnchTen<k>`, when `names` is empty."""
+        return output.channels(self, names or self.built.scene.channels)
+
+    def peak_tension(self) -> tuple[float, int, int, float]:
+        """The peak tension: `(tension (N), line index, segment index along the line
+        from end A, time (s))`, all indices from 0."""
+        t, s = np.unravel_index(np.argmax(self.tension), self.tension.shape)
+        for k, segments in enumerate(self.built.line_segments):
+            hits = np.flatnonzero(segments == s)
+            if hits.size:
+                return float(self.tension[t, s]), k, int(hits[0]), float(self.times[t])
+        raise AssertionError("every segment belongs to a line")
+
+    def summary(self) -> str:
+        """One line: simulated and wall time, steps, and where and when the peak
+        tension was."""
+        value, k, j, when = self.peak_tension()
+        line = self.built.scene.lines[k]
+        n = line.segments
+        end = " (end B)" if j == n - 1 else " (end A)" if j == 0 else ""
+        peak = f"peak tension {value / 1e3:.3f} kN in line {line.name}, segment {j + 1}/{n}{end}, at t = {when:.3f} s"
+        if self.steps == 0:
+            return f"statics: {int(self.static.steps)} iterations in {self.statics_seconds:.1f} s wall; {peak}"
+        return (
+            f"simulated {self.times[-1] - self.times[0]:.3f} s in {self.statics_seconds + self.dynamics_seconds:.1f} s "
+            f"wall ({self.steps} steps); {peak}"
+        )
+
+
+def output_times(duration: float, dt_out: float) -> np.ndarray:
+    """Output times from 0 to `duration` (s) every `dt_out` (s), ending at `duration`."""
+    count = int(np.floor(duration / dt_out + 1e-9))
+    times = np.arange(count + 1) * dt_out
+    return times if np.isclose(times[-1], duration) else np.append(times, duration)
+
+
+def run_scene(
+    scene: Scene,
+    *,
+    duration: float | None = None,
+    dt_out: float | None = None,
+    solver: str | None = None,
+    progress: bool = False,
+) -> SceneRun:
+    """Solve a scene's statics and, for a positive duration, integrate its motion from
+    the equilibrium.
+
+    **Arguments:**
+
+    - `scene`: the [`jaxcable.Scene`][].
+    - `duration`: simulated time (s); the scene's `run.duration` by default; 0 solves
+        statics only.
+    - `dt_out`: output interval (s); the scene's, or 0.1 s.
+    - `solver`: a name in [`jaxcable.SOLVERS`][]; the scene's by default.
+    - `progress`: show a progress bar over simulated time.
+
+    **Raises:**
+
+    [`jaxcable.SceneError`][] for a bad duration, interval or solver name;
+    `RuntimeError` if statics or the integration fails.
+    """
+    settings = scene.run
+    duration = settings.duration if duration is None else duration
+    dt_out = dt_out or settings.dt_out or DEFAULT_DT_OUT
+    solver = solver or settings.solver
+    if not (np.isfinite(duration) and duration >= 0):
+        raise SceneError(f"duration must be a non-negative number of seconds, got {duration}")
+    if not (np.isfinite(dt_out) and dt_out > 0):
+        raise SceneError(f"dt_out must be a positive number of seconds, got {dt_out}")
+    if solver not in SOLVERS:
+        raise SceneError(f"unknown solver {solver!r}; expected one of {sorted(SOLVERS)}")
+    built = scene.build()
+    model, env = built.model, built.environment
+
+    start = time.perf_counter()
+    static = solve_statics(model, env)
+    statics_seconds = time.perf_counter() - start
+    if duration == 0:
+        as_series = lambda x: np.asarray(x)[None]  # noqa: E731
+        positions = as_series(static.state.positions)
+        return SceneRun(
+            built, static, np.zeros(1), positions, as_series(static.state.velocities), as_series(static.tension),
+            as_series(static.reactions), 0, statics_seconds, 0.0, _seabed_notes(scene, positions),
+        )
+
+    start = time.perf_counter()
+    result = simulate(
+        model, env, duration, ts=output_times(duration, dt_out), initial=static.state,
+        solver=SOLVERS[solver](), rtol=settings.rtol, atol=settings.atol, progress=progress,
+    )
+    positions = np.asarray(result.positions)
+    dynamics_seconds = time.perf_counter() - start
+    return SceneRun(
+        built, static, np.asarray(result.times), positions, np.asarray(result.velocities), np.asarray(result.tension),
+        np.asarray(result.reactions), int(result.stats["num_steps"]), statics_seconds, dynamics_seconds,
+        _seabed_notes(scene, positions),
+    )
+
+
+def _seabed_notes(scene: Scene, positions: np.ndarray) -> tuple[str, ...]:
+    depth = scene.water.depth
+    if depth is None:
+        return ()
+    lowest = float(positions[..., 2].min())
+    if lowest < -depth:
+        return (
+            f"nodes reach z = {lowest:.2f} m, below the seabed at z = {-depth:g} m: seabed contact is not "
+            "modelled, so lines there hang through it",
+        )
+    return ()

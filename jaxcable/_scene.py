@@ -1,0 +1,315 @@
+"""Scenes: a cable system described as data, as read from a scene or MoorDyn file.
+
+A [`jaxcable.Scene`][] is the description a file gives: named points, line types and
+lines, the water, run settings and output channels. It holds plain Python numbers and
+says where in its file each item came from, so that a bad value is reported against
+the line that wrote it. [`jaxcable.Scene.build`][] turns it into the engine's
+[`jaxcable.CableNetwork`][] and [`jaxcable.Environment`][]; readers
+([`jaxcable.read_scene`][], [`jaxcable.read_moordyn`][]) and the command line only ever
+produce and consume scenes.
+"""
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._environment import Environment
+from ._materials import KelvinVoigt
+from ._motion import AbstractMotion, Fixed, Sampled
+from ._network import Body, Branch, CableNetwork, LineType
+
+POINT_KINDS = ("fixed", "coupled", "free")
+
+
+class SceneError(ValueError):
+    """An input that cannot be read as a scene. The message names the file, the line
+    (where known) and the key or column at fault."""
+
+
+@dataclass(frozen=True)
+class Water:
+    """The water: `density` ρ (kg/m³), `gravity` g (m/s²), `depth` (m, positive, or
+    `None` for unbounded) and a uniform `current` (m/s, a 3-vector)."""
+
+    density: float = 1025.0
+    gravity: float = 9.81
+    depth: float | None = None
+    current: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class LineTypeSpec:
+    """A named cable type, per unit unstretched length.
+
+    Fields are those of [`jaxcable.LineType`][] and its tension law. Axial damping is
+    given one of two ways, never both:
+
+    - `axial_damping`: C_v (N·s), the coefficient of the strain rate in the tension
+        (MoorDyn's positive `BA`).
+    - `axial_damping_ratio`: ζ (–), a fraction of the critical damping of one segment's
+        axial mode, C_v = ζ (L/N) √(EA m) as MoorDyn defines it (its negative `BA`). It
+        depends on the segment length, so it is resolved when the scene is built.
+    """
+
+    name: str
+    mass_per_length: float
+    diameter: float
+    axial_stiffness: float
+    quadratic_stiffness: float = 0.0
+    axial_damping: float = 0.0
+    axial_damping_ratio: float = 0.0
+    normal_drag: float = 1.2
+    tangential_drag: float = 0.008
+    normal_added_mass: float = 1.0
+    tangential_added_mass: float = 0.0
+    area: float | None = None
+    slack_width: float = 1e-5
+    where: str = ""
+
+    def damping_coefficient(self, segment_length: float) -> float:
+        """C_v (N·s) for segments of unstretched length `segment_length` (m)."""
+        ratio_part = self.axial_damping_ratio * segment_length * np.sqrt(self.axial_stiffness * self.mass_per_length)
+        return self.axial_damping + ratio_part
+
+    def line_type(self, segment_length: float) -> LineType:
+        """The engine's [`jaxcable.LineType`][] for segments of `segment_length` (m)."""
+        if self.axial_damping and self.axial_damping_ratio:
+            raise SceneError(
+                f"{self.where}: give one of axial_damping ({self.axial_damping}) or "
+                f"axial_damping_ratio ({self.axial_damping_ratio}), not both"
+            )
+        with located(self.where):
+            law = KelvinVoigt(
+                self.axial_stiffness,
+                self.quadratic_stiffness,
+                self.damping_coefficient(segment_length),
+                self.slack_width,
+            )
+            return LineType(
+                mass_per_length=self.mass_per_length,
+                diameter=self.diameter,
+                tension_law=law,
+                area=self.area,
+                normal_drag=self.normal_drag,
+                tangential_drag=self.tangential_drag,
+                normal_added_mass=self.normal_added_mass,
+                tangential_added_mass=self.tangential_added_mass,
+            )
+
+
+@dataclass(frozen=True)
+class PointSpec:
+    """A named point: a line end or a junction.
+
+    - `kind`: `"fixed"` (an anchor), `"coupled"` (driven by `motion`; held where it is
+        until a motion is given) or `"free"`.
+    - `position`: (m); for a coupled point, the position its motion is measured from.
+    - `body`: a [`jaxcable.Body`][] at the point, or `None`.
+    - `motion`: a [`jaxcable.AbstractMotion`][] for a coupled point.
+    """
+
+    name: str
+    kind: str
+    position: tuple[float, float, float]
+    body: Body | None = None
+    motion: AbstractMotion | None = None
+    where: str = ""
+
+
+@dataclass(frozen=True)
+class LineSpec:
+    """A line of type `line_type` from point index `start` (end A) to `end` (end B),
+    `length` (m) unstretched, divided into `segments` equal segments."""
+
+    name: str
+    line_type: str
+    start: int
+    end: int
+    length: float
+    segments: int
+    where: str = ""
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """How to run a scene: `duration` (s), the output interval `dt_out` (s; `None` for
+    0.1 s), the `solver` (a name in [`jaxcable.SOLVERS`][]), its tolerances and the
+    `mass_matrix` (`"consistent"` or `"lumped"`)."""
+
+    duration: float = 60.0
+    dt_out: float | None = None
+    solver: str = "dopri5"
+    rtol: float = 1e-6
+    atol: float = 1e-6
+    mass_matrix: str = "consistent"
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A cable system as a file describes it. See the module docstring.
+
+    - `points`, `line_types`, `lines`: the network. Lines refer to points by index and
+        to line types by name.
+    - `water`, `run`: the environment and run settings.
+    - `channels`: output channels requested by the file (MoorDyn names, such as
+        `FairTen1` or `L1N3PZ`); empty for the default set.
+    - `notes`: what the reader ignored or assumed, for the user to read.
+    - `source`: the file it came from.
+    """
+
+    points: tuple[PointSpec, ...]
+    line_types: tuple[LineTypeSpec, ...]
+    lines: tuple[LineSpec, ...]
+    water: Water = Water()
+    run: RunSettings = RunSettings()
+    channels: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
+    source: str = "<scene>"
+
+    def __post_init__(self):
+        names = [t.name for t in self.line_types]
+        for line in self.lines:
+            if line.line_type not in names:
+                raise SceneError(f"{line.where}: unknown line type {line.line_type!r}; defined: {names}")
+            for end in ("start", "end"):
+                k = getattr(line, end)
+                if not 0 <= k < len(self.points):
+                    raise SceneError(f"{line.where}: {end} point {k} does not exist")
+        for point in self.points:
+            if point.kind not in POINT_KINDS:
+                raise SceneError(f"{point.where}: unknown point type {point.kind!r}; expected one of {POINT_KINDS}")
+        if not self.lines:
+            raise SceneError(f"{self.source}: the scene has no lines")
+
+    @property
+    def coupled_points(self) -> tuple[int, ...]:
+        """Indices of the coupled points, in file order (the order of a motion table)."""
+        return tuple(i for i, p in enumerate(self.points) if p.kind == "coupled")
+
+    def replace(self, **changes) -> "Scene":
+        """A copy with some fields replaced."""
+        return dataclasses.replace(self, **changes)
+
+    def with_segments(self, segments: int) -> "Scene":
+        """A copy with every line divided into `segments` segments."""
+        if not (isinstance(segments, int) and segments >= 1):
+            raise SceneError(f"segments must be a positive integer, got {segments!r}")
+        return self.replace(lines=tuple(dataclasses.replace(line, segments=segments) for line in self.lines))
+
+    def with_motion_table(self, times: np.ndarray, positions: np.ndarray, where: str = "motion table") -> "Scene":
+        """A copy whose coupled points follow a table of absolute positions.
+
+        **Arguments:**
+
+        - `times`: (s), shape `(samples,)`, strictly increasing.
+        - `positions`: (m), shape `(samples, coupled, 3)`, for the coupled points in
+            file order. Each is interpolated by a natural cubic spline
+            ([`jaxcable.Sampled`][]) about the point's position in the scene.
+        """
+        coupled = self.coupled_points
+        if positions.shape[1:] != (len(coupled), 3):
+            raise SceneError(
+                f"{where}: expected positions for {len(coupled)} coupled point(s), got shape {positions.shape[1:]}"
+            )
+        points = list(self.points)
+        for column, k in enumerate(coupled):
+            displacements = positions[:, column, :] - np.asarray(points[k].position)
+            points[k] = dataclasses.replace(points[k], motion=Sampled(times, displacements))
+        return self.replace(points=tuple(points))
+
+    def build(self) -> "BuiltScene":
+        """The engine's model and environment for this scene.
+
+        **Raises:**
+
+        [`jaxcable.SceneError`][] naming the item's place in the file when a value is
+        out of range.
+        """
+        for line in self.lines:
+            if not line.length > 0:
+                raise SceneError(f"{line.where}: length must be positive, got {line.length}")
+            if not (isinstance(line.segments, int) and line.segments >= 1):
+                raise SceneError(f"{line.where}: segments must be a positive integer, got {line.segments!r}")
+        types = {t.name: t for t in self.line_types}
+        branches = [
+            Branch(
+                line.start,
+                line.end,
+                types[line.line_type].line_type(line.length / line.segments),
+                line.length,
+                line.segments,
+            )
+            for line in self.lines
+        ]
+        constraints = {
+            k: (p.motion if p.motion is not None else Fixed())
+            for k, p in enumerate(self.points)
+            if p.kind != "free"
+        }
+        bodies = {k: p.body for k, p in enumerate(self.points) if p.body is not None}
+        with located(self.source):
+            water = self.water
+            environment = Environment(water.density, water.gravity, water.current)
+            model = CableNetwork.from_branches(
+                junctions=np.array([p.position for p in self.points], dtype=float),
+                branches=branches,
+                constraints=constraints,
+                bodies=bodies,
+                mass_matrix=self.run.mass_matrix,
+            )
+        # `from_branches` keeps point k as node k, then numbers each line's interior
+        # nodes and its segments, A to B, line by line.
+        line_nodes, line_segments = [], []
+        next_node, next_segment = len(self.points), 0
+        for line in self.lines:
+            n = line.segments
+            line_nodes.append(np.array([line.start, *range(next_node, next_node + n - 1), line.end]))
+            line_segments.append(np.arange(next_segment, next_segment + n))
+            next_node += n - 1
+            next_segment += n
+        return BuiltScene(self, model, environment, tuple(line_nodes), tuple(line_segments))
+
+
+@dataclass(frozen=True)
+class BuiltScene:
+    """A scene with its engine model.
+
+    - `model`, `environment`: for [`jaxcable.solve_statics`][] and
+        [`jaxcable.simulate`][].
+    - `line_nodes`: per line, the node indices from end A to end B, shape
+        `(segments + 1,)`.
+    - `line_segments`: per line, the segment indices from end A to end B.
+    """
+
+    scene: Scene
+    model: CableNetwork
+    environment: Environment
+    line_nodes: tuple[np.ndarray, ...] = field(repr=False)
+    line_segments: tuple[np.ndarray, ...] = field(repr=False)
+
+
+class located:
+    """Re-raise a `ValueError` from the engine's checks as a `SceneError` prefixed with
+    where in the file the offending item was written."""
+
+    def __init__(self, where: str):
+        self.where = where
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, error, traceback):
+        if kind is not None and issubclass(kind, ValueError) and not isinstance(error, SceneError):
+            raise SceneError(f"{self.where}: {error}") from error
+        return False
+
+
+def unique_names(items: Sequence, what: str, source: str) -> None:
+    """Raise a `SceneError` naming the second definition of a duplicated name."""
+    seen = {}
+    for item in items:
+        if item.name in seen:
+            raise SceneError(f"{item.where}: {what} {item.name!r} is already defined at {seen[item.name]}")
+        seen[item.name] = item.where or source

@@ -1,0 +1,314 @@
+"""jaxcable's own scene files, in TOML.
+
+A scene file names its points and line types and lists its lines::
+
+    title = "An anchored line driven at its top"
+
+    [water]                      # all optional
+    density = 1025.0             # kg/m³
+    gravity = 9.81               # m/s²
+    depth = 200.0                # m
+    current = [0.5, 0.0, 0.0]    # m/s
+
+    [simulation]                 # all optional
+    duration = 30.0              # s
+    dt_out = 0.05                # s
+    solver = "dopri5"            # see jaxcable.SOLVERS
+    rtol = 1e-6
+    atol = 1e-6
+    mass_matrix = "consistent"   # or "lumped"
+
+    [line_types.rope]
+    mass_per_length = 3.0        # kg/m
+    diameter = 0.0195            # m
+    axial_stiffness = 3.0e7      # C_E = EA (N)
+    quadratic_stiffness = 3.0e6  # C_E1 (N), optional
+    axial_damping = 0.0          # C_v (N·s), or axial_damping_ratio (–), optional
+    normal_drag = 1.2            # K_n; also tangential_drag, normal_added_mass,
+                                 # tangential_added_mass, area, slack_width
+
+    [points.anchor]
+    type = "fixed"               # "fixed", "coupled" or "free"
+    position = [0.0, 0.0, -200.0]
+
+    [points.fairlead]
+    type = "coupled"
+    position = [346.4, 0.0, 0.0]
+    motion = { type = "harmonic", amplitude = 1.57, period = 5.6, direction = [1, 0, 0] }
+    # or: motion = { type = "table", file = "fairlead.csv" }  (time x y z, absolute)
+
+    [points.buoy]                # a free point may carry a body:
+    type = "free"                # mass, volume, drag_area, specific_drag,
+    position = [...]             # organism_mass, added_mass
+
+    [[lines]]
+    type = "rope"
+    from = "anchor"              # end A
+    to = "fairlead"              # end B
+    length = 400.0               # m, unstretched
+    segments = 20
+
+    [output]
+    channels = ["FairTen1", "AnchTen1", "L1N10PZ"]
+
+Lines are numbered from 1 in the order written, for channels such as `FairTen1`.
+Errors name the file, the line and the key.
+"""
+
+import tomllib
+from pathlib import Path
+
+from ._motion import Harmonic, Sampled
+from ._motion_file import read_motion_file
+from ._network import Body
+from ._scene import (
+    POINT_KINDS,
+    LineSpec,
+    LineTypeSpec,
+    PointSpec,
+    RunSettings,
+    Scene,
+    SceneError,
+    Water,
+    located,
+    unique_names,
+)
+
+_TOP = ("title", "water", "simulation", "line_types", "points", "lines", "output")
+_WATER = ("density", "gravity", "depth", "current")
+_SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "mass_matrix")
+_LINE_TYPE_REQUIRED = ("mass_per_length", "diameter", "axial_stiffness")
+_LINE_TYPE_OPTIONAL = (
+    "quadratic_stiffness", "axial_damping", "axial_damping_ratio", "normal_drag", "tangential_drag",
+    "normal_added_mass", "tangential_added_mass", "area", "slack_width",
+)
+_BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass")
+_HARMONIC = ("type", "amplitude", "period", "direction", "phase")
+_LINE = ("name", "type", "from", "to", "length", "segments")
+
+
+def read_scene(path: str | Path) -> Scene:
+    """Read a jaxcable scene file (TOML) as a [`jaxcable.Scene`][]. The format is in
+    this module's docstring; `jaxcable/examples/scenes/` has complete examples.
+
+    **Raises:**
+
+    [`jaxcable.SceneError`][] naming the file, line and key for TOML syntax errors,
+    unknown or missing keys, values of the wrong type, points or line types that do
+    not exist, and values out of range.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as error:
+        raise SceneError(f"cannot read {path}: {error.strerror}") from error
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise SceneError(f"{path}: {error}") from error
+    reader = _Reader(path, text)
+    reader.keys(data, (), _TOP)
+
+    water = reader.table(data, ("water",))
+    reader.keys(water, ("water",), _WATER)
+    depth = reader.number(water, ("water", "depth"), None)
+    if depth is not None and not depth > 0:
+        raise SceneError(f"{reader.where(('water', 'depth'))}: must be positive, got {depth}")
+    water_spec = Water(
+        density=reader.number(water, ("water", "density"), 1025.0),
+        gravity=reader.number(water, ("water", "gravity"), 9.81),
+        depth=depth,
+        current=reader.vector(water, ("water", "current"), (0.0, 0.0, 0.0)),
+    )
+
+    simulation = reader.table(data, ("simulation",))
+    reader.keys(simulation, ("simulation",), _SIMULATION)
+    defaults = RunSettings()
+    run = RunSettings(
+        duration=reader.number(simulation, ("simulation", "duration"), defaults.duration),
+        dt_out=reader.number(simulation, ("simulation", "dt_out"), None),
+        solver=reader.string(simulation, ("simulation", "solver"), defaults.solver),
+        rtol=reader.number(simulation, ("simulation", "rtol"), defaults.rtol),
+        atol=reader.number(simulation, ("simulation", "atol"), defaults.atol),
+        mass_matrix=reader.string(simulation, ("simulation", "mass_matrix"), defaults.mass_matrix),
+    )
+
+    line_types = []
+    line_type_tables = reader.table(data, ("line_types",), required=True)
+    for name in line_type_tables:
+        keys = ("line_types", name)
+        table = reader.table(line_type_tables, keys, required=True)
+        reader.keys(table, keys, _LINE_TYPE_REQUIRED + _LINE_TYPE_OPTIONAL)
+        values = {k: reader.number(table, (*keys, k)) for k in _LINE_TYPE_REQUIRED}
+        values |= {k: reader.number(table, (*keys, k)) for k in _LINE_TYPE_OPTIONAL if k in table}
+        line_types.append(LineTypeSpec(name=name, where=reader.where(keys), **values))
+    unique_names(line_types, "line type", str(path))
+
+    points = []
+    point_tables = reader.table(data, ("points",), required=True)
+    for name in point_tables:
+        keys = ("points", name)
+        table = reader.table(point_tables, keys, required=True)
+        reader.keys(table, keys, ("type", "position", "motion") + _BODY)
+        kind = reader.string(table, (*keys, "type"))
+        if kind not in POINT_KINDS:
+            raise SceneError(f"{reader.where((*keys, 'type'))}: unknown point type {kind!r}; expected one of {POINT_KINDS}")
+        position = reader.vector(table, (*keys, "position"))
+        body = None
+        if any(k in table for k in _BODY):
+            with located(reader.where(keys)):
+                body = Body(**{k: reader.number(table, (*keys, k)) for k in _BODY if k in table})
+        motion = None
+        if "motion" in table:
+            if kind != "coupled":
+                raise SceneError(f"{reader.where((*keys, 'motion'))}: only a coupled point can have a motion")
+            motion = reader.motion(table, (*keys, "motion"), position)
+        points.append(PointSpec(name, kind, position, body, motion, reader.where(keys)))
+    index = {p.name: k for k, p in enumerate(points)}
+
+    lines = []
+    rows = data.get("lines")
+    if not isinstance(rows, list) or not rows:
+        raise SceneError(f"{reader.where(('lines',))}: expected one or more [[lines]] tables")
+    for k, row in enumerate(rows):
+        keys = ("lines", k)
+        if not isinstance(row, dict):
+            raise SceneError(f"{reader.where(keys)}: expected a [[lines]] table")
+        reader.keys(row, keys, _LINE)
+        ends = []
+        for end in ("from", "to"):
+            point = reader.string(row, (*keys, end))
+            if point not in index:
+                raise SceneError(f"{reader.where((*keys, end))}: point {point!r} does not exist; defined: {list(index)}")
+            ends.append(index[point])
+        line_type = reader.string(row, (*keys, "type"))
+        if line_type not in {t.name for t in line_types}:
+            raise SceneError(
+                f"{reader.where((*keys, 'type'))}: line type {line_type!r} does not exist; "
+                f"defined: {[t.name for t in line_types]}"
+            )
+        length = reader.number(row, (*keys, "length"))
+        if not length > 0:
+            raise SceneError(f"{reader.where((*keys, 'length'))}: the unstretched length must be positive, got {length:g}")
+        segments = row.get("segments")
+        if not (type(segments) is int and segments >= 1):
+            raise SceneError(f"{reader.where((*keys, 'segments'))}: expected a positive integer, got {segments!r}")
+        name = reader.string(row, (*keys, "name"), str(k + 1))
+        lines.append(LineSpec(name, line_type, ends[0], ends[1], length, segments, reader.where(keys)))
+
+    output = reader.table(data, ("output",))
+    reader.keys(output, ("output",), ("channels",))
+    channels = output.get("channels", [])
+    if not (isinstance(channels, list) and all(isinstance(c, str) for c in channels)):
+        raise SceneError(f"{reader.where(('output', 'channels'))}: expected a list of channel names")
+    reader.string(data, ("title",), "")
+    return Scene(tuple(points), tuple(line_types), tuple(lines), water_spec, run, tuple(channels), (), str(path))
+
+
+class _Reader:
+    """Typed access to the parsed TOML, with errors located in the source text.
+
+    `tomllib` reports syntax errors with their line but does not keep positions, so
+    keys are located by scanning the text: each `[table]` / `[[array]]` header and each
+    `key =` line is recorded under its full key path.
+    """
+
+    def __init__(self, path: Path, text: str):
+        self.path = path
+        self.lines: dict[tuple, int] = {}
+        header: tuple = ()
+        arrays: dict[tuple, int] = {}
+        for number, raw in enumerate(text.splitlines(), start=1):
+            line = raw.strip()
+            if line.startswith("[["):
+                name = _split_key(line[2:].split("]]")[0])
+                arrays[name] = arrays.get(name, -1) + 1
+                header = (*name, arrays[name])
+                self.lines.setdefault(header, number)
+            elif line.startswith("["):
+                header = _split_key(line[1:].split("]")[0])
+                self.lines.setdefault(header, number)
+            elif "=" in line and not line.startswith("#"):
+                self.lines.setdefault((*header, *_split_key(line.split("=")[0])), number)
+
+    def where(self, keys: tuple) -> str:
+        """`file, line N, key a.b.c`, with the line of the key or of its nearest
+        enclosing table that the text shows."""
+        shown = ".".join(str(k) if not isinstance(k, int) else f"[{k}]" for k in keys).replace(".[", "[")
+        for n in range(len(keys), 0, -1):
+            if keys[:n] in self.lines:
+                return f"{self.path}, line {self.lines[keys[:n]]}, key {shown}"
+        return f"{self.path}, key {shown}"
+
+    def keys(self, table: dict, keys: tuple, allowed: tuple[str, ...]) -> None:
+        for key in table:
+            if key not in allowed:
+                raise SceneError(f"{self.where((*keys, key))}: unknown key; expected one of {', '.join(allowed)}")
+
+    def table(self, parent: dict, keys: tuple, required: bool = False) -> dict:
+        """The table at `keys[-1]` of `parent` (`{}` if absent and not `required`)."""
+        if keys[-1] not in parent:
+            if required:
+                raise SceneError(f"{self.where(keys)}: missing table [{'.'.join(map(str, keys))}]")
+            return {}
+        value = parent[keys[-1]]
+        if not isinstance(value, dict):
+            raise SceneError(f"{self.where(keys)}: expected a table, got {value!r}")
+        return value
+
+    def _value(self, table: dict, keys: tuple, default, kind: str):
+        if keys[-1] in table:
+            return table[keys[-1]], True
+        if default is _REQUIRED:
+            raise SceneError(f"{self.where(keys)}: missing required key ({kind})")
+        return default, False
+
+    def number(self, table: dict, keys: tuple, default=...):
+        value, given = self._value(table, keys, default, "a number")
+        if given and (isinstance(value, bool) or not isinstance(value, int | float)):
+            raise SceneError(f"{self.where(keys)}: expected a number, got {value!r}")
+        return float(value) if given else value
+
+    def string(self, table: dict, keys: tuple, default=...) -> str:
+        value, given = self._value(table, keys, default, "a string")
+        if given and not isinstance(value, str):
+            raise SceneError(f"{self.where(keys)}: expected a string, got {value!r}")
+        return value
+
+    def vector(self, table: dict, keys: tuple, default=...) -> tuple[float, float, float]:
+        value, given = self._value(table, keys, default, "[x, y, z]")
+        if given and not (
+            isinstance(value, list)
+            and len(value) == 3
+            and all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
+        ):
+            raise SceneError(f"{self.where(keys)}: expected three numbers [x, y, z], got {value!r}")
+        return tuple(float(v) for v in value) if given else value
+
+    def motion(self, table: dict, keys: tuple, position: tuple[float, float, float]):
+        spec = table[keys[-1]]
+        if not isinstance(spec, dict):
+            raise SceneError(f"{self.where(keys)}: expected a table such as {{ type = \"harmonic\", ... }}")
+        kind = self.string(spec, (*keys, "type"))
+        if kind == "harmonic":
+            self.keys(spec, keys, _HARMONIC)
+            with located(self.where(keys)):
+                return Harmonic(
+                    amplitude=self.number(spec, (*keys, "amplitude")),
+                    period=self.number(spec, (*keys, "period")),
+                    direction=self.vector(spec, (*keys, "direction"), (1.0, 0.0, 0.0)),
+                    phase=self.number(spec, (*keys, "phase"), 0.0),
+                )
+        if kind == "table":
+            self.keys(spec, keys, ("type", "file"))
+            file = self.path.parent / self.string(spec, (*keys, "file"))
+            times, positions = read_motion_file(file, 1)
+            return Sampled(times, positions[:, 0, :] - tuple(position))
+        raise SceneError(f"{self.where((*keys, 'type'))}: unknown motion type {kind!r}; expected 'harmonic' or 'table'")
+
+
+_REQUIRED = ...  # the default of a key that must be given
+
+
+def _split_key(key: str) -> tuple[str, ...]:
+    return tuple(part.strip().strip("\"'") for part in key.split("."))
