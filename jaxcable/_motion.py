@@ -111,7 +111,9 @@ class Sampled(AbstractMotion):
 
     def displacement(self, t):
         ts, ys, ms = self.times, self.displacements, self.curvatures
-        t = jnp.clip(t, ts[0], ts[-1])
+        # Not `clip`: its derivative is ½ where t equals an end sample, which would halve
+        # the velocity at the last output time. `where` keeps the inside derivative there.
+        t = jnp.where(t < ts[0], ts[0], jnp.where(t > ts[-1], ts[-1], t))
         k = jnp.clip(jnp.searchsorted(ts, t, side="right") - 1, 0, ts.shape[0] - 2)
         h = ts[k + 1] - ts[k]
         a, b = (ts[k + 1] - t) / h, (t - ts[k]) / h

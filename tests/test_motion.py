@@ -46,3 +46,15 @@ def test_sampled_holds_its_end_values():
     r, v, _ = (np.asarray(k) for k in motion.kinematics(5.0))
     np.testing.assert_allclose(r, [3.0, 0.0, 0.0])
     np.testing.assert_allclose(v, 0.0)
+
+
+def test_sampled_velocity_at_the_end_samples_is_the_one_sided_derivative():
+    # At the first and last sample the velocity must be the spline's own slope there
+    # (a backward or forward difference), not half of it, as a clipped time would give.
+    t = np.linspace(0.0, 10.0, 101)
+    motion = jc.Sampled(t, np.stack([np.sin(t), np.zeros_like(t), np.zeros_like(t)], axis=1))
+    h = 1e-6
+    for end, inside in ((10.0, 10.0 - h), (0.0, h)):
+        _, velocity, _ = motion.kinematics(end)
+        slope = (motion.displacement(end)[0] - motion.displacement(inside)[0]) / (end - inside)
+        np.testing.assert_allclose(velocity[0], slope, rtol=1e-5)
