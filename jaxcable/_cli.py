@@ -11,6 +11,7 @@ name of a bundled example scene (see `jaxcable examples`).
 
 import argparse
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -75,7 +76,9 @@ def _load(args) -> Scene:
     path = Path(args.input)
     if not path.exists() and args.input in scene_names():
         path = scene_path(args.input)
-    scene = load_scene(path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the command prints the scene's notes itself
+        scene = load_scene(path)
     if args.segments is not None:
         scene = scene.with_segments(args.segments)
     return scene

@@ -13,10 +13,12 @@ Features jaxcable does not model raise a [`jaxcable.SceneError`][] where leaving
 out would change the system (rods, 6-DOF bodies, nonlinear or viscoelastic stiffness
 tables, VIV, constant point forces) and are listed in `Scene.notes` where the model is
 still meaningful without them (bending stiffness of a long line, seabed contact
-parameters, MoorDyn's time-step and initial-condition options).
+parameters, MoorDyn's time-step and initial-condition options). Notes on physics left
+out (bending, the seabed, waves) are also issued as Python warnings.
 """
 
 import re
+import warnings
 from pathlib import Path
 
 from ._network import Body
@@ -127,6 +129,9 @@ def read_moordyn(path: str | Path) -> Scene:
         depth=depth,
     )
     run = RunSettings(dt_out=options.get("dtout") or None, mass_matrix="lumped")
+    for note in notes:
+        if " ignored" in note:  # physics left out, as opposed to options not needed
+            warnings.warn(note, stacklevel=2)
     return Scene(points, line_types, mdlines, water, run, channels, tuple(notes), source)
 
 
