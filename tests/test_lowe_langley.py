@@ -19,7 +19,12 @@ AMPLITUDE, PERIOD, AFTER_RAMP = 10.0, 27.0, 80.0
 
 @pytest.fixture(scope="module")
 def statics():
-    return jc.run_scene(jc.read_moordyn(DATA / "line.txt"), duration=0)
+    with pytest.warns(UserWarning) as caught:
+        scene = jc.read_moordyn(DATA / "line.txt")
+    # What is left out is said: bending (EI), the seabed (kBot, cBot), API waves.
+    said = " ".join(str(w.message) for w in caught)
+    assert "bending stiffness EI = 120800" in said and "kBot" in said and "WaveKin" in said
+    return jc.run_scene(scene, duration=0)
 
 
 def test_static_support_forces_match_the_reference(statics):
