@@ -8,10 +8,12 @@ from ._scene import BuiltScene
 def stiffest_axial_mode(built: BuiltScene) -> tuple[float, float, int]:
     """The fastest axial mode of the discretised lines.
 
-    In a chain of lumped nodes, the highest axial mode moves neighbouring nodes in
-    opposition: `m_n λ² + 4 c λ + 4 k = 0` with node mass m_n = m l (plus tangential
-    added mass), segment stiffness k = EA / l and damping c = C_v / l. Its natural
-    frequency is ω_n = 2 √(EA / m) / l, seed 003's and MoorDyn's stiffness bound.
+    The highest axial mode moves neighbouring nodes in opposition:
+    `m_n λ² + 4 c λ + 4 k = 0` with segment stiffness k = EA / l, damping c = C_v / l
+    and the mass that mode sees at a node, m_n = m l with a lumped mass matrix and
+    m l / 3 with the consistent one (whose row is m l (1, 4, 1) / 6), m including the
+    tangential added mass. Lumped, ω_n = 2 √(EA / m) / l, seed 003's and MoorDyn's
+    stiffness bound; consistent, √3 times that.
 
     **Returns:**
 
@@ -23,7 +25,7 @@ def stiffest_axial_mode(built: BuiltScene) -> tuple[float, float, int]:
     length = np.asarray(model.segment_length)
     rho = float(built.environment.water_density)
     mass = np.asarray(line.mass_per_length) + rho * np.asarray(line.area) * np.asarray(line.tangential_added_mass)
-    node_mass = mass * length
+    node_mass = mass * length / (3.0 if model.mass_matrix == "consistent" else 1.0)
     stiffness = np.asarray(line.tension_law.axial_stiffness) / length
     damping = np.asarray(line.tension_law.damping()) / length
     omega = 2 * np.sqrt(stiffness / node_mass)
