@@ -58,6 +58,14 @@ def solve_statics(
     with every segment slightly stretched (as [`jaxcable.CableNetwork.from_branches`][]
     makes for a straight taut line), or from a sagged guess.
 
+    If that solve leaves a large residual (outside `jit` and `vmap`, where the values
+    can be inspected), the free nodes first descend the potential energy by BFGS from
+    the initial positions, current drag aside, and Levenberg–Marquardt starts again
+    from there. Energy descent always makes progress where a hanging part must swing
+    or straighten a long way, as below a weight or a free end, which
+    Levenberg–Marquardt on the forces was seen to stall on (MoorDyn's `lifting.txt`
+    and `hanging_lines.txt` examples).
+
     **Arguments:**
 
     - `model`, `env`: the network and the water.
@@ -75,6 +83,11 @@ def solve_statics(
     """
     start = model.node_positions if initial is None else initial.positions
     solution, positions, remaining, scale = _solve(model, env, start, t, rtol, atol, max_steps)
+    if checks.is_concrete(remaining) and remaining > force_tolerance:
+        descended = _descend(model, env, start, t, 10 * max_steps)
+        retry = _solve(model, env, descended, t, rtol, atol, max_steps)
+        if retry[2] < remaining:
+            solution, positions, remaining, scale = retry
     # Levenberg–Marquardt stops when its steps vanish, which also happens on a slack
     # guess with no stiffness at all; only a small force residual means equilibrium.
     result = optx.RESULTS.where(
@@ -126,3 +139,26 @@ def _solve(model, env, start, t, rtol, atol, max_steps):
     positions, _ = lag.full_state(model, t, solution.value, zeros_free)
     remaining = jnp.max(jnp.abs(residual(solution.value, None)), initial=0.0)
     return solution, positions, remaining, scale
+
+
+@eqx.filter_jit
+def _descend(model, env, start, t, max_steps):
+    """Node positions after descending the potential energy Π (BFGS) from `start`.
+
+    Only a starting point for `_solve`, so it stops at `max_steps` without complaint.
+    Π is scaled by the heaviest segment's dry weight times the network's length, so
+    that the tolerances are relative.
+    """
+    free = model.free_nodes
+    zeros_free = jnp.zeros((free.shape[0], 3))
+    weight = jnp.max(model.line.mass_per_length * env.gravity * model.segment_length)
+    scale = jnp.maximum(weight * jnp.sum(model.segment_length), 1e-12)
+
+    def energy(free_positions, _):
+        positions, _ = lag.full_state(model, t, free_positions, zeros_free)
+        return lag.potential_energy(model, env, positions) / scale
+
+    solver = optx.BFGS(rtol=1e-10, atol=1e-10)
+    solution = optx.minimise(energy, solver, start[free], max_steps=max_steps, throw=False)
+    positions, _ = lag.full_state(model, t, solution.value, zeros_free)
+    return positions

@@ -386,18 +386,37 @@ def test_current_drag_on_taut_vertical_line():
 # ---------------------------------------------------------------------------------------
 
 
-def test_slack_guess_raises():
-    """Every segment compressed (free nodes on the 180 m chord of a 200 m line): no
-    stiffness, so Levenberg–Marquardt cannot move and solve_statics must raise. The
-    force it reports is then an interior node's whole load, its weight w L₀/N."""
-    n = 10
-    model = catenary_model(n)
+def slack_guess(model, n):
+    """Free nodes on the 180 m chord of the 200 m line: every segment compressed."""
     positions = np.asarray(model.node_positions).copy()
     fractions = np.linspace(0.0, 1.0, n + 1)[1:-1]
     positions[2:] = ANCHOR + fractions[:, None] * (FAIRLEAD - ANCHOR)
     assert np.linalg.norm(FAIRLEAD - ANCHOR) < LENGTH
-    initial = jc.State(positions, np.zeros_like(positions))
+    return jc.State(positions, np.zeros_like(positions))
+
+
+def test_slack_guess_recovers_by_energy_descent():
+    """From a slack guess Levenberg–Marquardt has no stiffness to move with; the energy
+    descent it falls back on lets the line sag, and the equilibrium is the one found
+    from the taut guess."""
+    n = 10
+    model = catenary_model(n)
+    env = jc.Environment(water_density=RHO, gravity=G)
+    recovered = jc.solve_statics(model, env, initial=slack_guess(model, n))
+    direct = jc.solve_statics(model, env)
+    np.testing.assert_allclose(recovered.state.positions, direct.state.positions, atol=1e-6)
+
+
+def test_failed_statics_raises_with_the_residual():
+    """Too few iterations for either attempt: solve_statics raises, naming the force
+    left on a free node, and with throw=False reports it instead."""
+    n = 10
+    model = catenary_model(n)
+    env = jc.Environment(water_density=RHO, gravity=G)
     with pytest.raises(RuntimeError, match="found no equilibrium") as error:
-        jc.solve_statics(model, jc.Environment(water_density=RHO, gravity=G), initial=initial)
+        jc.solve_statics(model, env, initial=slack_guess(model, n), max_steps=2)
     reported = float(re.search(r"free node is ([0-9.eE+-]+) N", str(error.value)).group(1))
-    np.testing.assert_allclose(reported, W * LENGTH / n, rtol=1e-6)
+    quiet = jc.solve_statics(model, env, initial=slack_guess(model, n), max_steps=2, throw=False)
+    assert quiet.result != optx.RESULTS.successful
+    np.testing.assert_allclose(float(quiet.residual), reported, rtol=1e-9)
+    assert reported > 1e-3 * W * LENGTH / n
