@@ -101,6 +101,8 @@ def _run(args) -> int:
     for note in scene.notes:
         print(f"note: {note}", file=sys.stderr)
     channels = tuple(args.channels or ())
+    for name in channels or output.default_channels(scene):
+        output.parse_channel(name, scene)  # fail now, not after the simulation
     run = run_scene(scene, duration=duration, dt_out=args.dt_out, solver=args.solver, progress=not args.no_progress)
     for note in run.notes:
         print(f"warning: {note}", file=sys.stderr)

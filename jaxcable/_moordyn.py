@@ -17,6 +17,7 @@ parameters, MoorDyn's time-step and initial-condition options). Notes on physics
 out (bending, the seabed, waves) are also issued as Python warnings.
 """
 
+import math
 import re
 import warnings
 from pathlib import Path
@@ -48,6 +49,7 @@ _UNSUPPORTED_SECTIONS = {
     "EXTERNAL LOADS": "external loads",
 }
 _LINE_TYPE_COLUMNS = ("TypeName", "Diam", "Mass/m", "EA", "BA/-zeta", "EI", "Cd", "Ca", "CdAx", "CaAx")
+_EXTRA_LINE_TYPE_COLUMNS = ("Cl", "dF", "cF")  # MoorDyn's VIV coefficients
 _POINT_COLUMNS = ("ID", "Type", "X", "Y", "Z", "Mass", "Volume", "CdA", "Ca")
 _POINT_FORCE_COLUMNS = ("ID", "Type", "X", "Y", "Z", "Mass", "Volume", "FX", "FY", "FZ", "CdA", "Ca")
 _LINE_COLUMNS = ("ID", "LineType", "AttachA", "AttachB", "UnstrLen", "NumSegs", "LineOutputs")
@@ -166,9 +168,12 @@ def _rows(lines: list[str], sections: dict[str, int], name: str) -> list[tuple[i
 
 def _number(source: str, line: int, column: str, token: str) -> float:
     try:
-        return float(token)
+        value = float(token)
     except ValueError:
         raise SceneError(f"{source}, line {line}, column {column}: {token!r} is not a number") from None
+    if not math.isfinite(value):
+        raise SceneError(f"{source}, line {line}, column {column}: {token!r} is not a finite number")
+    return value
 
 
 def _require(source: str, line: int, fields: list[str], columns: tuple[str, ...], section: str) -> None:
@@ -199,11 +204,11 @@ def _line_type(source: str, line: int, fields: list[str], notes: list[str]) -> L
             "(jaxcable models cables without bending)"
         )
     values = {c: _number(source, line, c, t) for c, t in zip(_LINE_TYPE_COLUMNS[6:], fields[6:10])}
-    extras = fields[10:]
-    for k, token in enumerate(extras):
-        if _number(source, line, f"{11 + k}", token) != 0:
+    for k, token in enumerate(fields[10:]):
+        column = f"{11 + k} ({_EXTRA_LINE_TYPE_COLUMNS[k]})" if k < len(_EXTRA_LINE_TYPE_COLUMNS) else str(11 + k)
+        if _number(source, line, column, token) != 0:
             raise SceneError(
-                f"{where}, column {11 + k}: {token} — vortex-induced vibration and the other columns after "
+                f"{where}, column {column}: {token} — vortex-induced vibration and the other columns after "
                 "CaAx are not supported"
             )
     damping = _number(source, line, "BA/-zeta", ba)
@@ -289,7 +294,8 @@ def _options(source: str, lines: list[str], sections: dict[str, int], notes: lis
         where = f"{source}, line {line}"
         if key in used:
             options[key] = _number(source, line, name, value)
-            if key in ("g", "gravity", "rho", "wtrdnsty", "wtrdpth") and not options[key] > 0:
+            # dtOut = 0 is MoorDyn's "every step"; jaxcable then keeps its default interval.
+            if not (options[key] > 0 or (key == "dtout" and options[key] == 0)):
                 raise SceneError(f"{where}: option {name} must be positive, got {value}")
         elif key in _SEABED:
             notes.append(f"{where}: option {name} = {value} ignored (seabed contact is not modelled yet)")

@@ -12,7 +12,7 @@ def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndar
     """Read a table of `time x y z` for each of `points` coupled points, in order.
 
     Columns are separated by whitespace or commas. Lines that are blank or start with
-    `#` are skipped, and so is a first line of column names.
+    `#` are skipped, and so is a first line of column names (one with no number in it).
 
     **Returns:**
 
@@ -39,8 +39,8 @@ def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndar
         try:
             values = [float(f) for f in fields]
         except ValueError:
-            if not rows and not header:
-                header = True  # a first row of column names
+            if not rows and not header and not any(_is_number(f) for f in fields):
+                header = True  # a first row of column names, with no numbers in it
                 continue
             raise SceneError(f"{path}, line {number}: non-numeric field in {line.strip()!r}") from None
         if len(values) != expected:
@@ -64,3 +64,11 @@ def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndar
             f"{table[i - 1, 0]:g} s"
         )
     return table[:, 0], table[:, 1:].reshape(len(rows), points, 3)
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True

@@ -26,6 +26,7 @@ from ._scene import SceneError
 
 if TYPE_CHECKING:
     from ._run import SceneRun
+    from ._scene import Scene
 
 TABLE_SUFFIXES = (".csv", ".out", ".txt")
 ARCHIVE_SUFFIXES = (".npz", ".nc")
@@ -34,10 +35,11 @@ _END_TENSION = re.compile(r"(?i)(fairten|anchten)(\d+)")
 _NODE = re.compile(r"(?i)l(\d+)n(\d+)(px|py|pz|t)")
 
 
-def default_channels(run: "SceneRun") -> tuple[str, ...]:
-    """`FairTen<k>` and `AnchTen<k>` for every line."""
-    count = len(run.built.scene.lines)
-    return tuple(f"{kind}{k}" for k in range(1, count + 1) for kind in ("FairTen", "AnchTen"))
+def default_channels(scene: "Scene") -> tuple[str, ...]:
+    """The scene's own channels, or `FairTen<k>` and `AnchTen<k>` for every line."""
+    if scene.channels:
+        return tuple(scene.channels)
+    return tuple(f"{kind}{k}" for k in range(1, len(scene.lines) + 1) for kind in ("FairTen", "AnchTen"))
 
 
 def channel_units(name: str) -> str:
@@ -48,44 +50,58 @@ def channel_units(name: str) -> str:
     return "m" if match and match.group(3).lower() != "t" else "N"
 
 
-def channels(run: "SceneRun", names: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
-    """Channel values over `run.times`, by name, `Time` first.
+def parse_channel(name: str, scene: "Scene") -> tuple[str, str, int, int]:
+    """`(canonical name, quantity, line index, node index)` of channel `name`, with
+    quantity one of `FairTen`, `AnchTen`, `PX`, `PY`, `PZ`, `T` and indices from 0
+    (node −1 for the end tensions).
 
     **Raises:**
 
     [`jaxcable.SceneError`][] naming a channel that is unknown or refers to a line or
     node that does not exist.
     """
-    names = tuple(names) or default_channels(run)
-    lines = run.built.scene.lines
+    count = len(scene.lines)
+    if match := _END_TENSION.fullmatch(name):
+        kind = "FairTen" if match.group(1).lower() == "fairten" else "AnchTen"
+        k = _line_index(name, int(match.group(2)), count)
+        return f"{kind}{k + 1}", kind, k, -1
+    if match := _NODE.fullmatch(name):
+        k = _line_index(name, int(match.group(1)), count)
+        i, quantity = int(match.group(2)), match.group(3).upper()
+        last = scene.lines[k].segments
+        if i > last:
+            raise SceneError(f"output channel {name!r}: line {k + 1} has nodes 0 to {last}")
+        return f"L{k + 1}N{i}{quantity}", quantity, k, i
+    raise SceneError(
+        f"unknown output channel {name!r}; jaxcable writes FairTen<k>, AnchTen<k>, "
+        "L<k>N<i>PX / PY / PZ and L<k>N<i>T"
+    )
+
+
+def channels(run: "SceneRun", names: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
+    """Channel values over `run.times`, by name, `Time` first; `names` defaults to
+    [`default_channels`][].
+
+    **Raises:**
+
+    [`jaxcable.SceneError`][], as [`parse_channel`][].
+    """
+    scene = run.built.scene
     values = {"Time": run.times}
-    for name in names:
-        if match := _END_TENSION.fullmatch(name):
-            kind, k = match.group(1).lower(), _line_number(name, int(match.group(2)), len(lines))
-            segments = run.built.line_segments[k]
-            segment = segments[-1] if kind == "fairten" else segments[0]
-            values[("FairTen" if kind == "fairten" else "AnchTen") + str(k + 1)] = run.tension[:, segment]
-        elif match := _NODE.fullmatch(name):
-            k = _line_number(name, int(match.group(1)), len(lines))
-            i, quantity = int(match.group(2)), match.group(3).upper()
-            nodes, segments = run.built.line_nodes[k], run.built.line_segments[k]
-            if i >= nodes.size:
-                raise SceneError(f"output channel {name!r}: line {k + 1} has nodes 0 to {nodes.size - 1}")
-            canonical = f"L{k + 1}N{i}{quantity}"
-            if quantity == "T":
-                adjacent = segments[max(i - 1, 0) : min(i, segments.size - 1) + 1]
-                values[canonical] = run.tension[:, adjacent].mean(axis=1)
-            else:
-                values[canonical] = run.positions[:, nodes[i], "XYZ".index(quantity[1])]
+    for name in tuple(names) or default_channels(scene):
+        canonical, quantity, k, i = parse_channel(name, scene)
+        nodes, segments = run.built.line_nodes[k], run.built.line_segments[k]
+        if quantity in ("FairTen", "AnchTen"):
+            values[canonical] = run.tension[:, segments[-1] if quantity == "FairTen" else segments[0]]
+        elif quantity == "T":
+            adjacent = segments[max(i - 1, 0) : min(i, segments.size - 1) + 1]
+            values[canonical] = run.tension[:, adjacent].mean(axis=1)
         else:
-            raise SceneError(
-                f"unknown output channel {name!r}; jaxcable writes FairTen<k>, AnchTen<k>, "
-                "L<k>N<i>PX / PY / PZ and L<k>N<i>T"
-            )
+            values[canonical] = run.positions[:, nodes[i], "XYZ".index(quantity[1])]
     return values
 
 
-def _line_number(name: str, k: int, count: int) -> int:
+def _line_index(name: str, k: int, count: int) -> int:
     if not 1 <= k <= count:
         raise SceneError(f"output channel {name!r}: line {k} does not exist ({count} lines)")
     return k - 1

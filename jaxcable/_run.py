@@ -8,6 +8,7 @@ import numpy as np
 
 from . import _output as output
 from ._moordyn import read_moordyn
+from ._motion import Sampled
 from ._scene import BuiltScene, Scene, SceneError
 from ._scene_file import read_scene
 from ._simulate import SOLVERS, simulate
@@ -57,7 +58,7 @@ class SceneRun:
     def channels(self, names: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
         """Output channels by MoorDyn name, `Time` first; the scene's own channels, or
         every line's `FairTen<k>` and `AnchTen<k>`, when `names` is empty."""
-        return output.channels(self, names or self.built.scene.channels)
+        return output.channels(self, names)
 
     def peak_tension(self) -> tuple[float, int, int, float]:
         """The peak tension: `(tension (N), line index, segment index along the line
@@ -127,6 +128,15 @@ def run_scene(
         raise SceneError(f"dt_out must be a positive number of seconds, got {dt_out}")
     if solver not in SOLVERS:
         raise SceneError(f"unknown solver {solver!r}; expected one of {sorted(SOLVERS)}")
+    for point in scene.points:
+        motion = point.motion
+        if isinstance(motion, Sampled):
+            first, last = float(motion.times[0]), float(motion.times[-1])
+            if first > 0 or last < duration:
+                raise SceneError(
+                    f"{point.where}: point {point.name}'s motion table covers {first:g} to {last:g} s, "
+                    f"but the run needs 0 to {duration:g} s"
+                )
     built = scene.build()
     model, env = built.model, built.environment
 

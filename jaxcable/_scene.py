@@ -177,6 +177,8 @@ class Scene:
                 k = getattr(line, end)
                 if not 0 <= k < len(self.points):
                     raise SceneError(f"{line.where}: {end} point {k} does not exist")
+            if line.start == line.end:
+                raise SceneError(f"{line.where}: line {line.name} joins point {self.points[line.start].name} to itself")
         for point in self.points:
             if point.kind not in POINT_KINDS:
                 raise SceneError(f"{point.where}: unknown point type {point.kind!r}; expected one of {POINT_KINDS}")

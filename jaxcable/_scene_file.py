@@ -55,6 +55,7 @@ Lines are numbered from 1 in the order written, for channels such as `FairTen1`.
 Errors name the file, the line and the key.
 """
 
+import math
 import tomllib
 from pathlib import Path
 
@@ -265,8 +266,8 @@ class _Reader:
 
     def number(self, table: dict, keys: tuple, default=...):
         value, given = self._value(table, keys, default, "a number")
-        if given and (isinstance(value, bool) or not isinstance(value, int | float)):
-            raise SceneError(f"{self.where(keys)}: expected a number, got {value!r}")
+        if given and (isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value)):
+            raise SceneError(f"{self.where(keys)}: expected a finite number, got {value!r}")
         return float(value) if given else value
 
     def string(self, table: dict, keys: tuple, default=...) -> str:
@@ -280,7 +281,7 @@ class _Reader:
         if given and not (
             isinstance(value, list)
             and len(value) == 3
-            and all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)
+            and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value)
         ):
             raise SceneError(f"{self.where(keys)}: expected three numbers [x, y, z], got {value!r}")
         return tuple(float(v) for v in value) if given else value

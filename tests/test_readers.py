@@ -1,0 +1,941 @@
+"""The input readers: MoorDyn v2 files, jaxcable's TOML scenes, motion tables and the
+command line's handling of bad input.
+
+Everything here reads and builds models; nothing integrates, so the file runs in
+seconds. Inputs are written into `tmp_path` by the tests, and the line numbers that
+errors must report are counted from that text, not from the reader. The MoorDyn reader
+warns of physics it leaves out (bending, the seabed, waves); the tests that cause such
+notes check the warning too.
+"""
+
+import re
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import jaxcable as jc
+from jaxcable._cli import main as cli_main
+
+LOWE_AND_LANGLEY = Path(__file__).parent / "data" / "lowe_and_langley_2006" / "line.txt"
+
+
+# --------------------------------------------------------------------------------------
+# Helpers
+
+
+def line_of(path: Path, fragment: str) -> int:
+    """The 1-based number of the one line of `path` that contains `fragment`."""
+    hits = [n for n, line in enumerate(path.read_text().splitlines(), start=1) if fragment in line]
+    assert len(hits) == 1, f"{fragment!r} is on lines {hits} of {path}"
+    return hits[0]
+
+
+def assert_located(error: pytest.ExceptionInfo, path: Path, fragment: str, *words: str) -> str:
+    """The error names `path`, the line holding `fragment` and each of `words`."""
+    message = str(error.value)
+    assert str(path) in message, message
+    number = line_of(path, fragment)
+    assert re.search(rf"\bline {number}\b", message), f"expected line {number}: {message}"
+    for word in words:
+        assert word in message, f"expected {word!r}: {message}"
+    return message
+
+
+_TYPE_COLUMNS = (
+    "TypeName   Diam    Mass/m   EA       BA/-zeta  EI       Cd     Ca     CdAx   CaAx",
+    "(name)     (m)     (kg/m)   (N)      (N-s/-)   (N-m^2)  (-)    (-)    (-)    (-)",
+)
+_POINT_COLUMNS = (
+    "ID   Type      X       Y      Z       Mass    Volume   CdA    Ca",
+    "(#)  (-)       (m)     (m)    (m)     (kg)    (m^3)    (m^2)  (-)",
+)
+_LINE_COLUMNS = (
+    "ID   LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs",
+    "(#)  (name)    (#)      (#)      (m)       (-)      (-)",
+)
+_ROD_COLUMNS = (
+    "ID   RodType   Attachment  Xa   Ya   Za   Xb   Yb   Zb   NumSegs  RodOutputs",
+    "(#)  (name)    (#/key)     (m)  (m)  (m)  (m)  (m)  (m)  (-)      (-)",
+)
+_BODY_COLUMNS = (
+    "ID   Attachment  X0   Y0   Z0   r0   p0   y0   Mass  CG*  I*  Volume  CdA*  Ca*",
+    "(#)  (word)      (m)  (m)  (m)  (deg) (deg) (deg) (kg) (m) (kg-m^2) (m^3) (m^2) (-)",
+)
+
+TYPES = ("chain   0.1     20.0     1.0e9    -0.5      0        1.2    1.0    0.05   0.0",)
+POINTS = (
+    "1    Fixed     0.0     0.0    -100.0  0       0        0      0",
+    "2    Vessel    200.0   0.0    0.0     0       0        0      0",
+)
+LINES = ("1    chain     1        2        250.0     10       -",)
+OPTIONS = ("1025.0   WtrDnsty   water density", "9.81     g          gravity", "150.0    WtrDpth    depth")
+
+
+def moordyn_text(
+    types=TYPES,
+    points=POINTS,
+    lines=LINES,
+    options=OPTIONS,
+    outputs=None,
+    before=(),
+    omit=(),
+) -> str:
+    """A MoorDyn v2 input file: a title, the given sections (`before` is a list of
+    `(header, column lines, rows)` placed after LINE TYPES), and the closing header."""
+    text = ["--------------------- MoorDyn Input File ------------------------", "jaxcable reader test"]
+    sections = [("LINE TYPES", _TYPE_COLUMNS, types), *before, ("POINTS", _POINT_COLUMNS, points),
+                ("LINES", _LINE_COLUMNS, lines), ("OPTIONS", (), options)]
+    if outputs is not None:
+        sections.append(("OUTPUTS", (), outputs))
+    for name, columns, rows in sections:
+        if name in omit:
+            continue
+        text += [f"---------------------- {name} ----------------------", *columns, *rows]
+    text.append("--------------------- need this line ------------------------")
+    return "\n".join(text) + "\n"
+
+
+def write_moordyn(tmp_path: Path, name: str = "system.txt", **sections) -> Path:
+    path = tmp_path / name
+    path.write_text(moordyn_text(**sections))
+    return path
+
+
+def segment_damping(built: jc.BuiltScene, line: int) -> np.ndarray:
+    """C_v (N·s) of each segment of line `line` (from 0) in the built model."""
+    return np.asarray(built.model.line.tension_law.damping())[built.line_segments[line]]
+
+
+# --------------------------------------------------------------------------------------
+# MoorDyn: what maps where
+
+
+def test_moordyn_line_type_coefficients_are_copied_one_to_one(tmp_path):
+    path = write_moordyn(tmp_path, types=("rope  0.15  30.5  2.0e8  1500  0  1.3  0.9  0.07  0.2",), lines=(
+        "1    rope      1        2        250.0     10       -",
+    ))
+    scene = jc.read_moordyn(path)
+    (spec,) = scene.line_types
+    assert spec.name == "rope"
+    assert spec.diameter == 0.15  # Diam
+    assert spec.mass_per_length == 30.5  # Mass/m
+    assert spec.axial_stiffness == 2.0e8  # EA
+    assert spec.normal_drag == 1.3  # Cd
+    assert spec.normal_added_mass == 0.9  # Ca
+    assert spec.tangential_drag == 0.07  # CdAx
+    assert spec.tangential_added_mass == 0.2  # CaAx
+    assert spec.quadratic_stiffness == 0.0
+    assert re.search(rf"\bline {line_of(path, 'rope  0.15')}\b", spec.where)
+    # ... and they reach the engine's LineType unchanged.
+    line = scene.build().model.line
+    for field, value in [("diameter", 0.15), ("mass_per_length", 30.5), ("normal_drag", 1.3),
+                         ("normal_added_mass", 0.9), ("tangential_drag", 0.07), ("tangential_added_mass", 0.2)]:
+        np.testing.assert_allclose(np.asarray(getattr(line, field)), value, err_msg=field)
+    np.testing.assert_allclose(np.asarray(line.tension_law.axial_stiffness), 2.0e8)
+
+
+def test_moordyn_points_lines_and_bodies(tmp_path):
+    path = write_moordyn(
+        tmp_path,
+        points=(*POINTS, "3    Free      100.0   5.0    -50.0   500     0.8      1.5    0.7"),
+        lines=(LINES[0], "2    chain     P1       C3       120.0     6        -"),
+    )
+    scene = jc.read_moordyn(path)
+    assert [p.name for p in scene.points] == ["1", "2", "3"]
+    assert [p.kind for p in scene.points] == ["fixed", "coupled", "free"]
+    assert scene.points[2].position == (100.0, 5.0, -50.0)
+    assert scene.points[0].body is None and scene.points[1].body is None
+    body = scene.points[2].body
+    assert (float(body.mass), float(body.volume), float(body.drag_area), float(body.added_mass)) == (500, 0.8, 1.5, 0.7)
+    assert float(body.specific_drag) == 0.0
+    assert re.search(rf"\bline {line_of(path, '3    Free')}\b", scene.points[2].where)
+    first, second = scene.lines
+    assert (first.start, first.end, first.length, first.segments, first.line_type) == (0, 1, 250.0, 10, "chain")
+    assert (second.name, second.start, second.end, second.length, second.segments) == ("2", 0, 2, 120.0, 6)
+    assert scene.coupled_points == (1,)
+    built = scene.build()
+    assert built.model.mass_matrix == "lumped"
+    assert [n.size for n in built.line_nodes] == [11, 7]
+
+
+@pytest.mark.parametrize(
+    "word, kind",
+    [
+        ("Fixed", "fixed"), ("fixed", "fixed"), ("ANCHOR", "fixed"), ("anchor", "fixed"),
+        ("Vessel", "coupled"), ("vessel", "coupled"), ("Coupled", "coupled"), ("FAIRLEAD", "coupled"),
+        ("fairlead", "coupled"), ("Free", "free"), ("FREE", "free"), ("Point", "free"), ("connect", "free"),
+        ("Connect", "free"),
+    ],
+)
+def test_moordyn_point_types(tmp_path, word, kind):
+    path = write_moordyn(
+        tmp_path,
+        points=(*POINTS, f"3    {word:8}  100.0   0.0    -50.0   0       0        0      0"),
+        lines=(LINES[0], "2    chain     1        3        120.0     6        -"),
+    )
+    assert jc.read_moordyn(path).points[2].kind == kind
+
+
+def test_moordyn_options_and_outputs(tmp_path):
+    path = write_moordyn(
+        tmp_path,
+        options=("1020.0   WtrDnsty", "9.8      g", "150.0    WtrDpth", "0.25     dtOut   output interval"),
+        outputs=("FairTen1 AnchTen1", "L1N5PZ", "END", "ignored after END"),
+    )
+    scene = jc.read_moordyn(path)
+    assert scene.water.density == 1020.0
+    assert scene.water.gravity == 9.8
+    assert scene.water.depth == 150.0
+    assert scene.water.current == (0.0, 0.0, 0.0)
+    assert scene.run.dt_out == 0.25
+    assert scene.run.mass_matrix == "lumped"
+    assert scene.channels == ("FairTen1", "AnchTen1", "L1N5PZ")
+    assert scene.source == str(path)
+
+
+def test_moordyn_option_aliases_and_defaults(tmp_path):
+    scene = jc.read_moordyn(write_moordyn(tmp_path, options=("1000  rho", "9.7  gravity")))
+    assert (scene.water.density, scene.water.gravity, scene.water.depth) == (1000.0, 9.7, None)
+    assert scene.run.dt_out is None and scene.channels == ()
+    scene = jc.read_moordyn(write_moordyn(tmp_path, "bare.txt", options=()))
+    assert (scene.water.density, scene.water.gravity, scene.water.depth) == (1025.0, 9.80665, None)
+
+
+def test_moordyn_bad_option_value_is_located(tmp_path):
+    path = write_moordyn(tmp_path, options=("deep  WtrDpth",))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, "deep  WtrDpth", "WtrDpth", "'deep'")
+    path = write_moordyn(tmp_path, "negative.txt", options=("-9.81  g",))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, "-9.81  g", "g must be positive")
+
+
+# --------------------------------------------------------------------------------------
+# MoorDyn: axial damping BA / -zeta
+
+
+def test_moordyn_positive_ba_is_a_damping_coefficient(tmp_path):
+    path = write_moordyn(tmp_path, types=("chain  0.1  20.0  1.0e9  1500  0  1.2  1.0  0.05  0.0",))
+    scene = jc.read_moordyn(path)
+    (spec,) = scene.line_types
+    assert (spec.axial_damping, spec.axial_damping_ratio) == (1500.0, 0.0)
+    np.testing.assert_allclose(segment_damping(scene.build(), 0), 1500.0)
+    np.testing.assert_allclose(segment_damping(scene.with_segments(40).build(), 0), 1500.0)
+
+
+def test_moordyn_negative_ba_is_a_fraction_of_critical_damping(tmp_path):
+    # MoorDyn (Line.cpp): BA = -BAin * UnstrLen / N * sqrt(EA * w), per line.
+    zeta, ea, mass = 0.5, 1.0e9, 20.0
+    lengths, segments = (250.0, 120.0), (10, 8)
+    path = write_moordyn(
+        tmp_path,
+        points=(*POINTS, "3    Fixed     100.0   0.0    -100.0  0       0        0      0"),
+        lines=(LINES[0], "2    chain     3        2        120.0     8        -"),
+    )
+    scene = jc.read_moordyn(path)
+    (spec,) = scene.line_types
+    assert (spec.axial_damping, spec.axial_damping_ratio) == (0.0, zeta)
+    built = scene.build()
+    for k, (length, n) in enumerate(zip(lengths, segments)):
+        expected = zeta * length / n * np.sqrt(ea * mass)
+        assert expected > 1e5  # far from zero, so a wrong formula cannot pass by accident
+        np.testing.assert_allclose(segment_damping(built, k), expected, rtol=1e-12)
+        assert spec.damping_coefficient(length / n) == pytest.approx(expected, rel=1e-12)
+    finer = scene.with_segments(25).build()
+    for k, length in enumerate(lengths):
+        np.testing.assert_allclose(segment_damping(finer, k), zeta * length / 25 * np.sqrt(ea * mass), rtol=1e-12)
+
+
+def test_moordyn_zero_ba_is_undamped(tmp_path):
+    scene = jc.read_moordyn(write_moordyn(tmp_path, types=("chain  0.1  20.0  1.0e9  0  0  1.2  1.0  0.05  0.0",)))
+    assert (scene.line_types[0].axial_damping, scene.line_types[0].axial_damping_ratio) == (0.0, 0.0)
+    np.testing.assert_allclose(segment_damping(scene.build(), 0), 0.0)
+
+
+# --------------------------------------------------------------------------------------
+# MoorDyn: notes and unsupported features
+
+
+def test_moordyn_bending_stiffness_is_a_note(tmp_path):
+    path = write_moordyn(tmp_path, types=("chain  0.1  20.0  1.0e9  -0.5  3.5e4  1.2  1.0  0.05  0.0",))
+    with pytest.warns(UserWarning, match="bending stiffness EI = 35000"):
+        scene = jc.read_moordyn(path)
+    (note,) = [n for n in scene.notes if "bending" in n]
+    assert re.search(rf"\bline {line_of(path, '3.5e4')}\b", note) and "chain" in note
+    # EI = 0 says nothing about bending.
+    scene = jc.read_moordyn(write_moordyn(tmp_path, "no_bending.txt"))
+    assert not any("bending" in n for n in scene.notes)
+
+
+def test_moordyn_seabed_options_are_a_note(tmp_path):
+    path = write_moordyn(tmp_path, options=(*OPTIONS, "3.0e6    kBot   bottom stiffness"))
+    with pytest.warns(UserWarning, match="kBot"):
+        scene = jc.read_moordyn(path)
+    (note,) = [n for n in scene.notes if "kBot" in n]
+    assert "seabed" in note and re.search(rf"\bline {line_of(path, 'kBot')}\b", note)
+    assert scene.water.depth == 150.0
+
+
+def test_moordyn_file_with_nothing_left_out_reads_without_warnings(tmp_path):
+    options = (*OPTIONS, "0.001  dtM", "1.0  dtIC", "0  WaveKin", "1  disableOutTime")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        scene = jc.read_moordyn(write_moordyn(tmp_path, options=options))
+    # Integrator options are noted as not needed, without a warning.
+    assert any("dtM" in n and "not needed" in n for n in scene.notes)
+    assert not any("WaveKin" in n or "disableOutTime" in n for n in scene.notes)
+
+
+def test_moordyn_coupled_points_note(tmp_path):
+    scene = jc.read_moordyn(write_moordyn(tmp_path))
+    assert any("coupled" in n and "motion" in n for n in scene.notes)
+
+
+def test_moordyn_empty_rod_and_body_sections_are_accepted(tmp_path):
+    # Many MoorDyn files carry these sections with no rows.
+    rod_types = ("TypeName Diam Mass/m Cd Ca CdEnd CaEnd", "(-) (m) (kg/m) (-) (-) (-) (-)")
+    empty = [("ROD TYPES", rod_types, ()), ("BODIES", _BODY_COLUMNS, ()), ("RODS", _ROD_COLUMNS, ())]
+    path = write_moordyn(tmp_path, before=empty)
+    assert len(jc.read_moordyn(path).lines) == 1
+
+
+def test_moordyn_rods_are_rejected(tmp_path):
+    row = "1    pipe      Free        0    0    -10  0    0    -20  5        -"
+    path = write_moordyn(tmp_path, before=[("RODS", _ROD_COLUMNS, (row,))])
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "RODS", "rods", "does not model")
+
+
+def test_moordyn_bodies_are_rejected(tmp_path):
+    row = "1    Free        0    0    -10  0    0    0    1000  0    0   2.0     0     0"
+    path = write_moordyn(tmp_path, before=[("BODIES", _BODY_COLUMNS, (row,))])
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "BODIES", "bodies", "does not model")
+
+
+def test_moordyn_point_on_a_body_is_rejected(tmp_path):
+    row = "3    Body1     10.0    0.0    -5.0    0       0        0      0"
+    lines = (LINES[0], "2    chain     1        3        120.0     6        -")
+    path = write_moordyn(tmp_path, points=(*POINTS, row), lines=lines)
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column Type", "'Body1'", "body")
+
+
+def test_moordyn_line_on_a_rod_is_rejected(tmp_path):
+    row = "1    chain     1        R1A      250.0     10       -"
+    path = write_moordyn(tmp_path, lines=(row,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column AttachB", "rod")
+
+
+def test_moordyn_stiffness_table_is_rejected(tmp_path):
+    row = "chain  0.1  20.0  ea_curve.dat  -0.5  0  1.2  1.0  0.05  0.0"
+    path = write_moordyn(tmp_path, types=(row,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column EA", "'ea_curve.dat'", "table")
+
+
+def test_moordyn_viscoelastic_stiffness_is_rejected(tmp_path):
+    row = "chain  0.1  20.0  1.0e9|2.0e9  -0.5  0  1.2  1.0  0.05  0.0"
+    path = write_moordyn(tmp_path, types=(row,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "EA", "viscoelastic", "1.0e9|2.0e9")
+
+
+def test_moordyn_viv_column_is_rejected_unless_zero(tmp_path):
+    row = "chain  0.1  20.0  1.0e9  -0.5  0  1.2  1.0  0.05  0.0  0.8"
+    path = write_moordyn(tmp_path, types=(row,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column 11", "vortex-induced vibration")
+    # A zero lift coefficient is MoorDyn's "no VIV" and reads as the plain line type.
+    row = "chain  0.1  20.0  1.0e9  -0.5  0  1.2  1.0  0.05  0.0  0"
+    scene = jc.read_moordyn(write_moordyn(tmp_path, "no_viv.txt", types=(row,)))
+    assert scene.line_types[0].tangential_added_mass == 0.0
+
+
+def test_moordyn_point_forces_are_rejected_unless_zero(tmp_path):
+    # 12 columns: ID Type X Y Z Mass Volume FX FY FZ CdA Ca.
+    row = "3    Free   100.0   0.0   -50.0   10   0.5   0   0   -2000   1.5   0.7"
+    lines = (LINES[0], "2    chain     1        3        120.0     6        -")
+    path = write_moordyn(tmp_path, points=(*POINTS, row), lines=lines)
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "FX FY FZ", "forces")
+    # With zero forces the row reads, and CdA and Ca come from columns 11 and 12.
+    row = "3    Free   100.0   0.0   -50.0   10   0.5   0   0   0   1.5   0.7"
+    scene = jc.read_moordyn(write_moordyn(tmp_path, "no_force.txt", points=(*POINTS, row), lines=lines))
+    body = scene.points[2].body
+    assert (float(body.mass), float(body.volume), float(body.drag_area), float(body.added_mass)) == (10, 0.5, 1.5, 0.7)
+
+
+# --------------------------------------------------------------------------------------
+# MoorDyn: malformed input
+
+
+@pytest.mark.parametrize("missing", ["LINE TYPES", "POINTS", "LINES"])
+def test_moordyn_missing_section(tmp_path, missing):
+    path = write_moordyn(tmp_path, omit=(missing,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    message = str(error.value)
+    assert str(path) in message and f"missing section {missing}" in message, message
+
+
+def test_moordyn_empty_sections(tmp_path):
+    path = write_moordyn(tmp_path, lines=())
+    with pytest.raises(jc.SceneError, match="section LINES has no rows"):
+        jc.read_moordyn(path)
+    path = write_moordyn(tmp_path, "no_points.txt", points=(), lines=())
+    with pytest.raises(jc.SceneError, match="section POINTS has no rows"):
+        jc.read_moordyn(path)
+
+
+def test_moordyn_unknown_point_type(tmp_path):
+    row = "2    Buoy      200.0   0.0    0.0     0       0        0      0"
+    path = write_moordyn(tmp_path, points=(POINTS[0], row))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column Type", "unknown point type 'Buoy'", "Fixed", "Vessel", "Free")
+
+
+def test_moordyn_line_attached_to_a_missing_point(tmp_path):
+    row = "1    chain     1        5        250.0     10       -"
+    path = write_moordyn(tmp_path, lines=(row,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column AttachB", "point 5 does not exist", "2 points")
+
+
+def test_moordyn_attachment_that_is_not_a_point(tmp_path):
+    row = "1    chain     anchor   2        250.0     10       -"
+    path = write_moordyn(tmp_path, lines=(row,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column AttachA", "'anchor'")
+
+
+@pytest.mark.parametrize("length", ["-250.0", "0", "0.0"])
+def test_moordyn_non_positive_length(tmp_path, length):
+    row = f"1    chain     1        2        {length:9} 10       -"
+    path = write_moordyn(tmp_path, lines=(row,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column UnstrLen", "positive")
+
+
+@pytest.mark.parametrize(
+    "section, row, column, token",
+    [
+        ("types", "chain  abc  20.0  1.0e9  -0.5  0  1.2  1.0  0.05  0.0", "column Diam", "'abc'"),
+        ("types", "chain  0.1  20.0  1.0e9x  -0.5  0  1.2  1.0  0.05  0.0", "column EA", "'1.0e9x'"),
+        ("types", "chain  0.1  heavy  1.0e9  -0.5  0  1.2  1.0  0.05  0.0", "column Mass/m", "'heavy'"),
+        ("types", "chain  0.1  20.0  1.0e9  -0.5  0  1.2  1.0  0.05  none", "column CaAx", "'none'"),
+        ("types", "chain  0.1  20.0  1.0e9  lots  0  1.2  1.0  0.05  0.0", "column BA/-zeta", "'lots'"),
+        ("points", "2    Vessel    north   0.0    0.0     0       0        0      0", "column X", "'north'"),
+        ("points", "2    Vessel    200.0   0.0    0.0     0       0        0      0.5x", "column Ca", "'0.5x'"),
+        ("lines", "1    chain     1        2        long      10       -", "column UnstrLen", "'long'"),
+    ],
+)
+def test_moordyn_non_numeric_field(tmp_path, section, row, column, token):
+    sections = {"types": {"types": (row,)}, "points": {"points": (POINTS[0], row)}, "lines": {"lines": (row,)}}
+    path = write_moordyn(tmp_path, **sections[section])
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, column, token)
+
+
+@pytest.mark.parametrize("segments", ["10.5", "ten", "0", "-3"])
+def test_moordyn_segments_must_be_a_positive_integer(tmp_path, segments):
+    row = f"1    chain     1        2        250.0     {segments:8} -"
+    path = write_moordyn(tmp_path, lines=(row,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column NumSegs", repr(segments))
+
+
+def test_moordyn_unknown_line_type(tmp_path):
+    row = "1    wire      1        2        250.0     10       -"
+    path = write_moordyn(tmp_path, lines=(row,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column LineType", "'wire'", "chain")
+
+
+def test_moordyn_duplicate_line_type(tmp_path):
+    second = "chain   0.2     40.0     2.0e9    -0.5      0        1.2    1.0    0.05   0.0"
+    path = write_moordyn(tmp_path, types=(TYPES[0], second))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, second, "'chain'", "already defined")
+
+
+def test_moordyn_point_ids_must_be_sequential(tmp_path):
+    row = "3    Vessel    200.0   0.0    0.0     0       0        0      0"
+    path = write_moordyn(tmp_path, points=(POINTS[0], row))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column ID", "expected 2", "'3'")
+
+
+def test_moordyn_line_ids_must_be_sequential(tmp_path):
+    row = "1    chain     1        2        120.0     6        -"
+    path = write_moordyn(tmp_path, lines=(LINES[0], row))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "column ID", "expected 2", "'1'")
+
+
+@pytest.mark.parametrize(
+    "section, row, needed",
+    [
+        ("types", "chain  0.1  20.0  1.0e9  -0.5  0  1.2  1.0  0.05", "10 fields"),
+        ("points", "2    Vessel    200.0   0.0    0.0     0       0        0", "9 fields"),
+        ("lines", "1    chain     1        2        250.0     10", "7 fields"),
+    ],
+)
+def test_moordyn_short_rows(tmp_path, section, row, needed):
+    sections = {"types": {"types": (row,)}, "points": {"points": (POINTS[0], row)}, "lines": {"lines": (row,)}}
+    path = write_moordyn(tmp_path, **sections[section])
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, needed)
+
+
+def test_moordyn_missing_file(tmp_path):
+    with pytest.raises(jc.SceneError, match="cannot read"):
+        jc.read_moordyn(tmp_path / "nowhere.txt")
+
+
+# --------------------------------------------------------------------------------------
+# MoorDyn: a real input
+
+
+def test_moordyn_lowe_and_langley_file():
+    with pytest.warns(UserWarning):  # bending, seabed and wave input left out
+        scene = jc.read_moordyn(LOWE_AND_LANGLEY)
+    assert [p.kind for p in scene.points] == ["fixed", "coupled"]
+    assert scene.points[0].position == (-100.0, 0.0, -55.0)
+    assert scene.points[1].position == (0.0, 0.0, -5.0)
+    (line,) = scene.lines
+    assert (line.start, line.end, line.length, line.segments) == (0, 1, 170.0, 68)
+    (spec,) = scene.line_types
+    assert spec.axial_stiffness == 5e8
+    assert (spec.axial_damping, spec.axial_damping_ratio) == (0.0, 0.5)
+    assert (spec.diameter, spec.mass_per_length, spec.normal_drag, spec.normal_added_mass) == (0.396, 165.0, 1.0, 1.0)
+    assert any("bending" in n for n in scene.notes)
+    assert any("kBot" in n and "seabed" in n for n in scene.notes)
+    assert (scene.water.density, scene.water.gravity, scene.water.depth) == (1000.0, 9.807, 100.0)
+    damping = segment_damping(scene.build(), 0)
+    np.testing.assert_allclose(damping, 0.5 * 170.0 / 68 * np.sqrt(5e8 * 165.0), rtol=1e-12)
+
+
+# --------------------------------------------------------------------------------------
+# TOML scenes
+
+SCENE = """\
+title = "reader test"
+
+[water]
+density = 1025.0
+depth = 150.0
+
+[simulation]
+duration = 10.0
+dt_out = 0.5
+
+[line_types.rope]
+mass_per_length = 3.0
+diameter = 0.02
+axial_stiffness = 3.0e7
+axial_damping_ratio = 0.2
+
+[points.anchor]
+type = "fixed"
+position = [0.0, 0.0, -100.0]
+
+[points.float]
+type = "coupled"
+position = [150.0, 0.0, 0.0]
+
+[[lines]]
+type = "rope"
+from = "anchor"
+to = "float"
+length = 190.0
+segments = 10
+"""
+
+
+def write_scene(tmp_path: Path, text: str, name: str = "scene.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def edited(old: str, new: str, text: str = SCENE) -> str:
+    assert text.count(old) == 1, old
+    return text.replace(old, new)
+
+
+def read_scene_error(tmp_path: Path, text: str) -> tuple[pytest.ExceptionInfo, Path]:
+    path = write_scene(tmp_path, text)
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_scene(path)
+    return error, path
+
+
+def test_toml_minimal_scene(tmp_path):
+    scene = jc.read_scene(write_scene(tmp_path, SCENE))
+    assert [(p.name, p.kind, p.position) for p in scene.points] == [
+        ("anchor", "fixed", (0.0, 0.0, -100.0)),
+        ("float", "coupled", (150.0, 0.0, 0.0)),
+    ]
+    (spec,) = scene.line_types
+    assert (spec.name, spec.mass_per_length, spec.diameter, spec.axial_stiffness) == ("rope", 3.0, 0.02, 3.0e7)
+    assert (spec.axial_damping, spec.axial_damping_ratio) == (0.0, 0.2)
+    (line,) = scene.lines
+    assert (line.name, line.start, line.end, line.length, line.segments) == ("1", 0, 1, 190.0, 10)
+    assert (scene.water.density, scene.water.gravity, scene.water.depth) == (1025.0, 9.81, 150.0)
+    assert (scene.run.duration, scene.run.dt_out, scene.run.mass_matrix) == (10.0, 0.5, "consistent")
+    built = scene.build()
+    np.testing.assert_allclose(segment_damping(built, 0), 0.2 * 19.0 * np.sqrt(3.0e7 * 3.0), rtol=1e-12)
+
+
+def test_toml_line_numbers_are_counted_from_the_text(tmp_path):
+    # The first [[lines]] table is on line 25 and its `length` on line 29 of SCENE.
+    error, path = read_scene_error(tmp_path, edited("length = 190.0", "length = -190.0"))
+    assert f"{path}, line 29, key lines[0].length" in str(error.value)
+    typo = edited("axial_stiffness = 3.0e7\n", "axial_stiffness = 3.0e7\nmass_per_lenght = 3.0\n")
+    error, path = read_scene_error(tmp_path, typo)
+    assert f"{path}, line 15, key line_types.rope.mass_per_lenght" in str(error.value)
+
+
+def test_toml_unknown_key(tmp_path):
+    error, path = read_scene_error(tmp_path, edited("mass_per_length = 3.0", "mass_per_lenght = 3.0"))
+    assert_located(error, path, "mass_per_lenght", "line_types.rope.mass_per_lenght", "unknown key", "mass_per_length")
+
+
+def test_toml_unknown_table(tmp_path):
+    error, path = read_scene_error(tmp_path, edited("[simulation]", "[simulaton]"))
+    assert_located(error, path, "[simulaton]", "key simulaton", "unknown key")
+
+
+def test_toml_missing_required_key(tmp_path):
+    error, path = read_scene_error(tmp_path, edited("diameter = 0.02\n", ""))
+    # The key is not in the text, so the line is that of its table.
+    assert_located(error, path, "[line_types.rope]", "line_types.rope.diameter", "missing required key")
+
+
+def test_toml_missing_line_key(tmp_path):
+    error, path = read_scene_error(tmp_path, edited('to = "float"\n', ""))
+    assert_located(error, path, "[[lines]]", "lines[0].to", "missing required key")
+
+
+@pytest.mark.parametrize(
+    "old, new, key, expected",
+    [
+        ("diameter = 0.02", 'diameter = "0.02"', "line_types.rope.diameter", "expected a finite number"),
+        ("length = 190.0", "length = true", "lines[0].length", "expected a finite number"),
+        ("density = 1025.0", 'density = "salty"', "water.density", "expected a finite number"),
+        ("position = [0.0, 0.0, -100.0]", "position = [0.0, -100.0]", "points.anchor.position", "three numbers"),
+        ("position = [150.0, 0.0, 0.0]", 'position = [150.0, "0", 0.0]', "points.float.position", "three numbers"),
+        ('type = "fixed"', "type = 1", "points.anchor.type", "expected a string"),
+    ],
+)
+def test_toml_wrong_type(tmp_path, old, new, key, expected):
+    error, path = read_scene_error(tmp_path, edited(old, new))
+    assert_located(error, path, new, f"key {key}", expected)
+
+
+def test_toml_unknown_point_type(tmp_path):
+    error, path = read_scene_error(tmp_path, edited('type = "fixed"', 'type = "anchor"'))
+    assert_located(error, path, 'type = "anchor"', "points.anchor.type", "unknown point type 'anchor'")
+
+
+def test_toml_line_from_a_missing_point(tmp_path):
+    error, path = read_scene_error(tmp_path, edited('from = "anchor"', 'from = "ancor"'))
+    assert_located(error, path, 'from = "ancor"', "lines[0].from", "'ancor' does not exist", "anchor")
+
+
+def test_toml_error_in_the_second_line_table(tmp_path):
+    second = '\n[[lines]]\ntype = "rope"\nfrom = "anchor"\nto = "buoy"\nlength = 100.0\nsegments = 5\n'
+    error, path = read_scene_error(tmp_path, SCENE + second)
+    assert_located(error, path, 'to = "buoy"', "lines[1].to", "'buoy' does not exist")
+
+
+def test_toml_missing_line_type(tmp_path):
+    error, path = read_scene_error(tmp_path, edited('type = "rope"', 'type = "wire"'))
+    assert_located(error, path, 'type = "wire"', "lines[0].type", "'wire' does not exist", "rope")
+
+
+@pytest.mark.parametrize("length", ["-190.0", "0.0"])
+def test_toml_non_positive_length(tmp_path, length):
+    error, path = read_scene_error(tmp_path, edited("length = 190.0", f"length = {length}"))
+    assert_located(error, path, f"length = {length}", "lines[0].length", "positive")
+
+
+@pytest.mark.parametrize("segments", ["10.5", '"10"', "0", "-2", "true"])
+def test_toml_segments_must_be_a_positive_integer(tmp_path, segments):
+    error, path = read_scene_error(tmp_path, edited("segments = 10", f"segments = {segments}"))
+    assert_located(error, path, f"segments = {segments}", "lines[0].segments", "positive integer")
+
+
+def test_toml_both_damping_keys_fail_at_build(tmp_path):
+    path = write_scene(tmp_path, edited("axial_damping_ratio = 0.2", "axial_damping_ratio = 0.2\naxial_damping = 50.0"))
+    scene = jc.read_scene(path)
+    with pytest.raises(jc.SceneError) as error:
+        scene.build()
+    # Located at the line type's table: the conflict is between two of its keys.
+    assert_located(error, path, "[line_types.rope]", "line_types.rope", "axial_damping (50", "axial_damping_ratio (0.2",
+                   "not both")
+
+
+def test_toml_syntax_error(tmp_path):
+    error, path = read_scene_error(tmp_path, edited("segments = 10", "segments = = 10"))
+    assert_located(error, path, "segments = = 10")
+
+
+def test_toml_only_coupled_points_move(tmp_path):
+    text = edited('type = "fixed"\n', 'type = "fixed"\nmotion = { type = "harmonic", amplitude = 1.0, period = 5.0 }\n')
+    error, path = read_scene_error(tmp_path, text)
+    assert_located(error, path, "motion = {", "points.anchor.motion", "coupled")
+
+
+def test_toml_motion_table_file(tmp_path):
+    (tmp_path / "float.csv").write_text("time,x,y,z\n0,150,0,0\n1,151,0,0.5\n2,150,0,0\n")
+    motion = 'motion = { type = "table", file = "float.csv" }\n'
+    text = edited("position = [150.0, 0.0, 0.0]\n", "position = [150.0, 0.0, 0.0]\n" + motion)
+    scene = jc.read_scene(write_scene(tmp_path, text))
+    motion = scene.points[1].motion
+    assert isinstance(motion, jc.Sampled)
+    np.testing.assert_allclose(np.asarray(motion.displacement(1.0)), [1.0, 0.0, 0.5], atol=1e-12)
+
+
+# --------------------------------------------------------------------------------------
+# Motion tables
+
+
+def write_motion(tmp_path: Path, text: str, name: str = "motion.txt") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_motion_file_whitespace_and_csv_agree(tmp_path):
+    expected_times = np.array([0.0, 0.5, 1.0])
+    expected = np.array([[[1, 2, 3], [4, 5, 6]], [[1.5, 2, 3], [4, 5, 6.5]], [[2, 2, 3], [4, 5, 7]]], dtype=float)
+    spaced = write_motion(
+        tmp_path,
+        "# two fairleads\n"
+        "0.0   1 2 3    4 5 6\n"
+        "\n"
+        "0.5\t1.5 2 3\t4 5 6.5\n"
+        "   # a comment between rows\n"
+        "1.0   2 2 3    4 5 7\n",
+    )
+    csv = write_motion(
+        tmp_path,
+        "time,x1,y1,z1,x2,y2,z2\n0.0,1,2,3,4,5,6\n0.5, 1.5, 2, 3, 4, 5, 6.5\n# comment\n1.0,2,2,3,4,5,7\n",
+        "motion.csv",
+    )
+    for path in (spaced, csv):
+        times, positions = jc.read_motion_file(path, 2)
+        np.testing.assert_array_equal(times, expected_times)
+        np.testing.assert_array_equal(positions, expected)
+        assert positions.shape == (3, 2, 3)
+
+
+def test_motion_file_wrong_column_count(tmp_path):
+    path = write_motion(tmp_path, "t x y z\n0 1 2 3\n1 1 2\n2 1 2 3\n")
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_motion_file(path, 1)
+    assert_located(error, path, "1 1 2", "expected 4 columns", "got 3")
+    path = write_motion(tmp_path, "0 1 2 3\n1 1 2 3\n", "two_points.txt")
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_motion_file(path, 2)
+    assert_located(error, path, "0 1 2 3", "expected 7 columns", "2 coupled point")
+
+
+@pytest.mark.parametrize("later", ["1.0", "0.5"])
+def test_motion_file_time_must_increase(tmp_path, later):
+    path = write_motion(tmp_path, f"0.0 0 0 0\n1.0 1 0 0\n{later} 2 0 0\n2.0 3 0 0\n")
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_motion_file(path, 1)
+    assert_located(error, path, f"{later} 2 0 0", "must increase")
+
+
+def test_motion_file_non_numeric_field(tmp_path):
+    path = write_motion(tmp_path, "time x y z\n0 0 0 0\n1 0 oops 0\n2 0 0 0\n")
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_motion_file(path, 1)
+    assert_located(error, path, "oops", "non-numeric")
+
+
+def test_motion_file_non_finite_value(tmp_path):
+    path = write_motion(tmp_path, "0 0 0 0\n1 nan 0 0\n2 0 0 0\n")
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_motion_file(path, 1)
+    assert_located(error, path, "nan", "non-finite")
+
+
+@pytest.mark.parametrize("text", ["", "# only a comment\n", "t x y z\n", "t x y z\n0 1 2 3\n", "0 1 2 3\n"])
+def test_motion_file_needs_two_rows(tmp_path, text):
+    path = write_motion(tmp_path, text)
+    with pytest.raises(jc.SceneError, match="at least 2 rows"):
+        jc.read_motion_file(path, 1)
+
+
+def test_motion_file_missing(tmp_path):
+    with pytest.raises(jc.SceneError, match="cannot read motion file"):
+        jc.read_motion_file(tmp_path / "nowhere.csv", 1)
+
+
+def test_with_motion_table_gives_displacements_about_the_points(tmp_path):
+    points = (*POINTS, "3    Coupled   -200.0  10.0   -5.0    0       0        0      0")
+    lines = (LINES[0], "2    chain     1        3        250.0     10       -")
+    scene = jc.read_moordyn(write_moordyn(tmp_path, points=points, lines=lines))
+    assert scene.coupled_points == (1, 2)
+    times = np.array([0.0, 0.5, 1.5, 3.0])
+    positions = np.stack(
+        [np.stack([200.0 + np.sin(times), 0.1 * times, np.cos(times) - 1.0], axis=1),
+         np.stack([-200.0 - times, 10.0 + times**2, -5.0 + 0.3 * times], axis=1)],
+        axis=1,
+    )
+    moved = scene.with_motion_table(times, positions)
+    assert moved.points[0].motion is None and scene.points[1].motion is None
+    for column, k in enumerate(scene.coupled_points):
+        motion = moved.points[k].motion
+        assert isinstance(motion, jc.Sampled)
+        origin = np.asarray(scene.points[k].position)
+        for i, t in enumerate(times):
+            np.testing.assert_allclose(np.asarray(motion.displacement(t)), positions[i, column] - origin, atol=1e-12)
+    with pytest.raises(jc.SceneError, match="2 coupled point"):
+        scene.with_motion_table(times, positions[:, :1])
+
+
+# --------------------------------------------------------------------------------------
+# The command line
+
+
+def test_cli_malformed_input(tmp_path, capsys):
+    row = "1    chain     1        2        250.0     ten      -"
+    path = write_moordyn(tmp_path, lines=(row,))
+    for argv in (["run", str(path), "--no-progress"], ["info", str(path)]):
+        assert cli_main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("jaxcable: error:"), err
+        assert f"line {line_of(path, row)}" in err and "NumSegs" in err
+
+
+def test_cli_malformed_scene(tmp_path, capsys):
+    path = write_scene(tmp_path, edited("segments = 10", "segments = 10.5"))
+    assert cli_main(["info", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("jaxcable: error:") and f"line {line_of(path, 'segments = 10.5')}" in err, err
+
+
+def test_cli_motion_with_wrong_column_count(tmp_path, capsys):
+    path = write_moordyn(tmp_path)
+    motion = write_motion(tmp_path, "0 200 0 0 1\n1 201 0 0 1\n")
+    assert cli_main(["run", str(path), "--motion", str(motion), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert "jaxcable: error:" in err and "line 1" in err and "expected 4 columns" in err, err
+
+
+def test_cli_motion_without_coupled_points(tmp_path, capsys):
+    points = (POINTS[0], "2    Fixed     200.0   0.0    0.0     0       0        0      0")
+    path = write_moordyn(tmp_path, points=points)
+    motion = write_motion(tmp_path, "0 200 0 0\n1 201 0 0\n")
+    assert cli_main(["run", str(path), "--motion", str(motion), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert "jaxcable: error:" in err and "no coupled points" in err, err
+
+
+def test_cli_duration_past_the_motion_table(tmp_path, capsys):
+    path = write_moordyn(tmp_path)
+    motion = write_motion(tmp_path, "0 200 0 0\n1 201 0 0\n2 200 0 0\n")
+    assert cli_main(["run", str(path), "--motion", str(motion), "--duration", "5", "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert "jaxcable: error:" in err and "--duration 5" in err and "2 s" in err, err
+
+
+def test_cli_motion_table_must_start_at_zero(tmp_path, capsys):
+    path = write_moordyn(tmp_path)
+    motion = write_motion(tmp_path, "1 200 0 0\n2 201 0 0\n")
+    assert cli_main(["run", str(path), "--motion", str(motion), "--no-progress"]) == 2
+    assert "t = 0" in capsys.readouterr().err
+
+
+# --------------------------------------------------------------------------------------
+# Regressions found by reading MoorDyn's own inputs and probing the readers
+
+
+def test_cli_out_writes_the_files_own_channels(tmp_path):
+    path = write_moordyn(tmp_path, outputs=("L1N5PZ FairTen1", "END"))
+    out = tmp_path / "o.csv"
+    assert cli_main(["run", str(path), "--duration", "0", "--out", str(out), "--no-progress"]) == 0
+    assert out.read_text().splitlines()[0] == "Time,L1N5PZ,FairTen1"
+
+
+def test_cli_unknown_channel_fails_before_running(tmp_path, capsys):
+    path = write_moordyn(tmp_path, outputs=("FairTen1 L1N99PX", "END"))
+    assert cli_main(["run", str(path), "--duration", "0", "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert "L1N99PX" in err and "nodes 0 to 10" in err, err
+
+
+def test_motion_file_bad_first_row_is_not_a_header(tmp_path):
+    # A header has no numbers in it; a first data row with a typo is an error.
+    path = write_motion(tmp_path, "0 200 0 0x\n1 201 0 0\n2 202 0 0\n")
+    with pytest.raises(jc.SceneError, match="line 1: non-numeric"):
+        jc.read_motion_file(path, 1)
+
+
+@pytest.mark.parametrize(
+    "section, row, column",
+    [
+        ("points", "2    Vessel    nan     0.0    0.0     0       0        0      0", "X"),
+        ("lines", "1    chain     1        2        inf       10       -", "UnstrLen"),
+    ],
+)
+def test_moordyn_non_finite_numbers_are_located(tmp_path, section, row, column):
+    sections = {"points": (POINTS[0], row)} if section == "points" else {"lines": (row,)}
+    path = write_moordyn(tmp_path, **sections)
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, column, "not a finite number")
+
+
+def test_moordyn_negative_dtout_is_located(tmp_path):
+    path = write_moordyn(tmp_path, options=(*OPTIONS, "-1   dtOut   output interval"))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, "dtOut", "must be positive")
+
+
+def test_moordyn_line_from_a_point_to_itself(tmp_path):
+    row = "1    chain     2        2        250.0     10       -"
+    path = write_moordyn(tmp_path, lines=(row,))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "to itself")
+
+
+def test_run_past_a_scene_motion_table_fails_before_solving(tmp_path):
+    write_motion(tmp_path, "0 150 0 0\n1 151 0 0\n2 150 0 0\n", name="float.csv")
+    path = write_scene(tmp_path, edited('position = [150.0, 0.0, 0.0]\n',
+                                        'position = [150.0, 0.0, 0.0]\nmotion = { type = "table", file = "float.csv" }\n'))
+    scene = jc.read_scene(path)
+    with pytest.raises(jc.SceneError, match="covers 0 to 2 s, but the run needs 0 to 10 s"):
+        jc.run_scene(scene)
