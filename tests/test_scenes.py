@@ -1,0 +1,457 @@
+"""The bundled example scenes: output files read back as a user would, statics checked
+against physics computed here from the TOML numbers, and the command line.
+
+Independent references, written out here from the scene files' numbers (read with
+`tomllib`, not jaxcable) and the documented conventions (segment weight `(m − ρF) g L`
+on the unstretched length, half to each end node; drag `C_n |u_n| u_n + C_τ |u_τ| u_τ`
+per stretched length with `C_n = ½ ρ K_n d`, `C_τ = ½ ρ K_τ π d`; body weight
+`(M − ρV) g` and drag `½ ρ C_D A |u| u`; tension `C_E ε + C_E1 ε²`):
+
+- Global balance: the supports carry the total wet weight of lines and bodies, less
+  the current's drag.
+- Node balance: at every free node the forces above sum to zero; at every support they
+  sum to minus the reported reaction.
+- Still-water lines are Irvine's elastic catenaries (with the quadratic term): each
+  line between its equilibrium end points has the segment tensions and node positions
+  of the continuum, to O((l/R)²).
+
+Each example is run once (statics and 1 s of motion) and shared by every check.
+"""
+
+import json
+import re
+import tomllib
+
+import jax
+import numpy as np
+import pytest
+from scipy.io import netcdf_file
+from scipy.optimize import fsolve
+
+import jaxcable as jc
+from jaxcable import examples
+from jaxcable._cli import main
+
+NAMES = examples.scene_names()
+DURATION = 1.0  # s
+# The same as y_branch.toml's own dt_out, so that the command-line test on y_branch,
+# which runs 1 s at the file's interval, reuses the compiled solve.
+DT_OUT = 0.1  # s
+
+
+def toml(name: str) -> dict:
+    return tomllib.loads(examples.scene_path(name).read_text(encoding="utf-8"))
+
+
+def water(data: dict) -> tuple[float, float, np.ndarray]:
+    w = data.get("water", {})
+    return w.get("density", 1025.0), w.get("gravity", 9.81), np.array(w.get("current", [0.0, 0.0, 0.0]), float)
+
+
+def line_type(data: dict, name: str) -> dict:
+    """A line type's numbers, with the defaults the format documents."""
+    t = data["line_types"][name]
+    return {
+        "m": t["mass_per_length"],
+        "d": t["diameter"],
+        "F": t.get("area", np.pi * t["diameter"] ** 2 / 4),
+        "EA": t["axial_stiffness"],
+        "EA1": t.get("quadratic_stiffness", 0.0),
+        "Kn": t.get("normal_drag", 1.2),
+        "Kt": t.get("tangential_drag", 0.008),
+        "slack_width": t.get("slack_width", 1e-5),
+    }
+
+
+@pytest.fixture(scope="module")
+def runs():
+    """`runs(name)`: the example's `SceneRun` (statics, then DURATION s), computed once."""
+    cache = {}
+
+    def get(name: str) -> jc.SceneRun:
+        if name not in cache:
+            scene = jc.read_scene(examples.scene_path(name))
+            cache[name] = jc.run_scene(scene, duration=DURATION, dt_out=DT_OUT)
+        return cache[name]
+
+    return get
+
+
+# ---------------------------------------------------------------------------------------
+# Output files, read back with numpy and scipy only.
+# ---------------------------------------------------------------------------------------
+
+
+def expected_channels(name: str, run: jc.SceneRun) -> dict[str, np.ndarray]:
+    """Every line's FairTen/AnchTen and the scene's own channels, from the run's arrays
+    by the MoorDyn definitions: the end segments' tensions, node positions."""
+    data = toml(name)
+    points = list(data["points"])
+    built = run.built
+    values = {"Time": run.times}
+    for k, line in enumerate(data["lines"], start=1):
+        nodes, segments = built.line_nodes[k - 1], built.line_segments[k - 1]
+        # The numbering agrees with the file: end A is `from`, end B is `to`, and the
+        # segments chain the line's nodes.
+        assert nodes[0] == points.index(line["from"]) and nodes[-1] == points.index(line["to"])
+        np.testing.assert_array_equal(np.asarray(built.model.segment_nodes)[segments], np.c_[nodes[:-1], nodes[1:]])
+        values[f"FairTen{k}"] = run.tension[:, segments[-1]]
+        values[f"AnchTen{k}"] = run.tension[:, segments[0]]
+    for channel in data.get("output", {}).get("channels", []):
+        if match := re.fullmatch(r"L(\d+)N(\d+)(PX|PY|PZ|T)", channel):
+            k, i, quantity = int(match[1]) - 1, int(match[2]), match[3]
+            if quantity == "T":  # the mean of the adjacent segments' tensions
+                values[channel] = run.tension[:, built.line_segments[k][max(i - 1, 0) : i + 1]].mean(axis=1)
+            else:
+                values[channel] = run.positions[:, built.line_nodes[k][i], "XYZ".index(quantity[1])]
+    return values
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_round_trip_through_every_format(name, runs, tmp_path):
+    run = runs(name)
+    expected = expected_channels(name, run)
+    names = tuple(n for n in expected if n != "Time")
+    assert run.times.shape == (int(round(DURATION / DT_OUT)) + 1,)
+
+    # CSV: one header row of MoorDyn names, as `np.genfromtxt(..., names=True)` reads.
+    csv = jc.write_output(tmp_path / "run.csv", run, names)
+    assert csv.read_text().splitlines()[0] == ",".join(expected)
+    table = np.genfromtxt(csv, delimiter=",", names=True)
+    assert table.dtype.names == tuple(expected)
+    for channel, values in expected.items():
+        np.testing.assert_allclose(table[channel], values, rtol=1e-9, atol=1e-9, err_msg=channel)
+
+    # MoorDyn's .out: a row of names, a row of units, then whitespace-separated values.
+    out = jc.write_output(tmp_path / "run.out", run, names)
+    with out.open() as f:
+        header, units = f.readline().split(), f.readline().split()
+        rows = np.loadtxt(f, ndmin=2)
+    assert header == list(expected)
+    assert units == ["(s)"] + ["(m)" if n.endswith(("PX", "PY", "PZ")) else "(N)" for n in names]
+    for column, (channel, values) in enumerate(expected.items()):
+        np.testing.assert_allclose(rows[:, column], values, rtol=1e-6, atol=1e-9, err_msg=channel)
+
+    # .npz: everything, with a JSON table of units.
+    npz = jc.write_output(tmp_path / "run.npz", run, names)
+    with np.load(npz) as archive:
+        units = json.loads(str(archive["units"]))
+        for key, values, unit in [
+            ("time", run.times, "s"),
+            ("positions", run.positions, "m"),
+            ("velocities", run.velocities, "m/s"),
+            ("tension", run.tension, "N"),
+            ("reactions", run.reactions, "N"),
+        ]:
+            np.testing.assert_array_equal(archive[key], values, err_msg=key)
+            assert units[key] == unit
+        np.testing.assert_array_equal(archive["constrained_nodes"], np.asarray(run.built.model.constrained_nodes))
+        for channel in names:
+            np.testing.assert_array_equal(archive[channel], expected[channel], err_msg=channel)
+
+    # NetCDF 3 with units and dimensions on every variable.
+    nc = jc.write_output(tmp_path / "run.nc", run, names)
+    with netcdf_file(nc, "r", mmap=False) as f:
+        for key, values, unit, dims in [
+            ("time", run.times, "s", ("time",)),
+            ("positions", run.positions, "m", ("time", "node", "xyz")),
+            ("tension", run.tension, "N", ("time", "segment")),
+            ("reactions", run.reactions, "N", ("time", "constrained", "xyz")),
+        ]:
+            variable = f.variables[key]
+            np.testing.assert_array_equal(variable[:], values, err_msg=key)
+            assert variable.units.decode() == unit and variable.dimensions == dims
+        for channel in names:
+            np.testing.assert_array_equal(f.variables[channel][:], expected[channel], err_msg=channel)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_run_starts_from_equilibrium_and_supports_follow_their_motions(name, runs):
+    """The first output is the statics, and each support is where the file says: an
+    anchor at its position, a coupled point at position + A sin(2πt/T + φ) e."""
+    run = runs(name)
+    np.testing.assert_allclose(run.positions[0], np.asarray(run.static.state.positions), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(run.tension[0], np.asarray(run.static.tension), rtol=1e-9)
+    assert np.all(np.isfinite(run.tension)) and run.steps > 0
+    for k, point in enumerate(toml(name)["points"].values()):
+        expected = np.broadcast_to(np.array(point["position"], float), (run.times.size, 3))
+        if "motion" in point:
+            motion = point["motion"]
+            assert motion["type"] == "harmonic"
+            e = np.array(motion.get("direction", [1.0, 0.0, 0.0]), float)
+            phase = 2 * np.pi * run.times / motion["period"] + motion.get("phase", 0.0)
+            expected = expected + motion["amplitude"] * np.sin(phase)[:, None] * e / np.linalg.norm(e)
+        if point["type"] != "free":
+            np.testing.assert_allclose(run.positions[:, k], expected, rtol=0, atol=1e-9, err_msg=f"point {k}")
+
+
+def test_undriven_net_stays_at_equilibrium(runs):
+    """buoy_net has no moving support: started from its equilibrium it must stay there."""
+    assert not any("motion" in p for p in toml("buoy_net")["points"].values())
+    run = runs("buoy_net")
+    drift = np.abs(run.tension - run.tension[0]).max()
+    assert drift < 1e-3 * run.tension[0].max(), drift
+    assert np.abs(run.positions - run.positions[0]).max() < 1e-4  # m
+
+
+# ---------------------------------------------------------------------------------------
+# Statics, checked with forces computed here from the TOML numbers.
+# ---------------------------------------------------------------------------------------
+
+
+def node_forces(name: str, run: jc.SceneRun) -> np.ndarray:
+    """Every force on each node at the equilibrium except its support's, shape
+    `(nodes, 3)`: segment tensions, wet weights, drag of the current, bodies."""
+    data = toml(name)
+    rho, g, current = water(data)
+    x = np.asarray(run.static.state.positions)
+    forces = np.zeros_like(x)
+    for k, line in enumerate(data["lines"]):
+        t = line_type(data, line["type"])
+        nodes = run.built.line_nodes[k]
+        a, b = nodes[:-1], nodes[1:]
+        length = line["length"] / line["segments"]
+        chord = x[b] - x[a]
+        stretched = np.linalg.norm(chord, axis=1)
+        tangent = chord / stretched[:, None]
+        strain = stretched / length - 1
+        # Taut beyond the slack switch's band, where the law is exactly C_E ε + C_E1 ε².
+        assert np.all(strain > t["slack_width"]), f"line {k + 1} has a slack segment at equilibrium"
+        pull = (t["EA"] * strain + t["EA1"] * strain**2)[:, None] * tangent
+        np.add.at(forces, a, pull)
+        np.add.at(forces, b, -pull)
+        weight = (t["m"] - rho * t["F"]) * g * length
+        np.add.at(forces[:, 2], a, -weight / 2)
+        np.add.at(forces[:, 2], b, -weight / 2)
+        u_t = (tangent @ current)[:, None] * tangent
+        u_n = current - u_t
+        drag = (
+            0.5 * rho * t["Kn"] * t["d"] * np.linalg.norm(u_n, axis=1)[:, None] * u_n
+            + 0.5 * rho * t["Kt"] * np.pi * t["d"] * np.linalg.norm(u_t, axis=1)[:, None] * u_t
+        ) * stretched[:, None]
+        np.add.at(forces, a, drag / 2)
+        np.add.at(forces, b, drag / 2)
+    for k, point in enumerate(data["points"].values()):
+        forces[k, 2] -= (point.get("mass", 0.0) - rho * point.get("volume", 0.0)) * g
+        forces[k] += 0.5 * rho * point.get("drag_area", 0.0) * np.linalg.norm(current) * current
+    return forces
+
+
+def total_wet_weight(data: dict) -> float:
+    """Σ (m − ρF) g L over lines plus Σ (M − ρV) g over bodies (N), from the file alone."""
+    rho, g, _ = water(data)
+    types = {name: line_type(data, name) for name in data["line_types"]}
+    lines = sum((types[line["type"]]["m"] - rho * types[line["type"]]["F"]) * g * line["length"] for line in data["lines"])
+    bodies = sum((p.get("mass", 0.0) - rho * p.get("volume", 0.0)) * g for p in data["points"].values())
+    return lines + bodies
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_statics_global_balance(name, runs):
+    """The supports carry the wet weight of everything, less the current's drag."""
+    data = toml(name)
+    run = runs(name)
+    reactions = np.asarray(run.static.reactions)
+    weight = total_wet_weight(data)
+    forces = node_forces(name, run)
+    # Drag alone: all node forces with no tension (which cancels) and no weight.
+    _, _, current = water(data)
+    drag = forces.sum(axis=0) + [0.0, 0.0, weight]
+    if not np.any(current):
+        np.testing.assert_allclose(drag, 0.0, atol=1e-9 * abs(weight))
+    else:
+        assert drag @ current > 0  # drag acts downstream
+    scale = np.abs(reactions).max()
+    np.testing.assert_allclose(reactions.sum(axis=0), [0.0, 0.0, weight] - drag, rtol=0, atol=1e-8 * scale)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_statics_node_balance(name, runs):
+    """Every free node is in equilibrium, and each support's reaction is what holds
+    its node, with forces computed from the file's numbers and the positions."""
+    run = runs(name)
+    model = run.built.model
+    forces = node_forces(name, run)
+    scale = run.static.tension.max()
+    free, constrained = np.asarray(model.free_nodes), np.asarray(model.constrained_nodes)
+    np.testing.assert_allclose(forces[free], 0.0, rtol=0, atol=1e-7 * scale)
+    np.testing.assert_allclose(np.asarray(run.static.reactions), -forces[constrained], rtol=0, atol=1e-7 * scale)
+
+
+class ElasticCatenary:
+    """Irvine's elastic catenary from A to B (unstretched length L, wet weight w per
+    unstretched length, tension law C_E ε + C_E1 ε²), in the vertical plane of A and B.
+
+    With H the horizontal tension and V_A the vertical component at A (upwards along
+    the line from A), the tension at arc s from A has components (H, V_A + w s), and
+    the position is `∫₀ˢ (1 + ε(T)) (H, V) / T ds'`. The integrals are done by
+    Gauss–Legendre on 64 points, exact for these smooth integrands to rounding.
+    """
+
+    def __init__(self, length, w, ea, ea1, span, rise, guess):
+        self.length, self.w, self.ea, self.ea1 = length, w, ea, ea1
+        self.nodes, self.weights = np.polynomial.legendre.leggauss(64)
+        solution, info, ok, message = fsolve(
+            lambda p: np.array(self.position(self.length, *p)) - [span, rise], guess, full_output=True, xtol=1e-13
+        )
+        assert ok == 1, message
+        self.horizontal, self.vertical = solution
+
+    def tension(self, s, horizontal=None, vertical=None):
+        h = self.horizontal if horizontal is None else horizontal
+        v = self.vertical if vertical is None else vertical
+        return np.hypot(h, v + self.w * s)
+
+    def strain(self, tension):
+        if self.ea1 == 0:
+            return tension / self.ea
+        return (-self.ea + np.sqrt(self.ea**2 + 4 * self.ea1 * tension)) / (2 * self.ea1)
+
+    def position(self, s, horizontal=None, vertical=None):
+        h = self.horizontal if horizontal is None else horizontal
+        v = self.vertical if vertical is None else vertical
+        arc = 0.5 * s * (self.nodes + 1)
+        t = self.tension(arc, h, v)
+        stretch = 1 + self.strain(t)
+        x = 0.5 * s * np.sum(self.weights * stretch * h / t)
+        z = 0.5 * s * np.sum(self.weights * stretch * (v + self.w * arc) / t)
+        return x, z
+
+
+STILL_WATER = [n for n in NAMES if not np.any(water(toml(n))[2])]
+
+
+@pytest.mark.parametrize("name", STILL_WATER)
+def test_still_water_lines_are_elastic_catenaries(name, runs):
+    """Each line between its equilibrium end points is the continuum's catenary: the
+    segment tensions are its tension at mid-segment, the nodes lie on it."""
+    assert {"seed003_line", "y_branch"} <= set(STILL_WATER)
+    data = toml(name)
+    rho, g, _ = water(data)
+    run = runs(name)
+    x = np.asarray(run.static.state.positions)
+    tension = np.asarray(run.static.tension)
+    for k, line in enumerate(data["lines"]):
+        t = line_type(data, line["type"])
+        nodes, segments = run.built.line_nodes[k], run.built.line_segments[k]
+        n, length = line["segments"], line["length"]
+        a, b = x[nodes[0]], x[nodes[-1]]
+        across = np.r_[(b - a)[:2], 0.0]
+        span = np.linalg.norm(across)
+        chord = x[nodes[1]] - a  # the engine's first segment: only a starting guess
+        guess = tension[segments[0]] * np.array([np.linalg.norm(chord[:2]), chord[2]]) / np.linalg.norm(chord)
+        catenary = ElasticCatenary(length, (t["m"] - rho * t["F"]) * g, t["EA"], t["EA1"], span, b[2] - a[2], guess)
+        mid = (np.arange(n) + 0.5) * length / n
+        # The polyline differs from the continuum at O((l/R)²) (l the segment, R = T/w
+        # the radius of curvature). The checks are tighter than what a wrong definition
+        # would give: tension within 0.3 w l / T (relative) is closer to mid-segment than
+        # to either end (FairTen is the end segment's tension, not the end's), and nodes
+        # within 0.1 l²/R lie on the curve closer than a segment's own sag, l²/8R.
+        w, segment = abs((t["m"] - rho * t["F"]) * g), length / n
+        radius = tension[segments].min() / w
+        np.testing.assert_allclose(
+            tension[segments], catenary.tension(mid), rtol=0.3 * segment / radius, err_msg=f"line {k + 1}"
+        )
+        shape = np.array([catenary.position(s) for s in np.arange(n + 1) * segment])
+        along = (x[nodes] - a)[:, :2] @ (across[:2] / span)
+        sag = segment**2 / radius
+        np.testing.assert_allclose(along, shape[:, 0], rtol=0, atol=0.1 * sag, err_msg=f"line {k + 1}")
+        np.testing.assert_allclose(x[nodes, 2] - a[2], shape[:, 1], rtol=0, atol=0.1 * sag, err_msg=f"line {k + 1}")
+
+
+def test_seed003_file_is_the_seed003_builder():
+    built = jc.read_scene(examples.scene_path("seed003_line")).build()
+    model, env = examples.seed003_line(20, 30, 0.1)
+    ours = built.model
+
+    def close(a, b, what):
+        np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=1e-12, atol=0, err_msg=what)
+
+    close(ours.node_positions, model.node_positions, "node_positions")
+    close(ours.segment_length, model.segment_length, "segment_length")
+    np.testing.assert_array_equal(ours.segment_nodes, model.segment_nodes)
+    np.testing.assert_array_equal(ours.constrained_nodes, model.constrained_nodes)
+    for field in ("mass_per_length", "diameter", "area", "normal_drag", "tangential_drag",
+                  "normal_added_mass", "tangential_added_mass"):
+        close(getattr(ours.line, field), getattr(model.line, field), field)
+    # The file's law is Kelvin–Voigt with no damping; the builder's is NonlinearElastic.
+    law, reference = ours.line.tension_law, model.line.tension_law
+    close(law.axial_stiffness, reference.axial_stiffness, "axial_stiffness")
+    close(law.quadratic_stiffness(), reference.quadratic_stiffness(), "quadratic_stiffness")
+    close(law.slack_width, reference.slack_width, "slack_width")
+    np.testing.assert_array_equal(law.damping(), 0.0)
+    assert [type(m) for m in ours.motions] == [type(m) for m in model.motions]
+    ours_leaves, reference_leaves = jax.tree.leaves(ours.motions), jax.tree.leaves(model.motions)
+    assert len(ours_leaves) == len(reference_leaves) == 4  # Harmonic: A, T, e, φ
+    for a, b in zip(ours_leaves, reference_leaves):
+        close(a, b, "motions")
+    for a, b in zip(jax.tree.leaves(ours.body), jax.tree.leaves(model.body)):
+        close(a, b, "body")
+    assert ours.mass_matrix == model.mass_matrix
+    for field in ("water_density", "gravity", "current"):
+        close(getattr(built.environment, field), getattr(env, field), field)
+
+
+# ---------------------------------------------------------------------------------------
+# The command line on bundled examples.
+# ---------------------------------------------------------------------------------------
+
+
+def test_cli_run_bundled_example(runs, tmp_path, capsys):
+    csv, png = tmp_path / "o.csv", tmp_path / "o.png"
+    status = main(["run", "y_branch", "--duration", "1", "--out", str(csv), "--plot", str(png), "--no-progress"])
+    captured = capsys.readouterr()
+    assert status == 0, captured.err
+    assert csv.exists() and png.exists() and png.stat().st_size > 10_000
+    summary = captured.out.strip().splitlines()[-1]
+    assert "peak tension" in summary and summary.startswith("simulated 1.000 s")
+    # y_branch.toml names no channels: every line's end tensions, at the file's dt_out,
+    # the same numbers as the library's own run.
+    lines = len(toml("y_branch")["lines"])
+    table = np.genfromtxt(csv, delimiter=",", names=True)
+    assert table.dtype.names == ("Time", *(f"{e}{k}" for k in range(1, lines + 1) for e in ("FairTen", "AnchTen")))
+    expected = expected_channels("y_branch", runs("y_branch"))
+    for channel in table.dtype.names:
+        np.testing.assert_allclose(table[channel], expected[channel], rtol=1e-9, atol=1e-9, err_msg=channel)
+    peak = runs("y_branch").tension.max()
+    assert f"peak tension {peak / 1e3:.3f} kN" in summary
+
+
+def test_cli_info_bundled_example(capsys):
+    assert main(["info", "buoy_net"]) == 0
+    out = capsys.readouterr().out
+    data = toml("buoy_net")
+    points, lines = data["points"], data["lines"]
+    nodes = len(points) + sum(line["segments"] - 1 for line in lines)
+    free = sum(p["type"] == "free" for p in points.values()) + sum(line["segments"] - 1 for line in lines)
+    segments = sum(line["segments"] for line in lines)
+    assert f"model: {nodes} nodes ({free} free), {segments} segments, lumped mass matrix" in out
+    assert "buoy_net.toml" in out and "current (0.5, 0.0, 0.0) m/s" in out
+    for name in points:
+        assert f"  {name} (" in out
+    for line in lines:
+        assert f"  {line['name']}: {line['type']} from {line['from']} to {line['to']}" in out
+    assert "advice:" in out and "stiffest axial mode" in out
+
+
+def test_cli_statics_only(runs, tmp_path, capsys):
+    npz = tmp_path / "s.npz"
+    assert main(["run", "seed003_line", "--duration", "0", "--out", str(npz), "--no-progress"]) == 0
+    assert capsys.readouterr().out.strip().splitlines()[-1].startswith("statics: ")
+    static = runs("seed003_line").static
+    with np.load(npz) as archive:
+        np.testing.assert_array_equal(archive["time"], [0.0])
+        positions = np.asarray(static.state.positions)[None]
+        np.testing.assert_allclose(archive["positions"], positions, rtol=1e-12, atol=1e-12)
+        np.testing.assert_array_equal(archive["velocities"], 0.0)
+        np.testing.assert_allclose(archive["tension"], np.asarray(static.tension)[None], rtol=1e-10)
+        np.testing.assert_allclose(archive["reactions"], np.asarray(static.reactions)[None], rtol=1e-10, atol=1e-9)
+        np.testing.assert_allclose(archive["FairTen1"], [static.tension[-1]], rtol=1e-10)
+
+
+def test_cli_out_writes_the_scenes_channels(tmp_path, capsys):
+    """With no --channels, --out writes the channels the scene file's [output] names."""
+    csv = tmp_path / "s.csv"
+    assert main(["run", "seed003_line", "--duration", "0", "--out", str(csv), "--no-progress"]) == 0
+    capsys.readouterr()
+    assert csv.read_text().splitlines()[0] == "Time," + ",".join(toml("seed003_line")["output"]["channels"])
