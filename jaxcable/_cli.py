@@ -10,6 +10,7 @@ name of a bundled example scene (see `jaxcable examples`).
 """
 
 import argparse
+import os
 import sys
 import warnings
 from pathlib import Path
@@ -18,6 +19,7 @@ import numpy as np
 
 from . import _output as output
 from ._advice import advice
+from ._motion import Harmonic, Sampled
 from ._motion_file import read_motion_file
 from ._run import load_scene, run_scene
 from ._scene import Scene, SceneError
@@ -39,6 +41,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except RuntimeError as error:  # a failed statics or dynamics solve
         print(f"jaxcable: solver failed: {error}", file=sys.stderr)
+        return 1
+    except BrokenPipeError:  # output piped into `head` and the like: stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
 
 
@@ -74,8 +79,11 @@ def _parser() -> argparse.ArgumentParser:
 
 def _load(args) -> Scene:
     path = Path(args.input)
-    if not path.exists() and args.input in scene_names():
-        path = scene_path(args.input)
+    if not path.exists():
+        if args.input in scene_names():
+            path = scene_path(args.input)
+        elif not path.suffix:
+            raise SceneError(f"no file or bundled example named {args.input!r}; bundled: {', '.join(scene_names())}")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the command prints the scene's notes itself
         scene = load_scene(path)
@@ -124,7 +132,7 @@ def _info(args) -> int:
     model = built.model
     water = scene.water
     duration = scene.run.duration if args.duration is None else args.duration
-    print(f"{scene.source}")
+    print(f"{scene.source}" + (f": {scene.title}" if scene.title else ""))
     depth = "unbounded" if water.depth is None else f"{water.depth:g} m"
     print(f"water: density {water.density:g} kg/m³, g = {water.gravity:g} m/s², depth {depth}, current {water.current} m/s")
     print(f"model: {model.n_nodes} nodes ({model.free_nodes.size} free), {model.n_segments} segments, "
@@ -142,7 +150,7 @@ def _info(args) -> int:
     for k, p in enumerate(scene.points):
         extra = ""
         if p.kind == "coupled":
-            extra = f", motion {type(p.motion).__name__}" if p.motion is not None else ", held (no motion given)"
+            extra = ", " + _describe_motion(p.motion)
         if p.body is not None:
             extra += (f", body: mass {float(p.body.mass):g} kg, volume {float(p.body.volume):g} m³, "
                       f"CdA {float(p.body.drag_area):g} m²")
@@ -165,6 +173,18 @@ def _info(args) -> int:
     for line in advice(built, duration):
         print(f"  {line}")
     return 0
+
+
+def _describe_motion(motion) -> str:
+    if motion is None:
+        return "held (no motion given)"
+    if isinstance(motion, Harmonic):
+        direction = tuple(round(float(x), 4) for x in motion.direction)
+        return (f"harmonic: amplitude {float(motion.amplitude):g} m, period {float(motion.period):g} s, "
+                f"direction {direction}, phase {float(motion.phase):g} rad, ramp {float(motion.ramp):g} s")
+    if isinstance(motion, Sampled):
+        return f"table of {motion.times.size} samples from {float(motion.times[0]):g} to {float(motion.times[-1]):g} s"
+    return type(motion).__name__
 
 
 def _examples(args) -> int:

@@ -134,7 +134,7 @@ def read_moordyn(path: str | Path) -> Scene:
     for note in notes:
         if " ignored" in note:  # physics left out, as opposed to options not needed
             warnings.warn(note, stacklevel=2)
-    return Scene(points, line_types, mdlines, water, run, channels, tuple(notes), source)
+    return Scene(points, line_types, mdlines, water, run, channels, tuple(notes), source, _title(lines))
 
 
 def _find_sections(lines: list[str]) -> dict[str, int]:
@@ -317,6 +317,17 @@ def _outputs(lines: list[str], sections: dict[str, int]):
             if token.upper() == "END":
                 return
             yield token
+
+
+def _title(lines: list[str]) -> str:
+    """The first line of text before the first section: MoorDyn files describe
+    themselves there."""
+    for line in lines:
+        if "---" in line and any(alias in line.upper() for _, aliases in _SECTIONS for alias in aliases):
+            break
+        if line.strip() and "---" not in line:
+            return line.strip()
+    return ""
 
 
 def _is_number(token: str) -> bool:

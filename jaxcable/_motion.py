@@ -43,7 +43,14 @@ class Fixed(AbstractMotion):
 
 
 class Harmonic(AbstractMotion):
-    """`r(t) = A sin(ω t + φ) e`, seed 003's fairlead motion (eq. 6).
+    """`r(t) = f(t) A sin(ω t + φ) e`, seed 003's fairlead motion (eq. 6), optionally
+    switched on smoothly.
+
+    Without a ramp (f = 1) a motion that does not start at rest jerks the line at
+    t = 0: the velocity jumps to A ω cos φ. Over `ramp` seconds, f rises as the
+    smoothstep u³(6u² − 15u + 10), u = t / ramp, whose first and second derivatives
+    vanish at both ends, so the velocity and acceleration start from zero (the Low &
+    Langley jumper's cases are driven this way over one period).
 
     **Arguments:**
 
@@ -51,14 +58,18 @@ class Harmonic(AbstractMotion):
     - `period`: T = 2π/ω (s).
     - `direction`: e, a 3-vector, normalised here.
     - `phase`: φ (rad).
+    - `ramp`: the time (s) over which the motion is switched on; 0 for none.
     """
 
     amplitude: Float[Array, ""]
     period: Float[Array, ""]
     direction: Float[Array, "3"]
     phase: Float[Array, ""]
+    ramp: Float[Array, ""]
 
-    def __init__(self, amplitude: ArrayLike, period: ArrayLike, direction=(1.0, 0.0, 0.0), phase=0.0):
+    def __init__(
+        self, amplitude: ArrayLike, period: ArrayLike, direction=(1.0, 0.0, 0.0), phase=0.0, ramp=0.0
+    ):
         direction = checks.float_array("Harmonic.direction", direction)
         if direction.shape != (3,):
             raise ValueError(f"Harmonic.direction must have shape (3,), got {direction.shape}")
@@ -69,10 +80,15 @@ class Harmonic(AbstractMotion):
         checks.positive("Harmonic.period", self.period)
         self.direction = direction / norm
         self.phase = checks.float_array("Harmonic.phase", phase, ())
+        self.ramp = checks.float_array("Harmonic.ramp", ramp, ())
+        checks.positive("Harmonic.ramp", self.ramp, allow_zero=True)
 
     def displacement(self, t):
         omega = 2 * jnp.pi / self.period
-        return self.amplitude * jnp.sin(omega * t + self.phase) * self.direction
+        ramped = self.ramp > 0
+        u = jnp.clip(t / jnp.where(ramped, self.ramp, 1.0), 0.0, 1.0)
+        switch = jnp.where(ramped, u**3 * (6 * u**2 - 15 * u + 10), 1.0)
+        return switch * self.amplitude * jnp.sin(omega * t + self.phase) * self.direction
 
 
 class Sampled(AbstractMotion):

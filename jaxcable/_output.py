@@ -118,7 +118,8 @@ def write(path: str | Path, run: "SceneRun", names: tuple[str, ...] = ()) -> Pat
     suffix = path.suffix.lower()
     if suffix not in TABLE_SUFFIXES + ARCHIVE_SUFFIXES:
         raise SceneError(f"output file {path}: unknown format {suffix!r}; use one of {TABLE_SUFFIXES + ARCHIVE_SUFFIXES}")
-    values = channels(run, names)
+    # + 0.0 turns the −0.0 of a slack segment (negative strain times a zero switch) into 0.
+    values = {name: series + 0.0 for name, series in channels(run, names).items()}
     if suffix == ".csv":
         table = np.column_stack(list(values.values()))
         np.savetxt(path, table, delimiter=",", header=",".join(values), comments="", fmt="%.10g")
@@ -178,7 +179,8 @@ def _write_netcdf(path: Path, run: "SceneRun", variables: dict) -> None:
     for data, dims, _, _ in variables.values():
         sizes.update(zip(dims, np.shape(data)))
     with netcdf_file(path, "w") as f:
-        f.title = f"jaxcable run of {run.built.scene.source}"
+        scene = run.built.scene
+        f.title = f"jaxcable run of {scene.source}" + (f": {scene.title}" if scene.title else "")
         for dim, size in sizes.items():
             f.createDimension(dim, size)
         for name, (data, dims, unit, description) in variables.items():

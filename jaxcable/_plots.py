@@ -70,7 +70,7 @@ def plot_run(run: "SceneRun", path: str | Path, channels: tuple[str, ...] = (), 
     right.set_title("Line shape, x–z plane")
     right.grid(True, alpha=0.3)
     right.legend(fontsize="small")
-    figure.suptitle(Path(scene.source).name)
+    figure.suptitle(f"{scene.title} ({Path(scene.source).name})" if scene.title else Path(scene.source).name)
     figure.savefig(path, dpi=120)
     plt.close(figure)
     return figure

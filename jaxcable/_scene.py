@@ -157,6 +157,7 @@ class Scene:
         `FairTen1` or `L1N3PZ`); empty for the default set.
     - `notes`: what the reader ignored or assumed, for the user to read.
     - `source`: the file it came from.
+    - `title`: a one-line description, for listings and figures.
     """
 
     points: tuple[PointSpec, ...]
@@ -167,6 +168,7 @@ class Scene:
     channels: tuple[str, ...] = ()
     notes: tuple[str, ...] = ()
     source: str = "<scene>"
+    title: str = ""
 
     def __post_init__(self):
         names = [t.name for t in self.line_types]

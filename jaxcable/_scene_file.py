@@ -35,6 +35,7 @@ A scene file names its points and line types and lists its lines::
     type = "coupled"
     position = [346.4, 0.0, 0.0]
     motion = { type = "harmonic", amplitude = 1.57, period = 5.6, direction = [1, 0, 0] }
+    # optional: phase (rad), ramp (s, switches the motion on smoothly)
     # or: motion = { type = "table", file = "fairlead.csv" }  (time x y z, absolute)
 
     [points.buoy]                # a free point may carry a body:
@@ -84,7 +85,7 @@ _LINE_TYPE_OPTIONAL = (
     "normal_added_mass", "tangential_added_mass", "area", "slack_width",
 )
 _BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass")
-_HARMONIC = ("type", "amplitude", "period", "direction", "phase")
+_HARMONIC = ("type", "amplitude", "period", "direction", "phase", "ramp")
 _LINE = ("name", "type", "from", "to", "length", "segments")
 
 
@@ -202,8 +203,10 @@ def read_scene(path: str | Path) -> Scene:
     channels = output.get("channels", [])
     if not (isinstance(channels, list) and all(isinstance(c, str) for c in channels)):
         raise SceneError(f"{reader.where(('output', 'channels'))}: expected a list of channel names")
-    reader.string(data, ("title",), "")
-    return Scene(tuple(points), tuple(line_types), tuple(lines), water_spec, run, tuple(channels), (), str(path))
+    title = reader.string(data, ("title",), "")
+    return Scene(
+        tuple(points), tuple(line_types), tuple(lines), water_spec, run, tuple(channels), (), str(path), title
+    )
 
 
 class _Reader:
@@ -299,6 +302,7 @@ class _Reader:
                     period=self.number(spec, (*keys, "period")),
                     direction=self.vector(spec, (*keys, "direction"), (1.0, 0.0, 0.0)),
                     phase=self.number(spec, (*keys, "phase"), 0.0),
+                    ramp=self.number(spec, (*keys, "ramp"), 0.0),
                 )
         if kind == "table":
             self.keys(spec, keys, ("type", "file"))

@@ -58,3 +58,23 @@ def test_sampled_velocity_at_the_end_samples_is_the_one_sided_derivative():
         _, velocity, _ = motion.kinematics(end)
         slope = (motion.displacement(end)[0] - motion.displacement(inside)[0]) / (end - inside)
         np.testing.assert_allclose(velocity[0], slope, rtol=1e-5)
+
+
+def test_ramped_harmonic_starts_at_rest_and_matches_its_closed_form():
+    # f(u) = u³(6u² − 15u + 10), u = t / ramp: r = f A sin(ωt + φ) e, and its
+    # derivatives by the product rule, against the motion's forward-mode kinematics.
+    amplitude, period, phase, ramp = 2.0, 7.0, 0.7, 5.0
+    motion = jc.Harmonic(amplitude, period, direction=(0.0, 0.0, 1.0), phase=phase, ramp=ramp)
+    omega = 2 * np.pi / period
+    for t in (0.0, 1.3, 4.9, 5.0, 11.0):
+        u = min(t / ramp, 1.0)
+        f = u**3 * (6 * u**2 - 15 * u + 10)
+        df = 30 * u**2 * (u - 1) ** 2 / ramp if t < ramp else 0.0
+        ddf = 60 * u * (u - 1) * (2 * u - 1) / ramp**2 if t < ramp else 0.0
+        s, c = np.sin(omega * t + phase), np.cos(omega * t + phase)
+        r, v, a = motion.kinematics(t)
+        np.testing.assert_allclose(r[2], f * amplitude * s, atol=1e-12)
+        np.testing.assert_allclose(v[2], amplitude * (df * s + f * omega * c), atol=1e-12)
+        np.testing.assert_allclose(a[2], amplitude * (ddf * s + 2 * df * omega * c - f * omega**2 * s), atol=1e-12)
+    _, v0, a0 = motion.kinematics(0.0)
+    assert np.all(v0 == 0) and np.all(a0 == 0)

@@ -939,3 +939,16 @@ def test_run_past_a_scene_motion_table_fails_before_solving(tmp_path):
     scene = jc.read_scene(path)
     with pytest.raises(jc.SceneError, match="covers 0 to 2 s, but the run needs 0 to 10 s"):
         jc.run_scene(scene)
+
+
+def test_titles_are_read(tmp_path):
+    with pytest.warns(UserWarning, match="bending"):
+        scene = jc.read_moordyn(LOWE_AND_LANGLEY)
+    assert scene.title == "MoorDyn input file for a flexible jumper (Lowe and Langley, 2006)"
+    assert jc.read_scene(write_scene(tmp_path, SCENE)).title == "reader test"
+
+
+def test_cli_unknown_name_lists_the_bundled_examples(capsys):
+    assert cli_main(["info", "y_brnch"]) == 2
+    err = capsys.readouterr().err
+    assert "no file or bundled example named 'y_brnch'" in err and "y_branch" in err, err
