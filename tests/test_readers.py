@@ -942,8 +942,9 @@ def test_run_past_a_scene_motion_table_fails_before_solving(tmp_path):
 
 
 def test_titles_are_read(tmp_path):
-    with pytest.warns(UserWarning, match="bending"):
+    with pytest.warns(UserWarning) as caught:
         scene = jc.read_moordyn(LOWE_AND_LANGLEY)
+    assert any("bending" in str(w.message) for w in caught)
     assert scene.title == "MoorDyn input file for a flexible jumper (Lowe and Langley, 2006)"
     assert jc.read_scene(write_scene(tmp_path, SCENE)).title == "reader test"
 
