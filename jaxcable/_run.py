@@ -148,7 +148,7 @@ def run_scene(
         positions = as_series(static.state.positions)
         return SceneRun(
             built, static, np.zeros(1), positions, as_series(static.state.velocities), as_series(static.tension),
-            as_series(static.reactions), 0, statics_seconds, 0.0, _seabed_notes(scene, positions),
+            as_series(static.reactions), 0, statics_seconds, 0.0, _water_notes(scene, positions),
         )
 
     start = time.perf_counter()
@@ -161,18 +161,24 @@ def run_scene(
     return SceneRun(
         built, static, np.asarray(result.times), positions, np.asarray(result.velocities), np.asarray(result.tension),
         np.asarray(result.reactions), int(result.stats["num_steps"]), statics_seconds, dynamics_seconds,
-        _seabed_notes(scene, positions),
+        _water_notes(scene, positions),
     )
 
 
-def _seabed_notes(scene: Scene, positions: np.ndarray) -> tuple[str, ...]:
-    depth = scene.water.depth
-    if depth is None:
-        return ()
-    lowest = float(positions[..., 2].min())
-    if lowest < -depth:
-        return (
-            f"nodes reach z = {lowest:.2f} m, below the seabed at z = {-depth:g} m: seabed contact is not "
-            "modelled, so lines there hang through it",
+def _water_notes(scene: Scene, positions: np.ndarray) -> tuple[str, ...]:
+    """Where the run left the water the model assumes: above the surface or below the
+    seabed, neither of which jaxcable models yet."""
+    notes = []
+    highest = float(positions[..., 2].max())
+    if highest > 0:
+        notes.append(
+            f"nodes reach z = {highest:.2f} m, above the still-water level: every segment is treated as "
+            "submerged, so buoyancy, drag and added mass act on the emerged part too"
         )
-    return ()
+    depth = scene.water.depth
+    if depth is not None and positions[..., 2].min() < -depth:
+        notes.append(
+            f"nodes reach z = {float(positions[..., 2].min()):.2f} m, below the seabed at z = {-depth:g} m: "
+            "seabed contact is not modelled, so lines there hang through it"
+        )
+    return tuple(notes)

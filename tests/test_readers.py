@@ -953,3 +953,11 @@ def test_cli_unknown_name_lists_the_bundled_examples(capsys):
     assert cli_main(["info", "y_brnch"]) == 2
     err = capsys.readouterr().err
     assert "no file or bundled example named 'y_brnch'" in err and "y_branch" in err, err
+
+
+def test_run_notes_a_line_out_of_the_water(tmp_path):
+    # The fairlead 2 m above the still-water level: the run says that the emerged part
+    # is still treated as submerged, rather than pass it over in silence.
+    points = (POINTS[0], "2    Vessel    200.0   0.0    2.0     0       0        0      0")
+    run = jc.run_scene(jc.read_moordyn(write_moordyn(tmp_path, points=points)), duration=0)
+    assert any("z = 2.00 m, above the still-water level" in note for note in run.notes), run.notes

@@ -16,10 +16,9 @@ The polyline puts each segment's weight half on each end node (its potential use
 mid-depth), a trapezoid rule along the cable, so the discrete solution converges to the
 continuum at O(1/N²): errors fall by about 4 per doubling of N.
 
-`solve_statics` is not jitted itself and re-traces its optimistix solve on every call
-(about 5 s per call on these machines), so the accuracy tests call it through
-`eqx.filter_jit`: one compilation per model shape, the same equations. The failure test
-calls the public, unjitted function, whose documented error is a `RuntimeError`.
+The accuracy tests call `solve_statics` through `eqx.filter_jit`, one compilation per
+model shape; the failure tests call the public function, whose documented error is a
+`RuntimeError`.
 """
 
 import re
