@@ -62,7 +62,7 @@ from pathlib import Path
 
 from ._motion import Harmonic, Sampled
 from ._motion_file import read_motion_file
-from ._network import Body
+from ._network import MASS_MATRICES, Body
 from ._scene import (
     POINT_KINDS,
     LineSpec,
@@ -75,6 +75,7 @@ from ._scene import (
     located,
     unique_names,
 )
+from ._simulate import SOLVERS
 
 _TOP = ("title", "water", "simulation", "line_types", "points", "lines", "output")
 _WATER = ("density", "gravity", "depth", "current")
@@ -134,6 +135,15 @@ def read_scene(path: str | Path) -> Scene:
         atol=reader.number(simulation, ("simulation", "atol"), defaults.atol),
         mass_matrix=reader.string(simulation, ("simulation", "mass_matrix"), defaults.mass_matrix),
     )
+    for key, allowed in (("solver", tuple(SOLVERS)), ("mass_matrix", MASS_MATRICES)):
+        if getattr(run, key) not in allowed:
+            raise SceneError(f"{reader.where(('simulation', key))}: must be one of {allowed}, got {getattr(run, key)!r}")
+    for key in ("dt_out", "rtol", "atol"):
+        value = getattr(run, key)
+        if value is not None and not value > 0:
+            raise SceneError(f"{reader.where(('simulation', key))}: must be positive, got {value:g}")
+    if not run.duration >= 0:
+        raise SceneError(f"{reader.where(('simulation', 'duration'))}: must not be negative, got {run.duration:g}")
 
     line_types = []
     line_type_tables = reader.table(data, ("line_types",), required=True)

@@ -961,3 +961,17 @@ def test_run_notes_a_line_out_of_the_water(tmp_path):
     points = (POINTS[0], "2    Vessel    200.0   0.0    2.0     0       0        0      0")
     run = jc.run_scene(jc.read_moordyn(write_moordyn(tmp_path, points=points)), duration=0)
     assert any("z = 2.00 m, above the still-water level" in note for note in run.notes), run.notes
+
+
+@pytest.mark.parametrize(
+    "old, new, key",
+    [
+        ("dt_out = 0.5", 'dt_out = 0.5\nsolver = "euler"', "simulation.solver"),
+        ("dt_out = 0.5", 'dt_out = 0.5\nmass_matrix = "diagonal"', "simulation.mass_matrix"),
+        ("dt_out = 0.5", "dt_out = -0.5", "simulation.dt_out"),
+        ("duration = 10.0", "duration = -1.0", "simulation.duration"),
+    ],
+)
+def test_toml_bad_simulation_settings_are_located(tmp_path, old, new, key):
+    error, path = read_scene_error(tmp_path, edited(old, new))
+    assert_located(error, path, new.splitlines()[-1], key)
