@@ -108,10 +108,15 @@ def _run(args) -> int:
         scene = scene.with_motion_table(times, positions, str(args.motion))
     for note in scene.notes:
         print(f"note: {note}", file=sys.stderr)
+    print(f"{Path(scene.source).name}" + (f": {scene.title}" if scene.title else ""))
     channels = tuple(args.channels or ())
     for name in channels or output.default_channels(scene):
         output.parse_channel(name, scene)  # fail now, not after the simulation
     run = run_scene(scene, duration=duration, dt_out=args.dt_out, solver=args.solver, progress=not args.no_progress)
+    static = run.static
+    print(f"equilibrium: {int(static.steps)} iterations, {run.statics_seconds:.1f} s; largest tension "
+          f"{float(np.max(static.tension)) / 1e3:.3f} kN, smallest {float(np.min(static.tension)) / 1e3 + 0.0:.3f} kN")
+    sys.stdout.flush()  # keep stdout and stderr lines in the order they were written
     for note in run.notes:
         print(f"warning: {note}", file=sys.stderr)
     if args.out is not None:
