@@ -180,7 +180,8 @@ def _write_netcdf(path: Path, run: "SceneRun", variables: dict) -> None:
         sizes.update(zip(dims, np.shape(data)))
     with netcdf_file(path, "w") as f:
         scene = run.built.scene
-        f.title = f"jaxcable run of {scene.source}" + (f": {scene.title}" if scene.title else "")
+        title = f"jaxcable run of {scene.source}" + (f": {scene.title}" if scene.title else "")
+        f.title = title.encode("ascii", "replace").decode()  # NetCDF 3 attributes are ASCII
         for dim, size in sizes.items():
             f.createDimension(dim, size)
         for name, (data, dims, unit, description) in variables.items():

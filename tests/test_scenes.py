@@ -382,7 +382,7 @@ def test_seed003_file_is_the_seed003_builder():
     np.testing.assert_array_equal(law.damping(), 0.0)
     assert [type(m) for m in ours.motions] == [type(m) for m in model.motions]
     ours_leaves, reference_leaves = jax.tree.leaves(ours.motions), jax.tree.leaves(model.motions)
-    assert len(ours_leaves) == len(reference_leaves) == 4  # Harmonic: A, T, e, φ
+    assert len(ours_leaves) == len(reference_leaves) == 5  # Harmonic: A, T, e, φ, ramp
     for a, b in zip(ours_leaves, reference_leaves):
         close(a, b, "motions")
     for a, b in zip(jax.tree.leaves(ours.body), jax.tree.leaves(model.body)):
