@@ -23,7 +23,19 @@ import warnings
 from pathlib import Path
 
 from ._network import Body
-from ._scene import LineSpec, LineTypeSpec, PointSpec, RunSettings, Scene, SceneError, Water, located, unique_names
+from ._scene import (
+    LineSpec,
+    LineTypeSpec,
+    PointSpec,
+    RunSettings,
+    Scene,
+    SceneError,
+    Water,
+    is_number,
+    located,
+    read_text,
+    unique_names,
+)
 
 # Section names as MoorDyn recognises them, most specific first: a header matches the
 # first entry any of whose aliases it contains.
@@ -86,11 +98,7 @@ def read_moordyn(path: str | Path) -> Scene:
     not model.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8", errors="replace")
-    except OSError as error:
-        raise SceneError(f"cannot read {path}: {error.strerror}") from error
-    lines = text.splitlines()
+    lines = read_text(path).splitlines()
     sections = _find_sections(lines)
     source = str(path)
     notes: list[str] = []
@@ -191,12 +199,12 @@ def _line_type(source: str, line: int, fields: list[str], notes: list[str]) -> L
     if "|" in ea or "|" in ba or ea.upper().startswith("SYROPE:"):
         raise SceneError(f"{where}, column EA/BA: viscoelastic or Syrope models ({ea} / {ba}) are not supported")
     for column, token in (("EA", ea), ("BA/-zeta", ba)):
-        if not _is_number(token):
+        if not is_number(token):
             raise SceneError(
                 f"{where}, column {column}: {token!r} is a lookup table or not a number; nonlinear "
                 "tables are not supported (give a constant)"
             )
-    if not _is_number(ei):
+    if not is_number(ei):
         notes.append(f"{where}: line type {name}: bending stiffness table {ei!r} ignored (jaxcable has no bending)")
     elif float(ei) != 0:
         notes.append(
@@ -300,7 +308,7 @@ def _options(source: str, lines: list[str], sections: dict[str, int], notes: lis
         elif key in _SEABED:
             notes.append(f"{where}: option {name} = {value} ignored (seabed contact is not modelled yet)")
         elif key in _WAVES:
-            if _is_number(value) and float(value) == 0:
+            if is_number(value) and float(value) == 0:
                 continue
             notes.append(f"{where}: option {name} = {value} ignored (MoorDyn's wave and current input; still water)")
         elif key in _NOT_APPLICABLE:
@@ -328,12 +336,4 @@ def _title(lines: list[str]) -> str:
         if line.strip() and "---" not in line:
             return line.strip()
     return ""
-
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._scene import SceneError
+from ._scene import SceneError, is_number, read_text
 
 
 def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndarray]:
@@ -26,10 +26,7 @@ def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndar
     strictly increase.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8", errors="replace")
-    except OSError as error:
-        raise SceneError(f"cannot read motion file {path}: {error.strerror}") from error
+    text = read_text(path, "motion file")
     expected = 1 + 3 * points
     rows, numbers, header = [], [], False
     for number, line in enumerate(text.splitlines(), start=1):
@@ -39,7 +36,7 @@ def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndar
         try:
             values = [float(f) for f in fields]
         except ValueError:
-            if not rows and not header and not any(_is_number(f) for f in fields):
+            if not rows and not header and not any(is_number(f) for f in fields):
                 header = True  # a first row of column names, with no numbers in it
                 continue
             raise SceneError(f"{path}, line {number}: non-numeric field in {line.strip()!r}") from None
@@ -65,10 +62,3 @@ def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndar
         )
     return table[:, 0], table[:, 1:].reshape(len(rows), points, 3)
 
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True

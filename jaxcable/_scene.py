@@ -12,6 +12,7 @@ produce and consume scenes.
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -308,6 +309,23 @@ class located:
         if kind is not None and issubclass(kind, ValueError) and not isinstance(error, SceneError):
             raise SceneError(f"{self.where}: {error}") from error
         return False
+
+
+def read_text(path: Path, what: str = "") -> str:
+    """The text of `path`, or a `SceneError` saying why it cannot be read."""
+    try:
+        return path.read_text(encoding="utf-8", errors="replace")
+    except OSError as error:
+        raise SceneError(f"cannot read {what + ' ' if what else ''}{path}: {error.strerror}") from error
+
+
+def is_number(token: str) -> bool:
+    """Whether `token` reads as a float."""
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
 
 
 def unique_names(items: Sequence, what: str, source: str) -> None:

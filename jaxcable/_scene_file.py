@@ -73,6 +73,7 @@ from ._scene import (
     SceneError,
     Water,
     located,
+    read_text,
     unique_names,
 )
 from ._simulate import SOLVERS
@@ -101,10 +102,7 @@ def read_scene(path: str | Path) -> Scene:
     not exist, and values out of range.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise SceneError(f"cannot read {path}: {error.strerror}") from error
+    text = read_text(path)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
