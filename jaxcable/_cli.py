@@ -139,7 +139,8 @@ def _info(args) -> int:
     duration = scene.run.duration if args.duration is None else args.duration
     print(f"{scene.source}" + (f": {scene.title}" if scene.title else ""))
     depth = "unbounded" if water.depth is None else f"{water.depth:g} m"
-    print(f"water: density {water.density:g} kg/m³, g = {water.gravity:g} m/s², depth {depth}, current {water.current} m/s")
+    print(f"water: density {water.density:g} kg/m³, g = {water.gravity:g} m/s², depth {depth}, current {water.current} m/s, "
+          f"free surface {'on' if water.free_surface else 'off (lines wholly submerged)'}")
     print(f"model: {model.n_nodes} nodes ({model.free_nodes.size} free), {model.n_segments} segments, "
           f"{model.mass_matrix} mass matrix")
     print("line types:")

@@ -60,3 +60,20 @@ def body_drag(
     `c = k₀ m g` for Zhukov's specific-weight law `R = k₀ u² m g` (seed 001, eq. 3).
     """
     return coefficient[..., None] * safe_norm(relative_velocity)[..., None] * relative_velocity
+
+
+def submerged_interval(
+    z_start: Float[Array, " segments"], z_end: Float[Array, " segments"]
+) -> tuple[Float[Array, " segments"], Float[Array, " segments"]]:
+    """`(a, b)`: the part `ξ ∈ [a, b]` of each straight segment `R(ξ)` that lies below
+    the still-water level z = 0, given its ends' heights (m). `a = b` when it is all
+    above. The ends move continuously with the nodes, so integrals over `[a, b]`
+    (buoyancy, drag, added mass) do too as a segment crosses the surface.
+    """
+    below = (z_start <= 0) & (z_end <= 0)
+    above = (z_start >= 0) & (z_end >= 0) & ~below
+    crossing = z_start / jnp.where(below | above, 1.0, z_start - z_end)  # where z(ξ) = 0
+    start_below = z_start < 0
+    a = jnp.where(below | above | start_below, 0.0, crossing)
+    b = jnp.where(below, 1.0, jnp.where(above, 0.0, jnp.where(start_below, crossing, 1.0)))
+    return a, b

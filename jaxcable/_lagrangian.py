@@ -11,7 +11,8 @@ Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0
   segments' directions and `½ vᵀMv + Π` is not conserved: it changes at the rate
   `½ vᵀ Ṁ v` (tested). With isotropic added mass it is conserved exactly.
 - Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M − ρV) g z`.
-  The conservative forces are `−∂Π/∂x`, by `jax.grad`.
+  The conservative forces are `−∂Π/∂x`, by `jax.grad`. With `Environment.free_surface`,
+  buoyancy, drag and added mass act on the part of each segment below z = 0 only.
 - Non-conservative loads enter by their virtual work `Q = Σ ∫ f · ∂R/∂x |∂R/∂l| dl`:
   drag by Gauss–Legendre quadrature along each segment, the viscous part of the tension,
   and body drag.
@@ -30,7 +31,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ._environment import Environment
-from ._hydro import body_drag, gauss_legendre, line_drag, safe_norm
+from ._hydro import body_drag, gauss_legendre, line_drag, safe_norm, submerged_interval
 from ._network import CableNetwork
 
 # ∫₀¹ N_a N_b dξ for the shape functions N = (1 − ξ, ξ), exact and at the ends.
@@ -99,10 +100,19 @@ def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[
     _, _, strain = segment_geometry(model, positions)
     elastic = jnp.sum(model.segment_length * line.tension_law.elastic_energy_density(strain))
     z = positions[:, 2]
-    mid_depth = 0.5 * (z[model.segment_nodes[:, 0]] + z[model.segment_nodes[:, 1]])
-    wet_weight = (line.mass_per_length - env.water_density * line.area) * env.gravity * model.segment_length
+    z_start, z_end = z[model.segment_nodes[:, 0]], z[model.segment_nodes[:, 1]]
+    mid_depth = 0.5 * (z_start + z_end)
+    weight = line.mass_per_length * env.gravity * model.segment_length
+    displaced = env.water_density * line.area * env.gravity * model.segment_length
+    # Buoyancy's potential is −ρ g F L ∫ z dξ over the submerged part: with the surface,
+    # the part ξ ∈ [a, b], where z is linear, so the integral is (b − a) z((a + b)/2).
+    if env.free_surface:
+        a, b = submerged_interval(z_start, z_end)
+        submerged_depth = (b - a) * (z_start + (z_end - z_start) * 0.5 * (a + b))
+    else:
+        submerged_depth = mid_depth
     body_weight = (body.mass - env.water_density * body.volume) * env.gravity
-    return elastic + jnp.sum(wet_weight * mid_depth) + jnp.sum(body_weight * z)
+    return elastic + jnp.sum(weight * mid_depth - displaced * submerged_depth) + jnp.sum(body_weight * z)
 
 
 def mass_per_length(model: CableNetwork, env: Environment, positions) -> Float[Array, "segments 3 3"]:
@@ -112,6 +122,10 @@ def mass_per_length(model: CableNetwork, env: Environment, positions) -> Float[A
     _, tangent, _ = segment_geometry(model, positions)
     axial = tangent[:, :, None] * tangent[:, None, :]
     added = env.water_density * line.area
+    if env.free_surface:
+        # The submerged fraction's added mass, spread along the segment as the rest.
+        a, b = submerged_interval(positions[model.segment_nodes[:, 0], 2], positions[model.segment_nodes[:, 1], 2])
+        added = added * (b - a)
     eye = jnp.eye(3)
     return (
         line.mass_per_length[:, None, None] * eye
@@ -162,13 +176,18 @@ def dissipative_forces(model: CableNetwork, env: Environment, t, positions, velo
 
     xi, w = gauss_legendre(model.drag_points)
     ends = model.segment_nodes
-    along = lambda field: field[ends[:, 0], None] * (1 - xi)[:, None] + field[ends[:, 1], None] * xi[:, None]
+    xi, w = jnp.broadcast_to(xi, (model.n_segments, xi.size)), jnp.broadcast_to(w, (model.n_segments, w.size))
+    if env.free_surface:
+        # Quadrature over the submerged part [a, b] only.
+        a, b = submerged_interval(positions[ends[:, 0], 2], positions[ends[:, 1], 2])
+        xi, w = a[:, None] + (b - a)[:, None] * xi, (b - a)[:, None] * w
+    along = lambda field: field[ends[:, 0], None] * (1 - xi)[..., None] + field[ends[:, 1], None] * xi[..., None]
     relative = env.water_velocity(along(positions), t) - along(velocities)  # (segments, points, 3)
     normal = 0.5 * rho * line.normal_drag * line.diameter  # C_n
     tangential = 0.5 * rho * line.tangential_drag * jnp.pi * line.diameter  # C_τ
     f = line_drag(relative, tangent[:, None, :], normal[:, None], tangential[:, None])
-    drag_start = stretched[:, None] * jnp.einsum("p,spk->sk", w * (1 - xi), f)
-    drag_end = stretched[:, None] * jnp.einsum("p,spk->sk", w * xi, f)
+    drag_start = stretched[:, None] * jnp.einsum("sp,spk->sk", w * (1 - xi), f)
+    drag_end = stretched[:, None] * jnp.einsum("sp,spk->sk", w * xi, f)
 
     law = line.tension_law
     viscous = law.tension(strain, strain_rate(model, positions, velocities)) - law.elastic_tension(strain)

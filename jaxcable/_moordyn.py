@@ -137,6 +137,7 @@ def read_moordyn(path: str | Path) -> Scene:
         density=options.get("wtrdnsty", options.get("rho", 1025.0)),
         gravity=options.get("g", options.get("gravity", 9.80665)),
         depth=depth,
+        free_surface=True,  # MoorDyn counts only the submerged part of each segment
     )
     run = RunSettings(dt_out=options.get("dtout") or None, mass_matrix="lumped")
     for note in notes:

@@ -170,7 +170,7 @@ def _water_notes(scene: Scene, positions: np.ndarray) -> tuple[str, ...]:
     seabed, neither of which jaxcable models yet."""
     notes = []
     highest = float(positions[..., 2].max())
-    if highest > 0:
+    if highest > 0 and not scene.water.free_surface:
         notes.append(
             f"nodes reach z = {highest:.2f} m, above the still-water level: every segment is treated as "
             "submerged, so buoyancy, drag and added mass act on the emerged part too"

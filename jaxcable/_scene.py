@@ -32,12 +32,14 @@ class SceneError(ValueError):
 @dataclass(frozen=True)
 class Water:
     """The water: `density` ρ (kg/m³), `gravity` g (m/s²), `depth` (m, positive, or
-    `None` for unbounded) and a uniform `current` (m/s, a 3-vector)."""
+    `None` for unbounded), a uniform `current` (m/s, a 3-vector), and whether lines
+    feel the `free_surface` at z = 0 (see [`jaxcable.Environment`][])."""
 
     density: float = 1025.0
     gravity: float = 9.81
     depth: float | None = None
     current: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    free_surface: bool = False
 
 
 @dataclass(frozen=True)
@@ -256,7 +258,7 @@ class Scene:
         bodies = {k: p.body for k, p in enumerate(self.points) if p.body is not None}
         with located(self.source):
             water = self.water
-            environment = Environment(water.density, water.gravity, water.current)
+            environment = Environment(water.density, water.gravity, water.current, water.free_surface)
             model = CableNetwork.from_branches(
                 junctions=np.array([p.position for p in self.points], dtype=float),
                 branches=branches,

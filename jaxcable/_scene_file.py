@@ -9,6 +9,7 @@ A scene file names its points and line types and lists its lines::
     gravity = 9.81               # m/s²
     depth = 200.0                # m
     current = [0.5, 0.0, 0.0]    # m/s
+    free_surface = false         # true: only the part below z = 0 is in the water
 
     [simulation]                 # all optional
     duration = 30.0              # s
@@ -79,7 +80,7 @@ from ._scene import (
 from ._simulate import SOLVERS
 
 _TOP = ("title", "water", "simulation", "line_types", "points", "lines", "output")
-_WATER = ("density", "gravity", "depth", "current")
+_WATER = ("density", "gravity", "depth", "current", "free_surface")
 _SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "mass_matrix")
 _LINE_TYPE_REQUIRED = ("mass_per_length", "diameter", "axial_stiffness")
 _LINE_TYPE_OPTIONAL = (
@@ -120,6 +121,7 @@ def read_scene(path: str | Path) -> Scene:
         gravity=reader.number(water, ("water", "gravity"), 9.81),
         depth=depth,
         current=reader.vector(water, ("water", "current"), (0.0, 0.0, 0.0)),
+        free_surface=reader.boolean(water, ("water", "free_surface"), False),
     )
 
     simulation = reader.table(data, ("simulation",))
@@ -280,6 +282,12 @@ class _Reader:
         if given and (isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value)):
             raise SceneError(f"{self.where(keys)}: expected a finite number, got {value!r}")
         return float(value) if given else value
+
+    def boolean(self, table: dict, keys: tuple, default=...) -> bool:
+        value, given = self._value(table, keys, default, "true or false")
+        if given and not isinstance(value, bool):
+            raise SceneError(f"{self.where(keys)}: expected true or false, got {value!r}")
+        return value
 
     def string(self, table: dict, keys: tuple, default=...) -> str:
         value, given = self._value(table, keys, default, "a string")

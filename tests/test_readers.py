@@ -8,6 +8,7 @@ warns of physics it leaves out (bending, the seabed, waves); the tests that caus
 notes check the warning too.
 """
 
+import dataclasses
 import re
 import warnings
 from pathlib import Path
@@ -956,10 +957,15 @@ def test_cli_unknown_name_lists_the_bundled_examples(capsys):
 
 
 def test_run_notes_a_line_out_of_the_water(tmp_path):
-    # The fairlead 2 m above the still-water level: the run says that the emerged part
-    # is still treated as submerged, rather than pass it over in silence.
+    # The fairlead 2 m above the still-water level. MoorDyn files model the surface, as
+    # MoorDyn does; without it, the run says that the emerged part is treated as
+    # submerged rather than pass it over in silence.
     points = (POINTS[0], "2    Vessel    200.0   0.0    2.0     0       0        0      0")
-    run = jc.run_scene(jc.read_moordyn(write_moordyn(tmp_path, points=points)), duration=0)
+    scene = jc.read_moordyn(write_moordyn(tmp_path, points=points))
+    assert scene.water.free_surface
+    assert not any("above the still-water level" in note for note in jc.run_scene(scene, duration=0).notes)
+    submerged = scene.replace(water=dataclasses.replace(scene.water, free_surface=False))
+    run = jc.run_scene(submerged, duration=0)
     assert any("z = 2.00 m, above the still-water level" in note for note in run.notes), run.notes
 
 
