@@ -8,7 +8,8 @@ import jax as _jax
 
 _jax.config.update("jax_enable_x64", True)
 
-from ._environment import Environment as Environment
+from ._cnoidal import Cnoidal as Cnoidal, cnoidal_coefficients as cnoidal_coefficients
+from ._environment import CurrentProfile as CurrentProfile, Environment as Environment, Seabed as Seabed
 from ._lagrangian import (
     generalised_forces as generalised_forces,
     kinetic_energy as kinetic_energy,
@@ -49,5 +50,11 @@ from ._simulate import (
 )
 from ._state import State as State
 from ._statics import StaticSolution as StaticSolution, solve_statics as solve_statics
+from ._waves import (
+    AbstractWave as AbstractWave,
+    Airy as Airy,
+    airy_wavenumber as airy_wavenumber,
+    seed003_amplitude as seed003_amplitude,
+)
 
 __version__ = "0.1.0"

@@ -1,4 +1,4 @@
-"""Hydrodynamic loads: quadratic drag on line segments and on point bodies.
+"""Hydrodynamic loads: quadratic drag and Morison inertia on line segments and bodies.
 
 The line drag per unit stretched length on a relative velocity `u = V − Ṙ` is
 
@@ -49,6 +49,26 @@ def line_drag(
         normal_coefficient[..., None] * safe_norm(u_normal)[..., None] * u_normal
         + tangential_coefficient[..., None] * safe_norm(u_tangential)[..., None] * u_tangential
     )
+
+
+def line_inertia(
+    fluid_acceleration: Float[Array, "*batch 3"],
+    tangent: Float[Array, "*batch 3"],
+    normal_coefficient: Float[Array, "*batch"],
+    tangential_coefficient: Float[Array, "*batch"],
+) -> Float[Array, "*batch 3"]:
+    """Morison's inertia force per unit length from the water's acceleration,
+    `c_n a_n + c_τ a_τ` (N/m), split like `line_drag`.
+
+    **Arguments:**
+
+    - `fluid_acceleration`: a (m/s²), the water's acceleration.
+    - `tangent`: the unit tangent τ of the segment.
+    - `normal_coefficient`: c_n = ρ F (1 + C_a) (kg/m): Froude–Krylov plus added mass.
+    - `tangential_coefficient`: c_τ = ρ F (1 + C_aτ) (kg/m).
+    """
+    a_tangential = jnp.sum(fluid_acceleration * tangent, axis=-1, keepdims=True) * tangent
+    return normal_coefficient[..., None] * (fluid_acceleration - a_tangential) + tangential_coefficient[..., None] * a_tangential
 
 
 def body_drag(

@@ -10,12 +10,15 @@ Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0
   matrix M(x) carries `μ = m I + ρ F (...)` per length. When C_a ≠ C_aτ, M depends on the
   segments' directions and `½ vᵀMv + Π` is not conserved: it changes at the rate
   `½ vᵀ Ṁ v` (tested). With isotropic added mass it is conserved exactly.
-- Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M − ρV) g z`.
-  The conservative forces are `−∂Π/∂x`, by `jax.grad`. With `Environment.free_surface`,
-  buoyancy, drag and added mass act on the part of each segment below z = 0 only.
+- Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M − ρV) g z`, plus the
+  seabed's penalty energy `Σ ½ k δ² A` where nodes press into it. The conservative
+  forces are `−∂Π/∂x`, by `jax.grad`. With `Environment.free_surface`, buoyancy, drag,
+  fluid inertia and added mass act on the part of each segment below z = 0 only.
 - Non-conservative loads enter by their virtual work `Q = Σ ∫ f · ∂R/∂x |∂R/∂l| dl`:
-  drag by Gauss–Legendre quadrature along each segment, the viscous part of the tension,
-  and body drag.
+  drag on the velocity relative to the water, and (with waves) Morison's inertia force
+  from the water's acceleration, both by Gauss–Legendre quadrature along each segment;
+  the viscous part of the tension; the seabed's damping and friction; and the same
+  loads on point bodies.
 
 Prescribed nodes are eliminated (seed 003, eq. 8): with the free and constrained blocks
 of the mass matrix, `M_ff a_f = Q_f − M_fc a_c`. What remains at the constrained nodes,
@@ -31,7 +34,7 @@ import numpy as np
 from jaxtyping import Array, Float
 
 from ._environment import Environment
-from ._hydro import body_drag, gauss_legendre, line_drag, safe_norm, submerged_interval
+from ._hydro import body_drag, gauss_legendre, line_drag, line_inertia, safe_norm, submerged_interval
 from ._network import CableNetwork
 
 # ∫₀¹ N_a N_b dξ for the shape functions N = (1 − ξ, ξ), exact and at the ends.
@@ -112,7 +115,18 @@ def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[
     else:
         submerged_depth = mid_depth
     body_weight = (body.mass - env.water_density * body.volume) * env.gravity
-    return elastic + jnp.sum(weight * mid_depth - displaced * submerged_depth) + jnp.sum(body_weight * z)
+    energy = elastic + jnp.sum(weight * mid_depth - displaced * submerged_depth) + jnp.sum(body_weight * z)
+    if env.seabed is not None:
+        penetration = jnp.maximum(-env.depth - z, 0.0)
+        energy = energy + 0.5 * env.seabed.stiffness * jnp.sum(contact_area(model) * penetration**2)
+    return energy
+
+
+def contact_area(model: CableNetwork) -> Float[Array, " nodes"]:
+    """Each node's seabed contact area (m²): half the projected area d L of each segment
+    that meets there, as MoorDyn's `kBot` and `cBot` refer to."""
+    half = 0.5 * model.line.diameter * model.segment_length
+    return _scatter(model, half, half)
 
 
 def mass_per_length(model: CableNetwork, env: Environment, positions) -> Float[Array, "segments 3 3"]:
@@ -168,8 +182,9 @@ def kinetic_energy(model: CableNetwork, env: Environment, positions, velocities)
     return 0.5 * jnp.sum(velocities * inertial_forces(model, env, positions, velocities))
 
 
-def dissipative_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
-    """Generalised forces (N) of drag, internal damping and body drag."""
+def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
+    """Generalised forces (N) of drag, fluid inertia, internal damping, the seabed's
+    damping and friction, and the loads on bodies."""
     line, body = model.line, model.body
     rho = env.water_density
     stretched, tangent, strain = segment_geometry(model, positions)
@@ -182,10 +197,21 @@ def dissipative_forces(model: CableNetwork, env: Environment, t, positions, velo
         a, b = submerged_interval(positions[ends[:, 0], 2], positions[ends[:, 1], 2])
         xi, w = a[:, None] + (b - a)[:, None] * xi, (b - a)[:, None] * w
     along = lambda field: field[ends[:, 0], None] * (1 - xi)[..., None] + field[ends[:, 1], None] * xi[..., None]
-    relative = env.water_velocity(along(positions), t) - along(velocities)  # (segments, points, 3)
+    points = along(positions)  # (segments, points, 3)
+    relative = env.water_velocity(points, t) - along(velocities)
     normal = 0.5 * rho * line.normal_drag * line.diameter  # C_n
     tangential = 0.5 * rho * line.tangential_drag * jnp.pi * line.diameter  # C_τ
     f = line_drag(relative, tangent[:, None, :], normal[:, None], tangential[:, None])
+    if env.has_fluid_acceleration:
+        # Morison's inertia on the water's acceleration: Froude–Krylov (the 1) plus
+        # added mass, normal and tangential to the segment, as MoorDyn writes it.
+        displaced = rho * line.area
+        f = f + line_inertia(
+            env.water_acceleration(points, t),
+            tangent[:, None, :],
+            (displaced * (1 + line.normal_added_mass))[:, None],
+            (displaced * (1 + line.tangential_added_mass))[:, None],
+        )
     drag_start = stretched[:, None] * jnp.einsum("sp,spk->sk", w * (1 - xi), f)
     drag_end = stretched[:, None] * jnp.einsum("sp,spk->sk", w * xi, f)
 
@@ -195,13 +221,33 @@ def dissipative_forces(model: CableNetwork, env: Environment, t, positions, velo
     forces = _scatter(model, drag_start + pull, drag_end - pull)
 
     coefficient = 0.5 * rho * body.drag_area + body.specific_drag * body.organism_mass * env.gravity
-    return forces + body_drag(env.water_velocity(positions, t) - velocities, coefficient)
+    forces = forces + body_drag(env.water_velocity(positions, t) - velocities, coefficient)
+    if env.has_fluid_acceleration:
+        forces = forces + (rho * body.volume * (1 + body.added_mass))[..., None] * env.water_acceleration(positions, t)
+    if env.seabed is not None:
+        forces = forces + seabed_forces(model, env, positions, velocities)
+    return forces
+
+
+def seabed_forces(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, "nodes 3"]:
+    """The seabed's damping and friction on each node (N); its spring is in
+    `potential_energy`."""
+    bed = env.seabed
+    area = contact_area(model)
+    touching = positions[:, 2] < -env.depth
+    penetration = jnp.maximum(-env.depth - positions[:, 2], 0.0)
+    damping = jnp.where(touching, -bed.damping * area * velocities[:, 2], 0.0)
+    normal_force = bed.stiffness * area * penetration
+    sliding = velocities.at[:, 2].set(0.0)
+    speed = jnp.sqrt(jnp.sum(sliding**2, axis=-1) + bed.friction_speed**2)
+    friction = -(bed.friction * normal_force / speed)[:, None] * sliding
+    return friction.at[:, 2].add(damping)
 
 
 def generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
     """All generalised forces Q (N) on every node, shape `(nodes, 3)`."""
     conservative = -jax.grad(potential_energy, argnums=2)(model, env, positions)
-    return conservative + dissipative_forces(model, env, t, positions, velocities)
+    return conservative + nonconservative_forces(model, env, t, positions, velocities)
 
 
 def free_accelerations(model: CableNetwork, env: Environment, t, free_positions, free_velocities):

@@ -356,7 +356,7 @@ def drag_errors():
         expected = reference_segment_forces(POSITIONS, velocities, CURRENT)
         for points in (3, 8, 64):
             model = one_segment(drag_points=points)
-            got = np.asarray(_lagrangian.dissipative_forces(model, env, 0.0, POSITIONS, velocities))
+            got = np.asarray(_lagrangian.nonconservative_forces(model, env, 0.0, POSITIONS, velocities))
             errors[name, points] = relative_error(got, expected)
     return errors
 
@@ -397,7 +397,7 @@ def test_segment_drag_total_force_and_moment_form():
     """Σ_a Q_a = ∫ f dl: the nodal forces carry the whole line load (64 points)."""
     env = jc.Environment(water_density=RHO, current=CURRENT)
     model = one_segment(drag_points=64)
-    got = np.asarray(_lagrangian.dissipative_forces(model, env, 0.0, POSITIONS, SMOOTH_VELOCITIES))
+    got = np.asarray(_lagrangian.nonconservative_forces(model, env, 0.0, POSITIONS, SMOOTH_VELOCITIES))
     stretched = np.linalg.norm(POSITIONS[1] - POSITIONS[0])
     tangent = (POSITIONS[1] - POSITIONS[0]) / stretched
     total = np.array(
@@ -426,7 +426,7 @@ def test_uniform_flow_on_still_segment():
     tangent = (POSITIONS[1] - POSITIONS[0]) / stretched
     f = reference_line_drag(CURRENT, tangent, C_N, C_T)
     for points in (1, 3):
-        got = np.asarray(_lagrangian.dissipative_forces(one_segment(points), env, 0.0, POSITIONS, np.zeros((2, 3))))
+        got = np.asarray(_lagrangian.nonconservative_forces(one_segment(points), env, 0.0, POSITIONS, np.zeros((2, 3))))
         np.testing.assert_allclose(got, [f * stretched / 2, f * stretched / 2], rtol=1e-13)
 
 
@@ -442,13 +442,13 @@ def test_body_drag_coefficients():
         (jc.Body(mass=mass, drag_area=cda, specific_drag=k0, organism_mass=organism), organism),
     ):
         model = one_segment(body=body, normal_drag=0.0, tangential_drag=0.0)
-        got = np.asarray(_lagrangian.dissipative_forces(model, env, 0.0, POSITIONS, velocities))
+        got = np.asarray(_lagrangian.nonconservative_forces(model, env, 0.0, POSITIONS, velocities))
         coefficient = 0.5 * RHO * cda + k0 * m_o * gravity
         np.testing.assert_allclose(got[1], coefficient * np.linalg.norm(u) * u, rtol=1e-13)
         np.testing.assert_allclose(got[0], 0.0, atol=1e-20)
     # Zhukov's law alone, magnitude R = k₀ u² m g.
     model = one_segment(body=jc.Body(mass=mass, specific_drag=k0), normal_drag=0.0, tangential_drag=0.0)
-    got = np.asarray(_lagrangian.dissipative_forces(model, env, 0.0, POSITIONS, velocities))
+    got = np.asarray(_lagrangian.nonconservative_forces(model, env, 0.0, POSITIONS, velocities))
     assert np.linalg.norm(got[1]) == pytest.approx(k0 * np.dot(u, u) * mass * gravity, rel=1e-13)
 
 
@@ -464,7 +464,7 @@ def test_viscous_pull_on_nodes(strain_target):
     positions[1] += direction * length * (1 + strain_target)
     velocities = np.array([[0.3, -0.2, 0.1], [0.9, 0.4, -0.7]])
     env = jc.Environment(water_density=RHO)
-    got = np.asarray(_lagrangian.dissipative_forces(model, env, 0.0, positions, velocities))
+    got = np.asarray(_lagrangian.nonconservative_forces(model, env, 0.0, positions, velocities))
     rate = np.dot(direction, velocities[1] - velocities[0]) / length
     pull = C_V * rate * smoothstep(strain_target, width) * direction
     np.testing.assert_allclose(got, [pull, -pull], rtol=1e-10, atol=1e-9)

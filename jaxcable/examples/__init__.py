@@ -3,7 +3,8 @@
 
 from pathlib import Path
 
-from ._seed003 import seed003_amplitude as seed003_amplitude, seed003_line as seed003_line
+from .._waves import seed003_amplitude as seed003_amplitude
+from ._seed003 import seed003_line as seed003_line
 
 _SCENES = Path(__file__).parent / "scenes"
 

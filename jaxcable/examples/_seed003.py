@@ -20,6 +20,7 @@ from .._environment import Environment
 from .._materials import NonlinearElastic
 from .._motion import Fixed, Harmonic
 from .._network import Branch, CableNetwork, LineType
+from .._waves import seed003_amplitude
 
 DEPTH = 200.0  # H (m)
 MASS_PER_LENGTH = 3.0  # m (kg/m)
@@ -29,11 +30,6 @@ TANGENTIAL_DRAG = 0.78  # C_τ (kg/m²)
 ADDED_MASS = 0.4  # m_a (kg/m), on the whole relative acceleration (seed 003, eq. 4)
 AXIAL_STIFFNESS = 3.0e7  # C_E (N): our choice, see the module docstring
 WAVE_PERIOD = 5.6  # T_w (s)
-
-
-def seed003_amplitude(period: float = WAVE_PERIOD, gravity: float = 9.81) -> float:
-    """Seed 003's fairlead amplitude A = 0.085 (g T_w² / 2π)^0.75 (m)."""
-    return 0.085 * (gravity * period**2 / (2 * np.pi)) ** 0.75
 
 
 def seed003_line(
@@ -79,7 +75,7 @@ def seed003_line(
     model = CableNetwork.from_branches(
         junctions=np.stack([anchor, fairlead]),
         branches=[Branch(0, 1, line, float(np.linalg.norm(fairlead - anchor)), n_segments)],
-        constraints={0: Fixed(), 1: Harmonic(seed003_amplitude(period), period, direction=(1.0, 0.0, 0.0))},
+        constraints={0: Fixed(), 1: Harmonic(float(seed003_amplitude(period)), period, direction=(1.0, 0.0, 0.0))},
         mass_matrix=mass_matrix,
     )
     return model, env
