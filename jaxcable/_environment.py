@@ -7,11 +7,13 @@ seabed no contact code.
 """
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
+from ._motion import ramp_factor
 from ._waves import AbstractWave
 
 
@@ -125,6 +127,9 @@ class Environment(eqx.Module):
         seabed.
     - `waves`: regular waves ([`jaxcable.Airy`][], [`jaxcable.Cnoidal`][]), superposed;
         none by default. Each must have this depth and gravity.
+    - `wave_ramp`: the time (s) over which the waves are switched on, by the same
+        smoothstep as [`jaxcable.Harmonic`][]'s ramp, so that a run can start from
+        still-water equilibrium without a jolt; 0 (default) for none.
     - `seabed`: a [`jaxcable.Seabed`][] at z = −d; `None` (default) for none.
     - `fluid_inertia`: with waves, whether the water's acceleration loads the lines and
         bodies (Froude–Krylov plus added mass, Morison's inertia term). `True` by
@@ -150,6 +155,7 @@ class Environment(eqx.Module):
     current: Float[Array, "3"] | CurrentProfile
     depth: Float[Array, ""] | None
     waves: tuple[AbstractWave, ...]
+    wave_ramp: Float[Array, ""]
     seabed: Seabed | None
     fluid_inertia: bool = eqx.field(static=True)
     free_surface: bool = eqx.field(static=True)
@@ -163,6 +169,7 @@ class Environment(eqx.Module):
         *,
         depth: ArrayLike | None = None,
         waves=(),
+        wave_ramp: ArrayLike = 0.0,
         seabed: Seabed | None = None,
         fluid_inertia: bool = True,
     ):
@@ -200,6 +207,8 @@ class Environment(eqx.Module):
                         f"Environment.waves[{i}].{field} is {float(theirs)}, but Environment.{field} is {float(mine)}"
                     )
         self.waves = waves
+        self.wave_ramp = checks.float_array("Environment.wave_ramp", wave_ramp, ())
+        checks.positive("Environment.wave_ramp", self.wave_ramp, allow_zero=True)
         if seabed is not None and not isinstance(seabed, Seabed):
             raise ValueError(f"Environment.seabed must be a Seabed or None, got {type(seabed).__name__}")
         if seabed is not None and self.depth is None:
@@ -218,21 +227,30 @@ class Environment(eqx.Module):
             velocity = self.current.velocity(position)
         else:
             velocity = jnp.broadcast_to(self.current, jnp.shape(position))
+        if not self.waves:
+            return velocity
+        return velocity + ramp_factor(t, self.wave_ramp) * self._wave_velocity(position, t)
+
+    def _wave_velocity(self, position, t):
+        velocity = jnp.zeros(jnp.shape(position))
         for wave in self.waves:
             velocity = velocity + wave.velocity(position, t)
         return velocity
 
     def water_acceleration(self, position: Float[Array, "*batch 3"], t: Float[ArrayLike, ""]) -> Float[Array, "*batch 3"]:
         """The water's local acceleration ∂u/∂t (m/s²) at `position` (m) and time `t` (s):
-        the waves'; the current is steady."""
+        the waves', through their ramp; the current is steady."""
         acceleration = jnp.zeros(jnp.shape(position))
         for wave in self.waves:
             acceleration = acceleration + wave.acceleration(position, t)
-        return acceleration
+        t = jnp.asarray(t, dtype=float)
+        ramp, rate = jax.jvp(lambda s: ramp_factor(s, self.wave_ramp), (t,), (jnp.ones_like(t),))
+        return ramp * acceleration + rate * self._wave_velocity(position, t)
 
     def surface_elevation(self, x: Float[Array, "*batch"], y: Float[Array, "*batch"], t) -> Float[Array, "*batch"]:
-        """The surface elevation η (m) above the still-water level: the waves' sum."""
+        """The surface elevation η (m) above the still-water level at `(x, y)` (m) and time
+        `t` (s): the waves' sum, through their ramp."""
         eta = jnp.zeros(jnp.broadcast_shapes(jnp.shape(x), jnp.shape(y)))
         for wave in self.waves:
             eta = eta + wave.elevation(x, y, t)
-        return eta
+        return ramp_factor(t, self.wave_ramp) * eta

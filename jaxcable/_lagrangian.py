@@ -250,6 +250,28 @@ def generalised_forces(model: CableNetwork, env: Environment, t, positions, velo
     return conservative + nonconservative_forces(model, env, t, positions, velocities)
 
 
+def _inverse_3x3(blocks: Float[Array, "n 3 3"]) -> Float[Array, "n 3 3"]:
+    """The inverses of 3 × 3 blocks, by the adjugate.
+
+    In closed form rather than LAPACK's batched LU: it fuses with the rest of the
+    step, and the batched LU was seen to deadlock under vmap across two host devices
+    on a two-core machine. The blocks are mass matrices, m I plus a rank-one added
+    mass, so they are well conditioned and the adjugate loses nothing.
+    """
+    a = blocks
+    cofactor = jnp.stack(
+        [
+            jnp.cross(a[..., 1, :], a[..., 2, :]),
+            jnp.cross(a[..., 2, :], a[..., 0, :]),
+            jnp.cross(a[..., 0, :], a[..., 1, :]),
+        ],
+        axis=-2,
+    )
+    determinant = jnp.sum(a[..., 0, :] * cofactor[..., 0, :], axis=-1)
+    # The rows' cross products are the columns of det · A⁻¹.
+    return jnp.swapaxes(cofactor, -1, -2) / determinant[..., None, None]
+
+
 def free_accelerations(model: CableNetwork, env: Environment, t, free_positions, free_velocities):
     """Solve `M_ff a_f = Q_f − M_fc a_c` for the free nodes' accelerations (m/s²).
 
@@ -263,7 +285,7 @@ def free_accelerations(model: CableNetwork, env: Environment, t, free_positions,
     rhs = (generalised_forces(model, env, t, positions, velocities) - inertial_forces(model, env, positions, known))[free]
 
     # The lumped matrix is block-diagonal: one 3 × 3 solve per node, and M_fc = 0.
-    inverse = jnp.linalg.inv(lumped_blocks(model, env, positions)[free])
+    inverse = _inverse_3x3(lumped_blocks(model, env, positions)[free])
     a_free = jnp.einsum("nij,nj->ni", inverse, rhs)
     if model.mass_matrix == "consistent":
         # Each element's consistent matrix is [[2/3, 1/3], [1/3, 2/3]] times its lumped

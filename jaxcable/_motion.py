@@ -35,6 +35,15 @@ class AbstractMotion(eqx.Module):
         return r, v, a
 
 
+def ramp_factor(t: Float[ArrayLike, ""], ramp: Float[ArrayLike, ""]) -> Float[Array, ""]:
+    """The smoothstep f = u³(6u² − 15u + 10), u = t / ramp, rising from 0 at t = 0 to 1 at
+    `ramp` (s) with zero first and second derivatives at both ends; 1 throughout when
+    `ramp` is 0."""
+    ramped = ramp > 0
+    u = jnp.clip(t / jnp.where(ramped, ramp, 1.0), 0.0, 1.0)
+    return jnp.where(ramped, u**3 * (6 * u**2 - 15 * u + 10), 1.0)
+
+
 class Fixed(AbstractMotion):
     """A node held at its reference position (an anchor)."""
 
@@ -85,10 +94,7 @@ class Harmonic(AbstractMotion):
 
     def displacement(self, t):
         omega = 2 * jnp.pi / self.period
-        ramped = self.ramp > 0
-        u = jnp.clip(t / jnp.where(ramped, self.ramp, 1.0), 0.0, 1.0)
-        switch = jnp.where(ramped, u**3 * (6 * u**2 - 15 * u + 10), 1.0)
-        return switch * self.amplitude * jnp.sin(omega * t + self.phase) * self.direction
+        return ramp_factor(t, self.ramp) * self.amplitude * jnp.sin(omega * t + self.phase) * self.direction
 
 
 class Sampled(AbstractMotion):

@@ -68,7 +68,8 @@ class SimulationResult(eqx.Module):
     - `stats`: diffrax's statistics (`num_steps`, `num_accepted_steps`,
         `num_rejected_steps`).
     - `result`: diffrax's result code; see `success`. After a failure (with
-        `throw=False`), outputs past the failure time are `inf`.
+        `throw=False`), times, positions and velocities past the failure time are
+        `inf`, and the strains, tensions and reactions computed from them NaN.
     """
 
     times: Float[Array, " times"]

@@ -1,0 +1,108 @@
+"""The seabed: a chain resting on the bottom against the elastic catenary with seabed
+contact, and friction against Coulomb's law."""
+
+import jax.numpy as jnp
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+import jaxcable as jc
+
+RHO, G = 1025.0, 9.81
+DEPTH, LENGTH, SPAN = 50.0, 300.0, 280.0
+DIAMETER, MASS, EA = 0.1, 40.0, 5e8
+WET_WEIGHT = (MASS - RHO * np.pi * DIAMETER**2 / 4) * G  # w (N/m)
+
+
+def catenary_with_seabed():
+    """Horizontal tension H, fairlead vertical force V_F (N) and touchdown distance (m)
+    of an elastic catenary from an anchor on a frictionless bed (Irvine; the form
+    MoorPy and MAP use): the unstretched length L_B = L − V_F/w lies on the bed."""
+
+    def height(h, v):
+        return h / WET_WEIGHT * (np.sqrt(1 + (v / h) ** 2) - 1) + v**2 / (2 * EA * WET_WEIGHT)
+
+    def fairlead_vertical(h):
+        # The height rises monotonically with V_F: one root for the depth.
+        return brentq(lambda v: height(h, v) - DEPTH, 0.0, WET_WEIGHT * LENGTH, xtol=1e-12)
+
+    def span(h):
+        v = fairlead_vertical(h)
+        return LENGTH - v / WET_WEIGHT + h / WET_WEIGHT * np.arcsinh(v / h) + h * LENGTH / EA - SPAN
+
+    # Above this H even the whole chain hanging cannot reach the fairlead's height.
+    lifted = brentq(lambda h: height(h, WET_WEIGHT * LENGTH) - DEPTH, 1.0, 1e9, xtol=1e-10)
+    h = brentq(span, 1.0, lifted * (1 - 1e-9), xtol=1e-10)
+    v = fairlead_vertical(h)
+    return h, v, (LENGTH - v / WET_WEIGHT) * (1 + h / EA)
+
+
+@pytest.fixture(scope="module")
+def resting_chain():
+    line = jc.LineType(mass_per_length=MASS, diameter=DIAMETER, tension_law=jc.LinearElastic(EA, 1e-6))
+    model = jc.CableNetwork.from_branches(
+        junctions=np.array([[0.0, 0.0, -DEPTH], [SPAN, 0.0, 0.0]]),
+        branches=[jc.Branch(0, 1, line, LENGTH, 60)],
+        constraints={0: jc.Fixed(), 1: jc.Fixed()},
+    )
+    env = jc.Environment(RHO, G, depth=DEPTH, seabed=jc.Seabed())
+    return model, env, jc.solve_statics(model, env)
+
+
+def test_chain_on_the_seabed_matches_the_analytic_catenary(resting_chain):
+    model, env, static = resting_chain
+    h, v, touchdown = catenary_with_seabed()
+    assert 0.2 * LENGTH < touchdown < 0.8 * LENGTH  # a real touchdown, not a degenerate case
+    fairlead = np.asarray(static.reactions[1])
+    assert fairlead[0] == pytest.approx(h, rel=2e-3)
+    assert fairlead[2] == pytest.approx(v, rel=2e-3)
+    assert np.linalg.norm(fairlead) == pytest.approx(np.hypot(h, v), rel=2e-3)
+    # The top segment's tension is the catenary's half a segment below the fairlead.
+    assert float(static.tension[-1]) == pytest.approx(np.hypot(h, v - WET_WEIGHT * LENGTH / 120), rel=2e-3)
+    # Frictionless: the anchor carries the horizontal tension, and vertically only the
+    # half of the first segment that the bed does not (the anchor sits on the bed).
+    anchor = np.asarray(static.reactions[0])
+    assert anchor[0] == pytest.approx(-h, rel=2e-3)
+    assert anchor[2] == pytest.approx(WET_WEIGHT * LENGTH / 120, rel=1e-2)
+
+    positions = np.asarray(static.state.positions)
+    order = np.argsort(positions[:, 0])
+    x, z = positions[order, 0], positions[order, 2]
+    # Nodes on the bed sink by w l / (k d l) = w / (k d); lifted ones are clear of it.
+    sink = WET_WEIGHT / (3e6 * DIAMETER)
+    lifted = z > -DEPTH + 10 * sink
+    first_lifted = int(np.argmax(lifted))
+    assert not lifted[:first_lifted].any() and lifted[first_lifted:].all()
+    spacing = LENGTH / 60
+    assert x[first_lifted - 1] - spacing < touchdown < x[first_lifted] + spacing
+    np.testing.assert_allclose(z[1 : first_lifted - 1], -DEPTH - sink, rtol=0, atol=0.2 * sink)
+
+
+def test_friction_holds_a_dragged_chain_at_mu_times_its_weight():
+    """A chain lying on the bed, pulled along it at a steady speed much faster than the
+    friction speed: the pull equals μ times the wet weight on the bed (drag is off)."""
+    mu, speed, length, n = 0.6, 0.2, 20.0, 10
+    # Critically damped axially (C_v = (L/N) √(EA m)), so that the chain slides
+    # steadily instead of ringing.
+    damping = length / n * np.sqrt(EA * MASS)
+    law = jc.KelvinVoigt(EA, 0.0, damping, 1e-6)
+    line = jc.LineType(mass_per_length=MASS, diameter=DIAMETER, tension_law=law, normal_drag=0.0, tangential_drag=0.0)
+    start = np.array([0.0, 0.0, -DEPTH - WET_WEIGHT / (3e6 * DIAMETER)])
+
+    class Towed(jc.AbstractMotion):
+        """Along +x, accelerating smoothly to `speed` over the first second."""
+
+        def displacement(self, t):
+            distance = speed * jnp.where(t < 1.0, t**3 - 0.5 * t**4, t - 0.5)
+            return jnp.stack([distance, 0.0 * t, 0.0 * t])
+
+    model = jc.CableNetwork.from_branches(
+        junctions=np.stack([start, start + [length * 1.0001, 0.0, 0.0]]),
+        branches=[jc.Branch(0, 1, line, length, n)],
+        constraints={1: Towed()},
+    )
+    env = jc.Environment(RHO, G, depth=DEPTH, seabed=jc.Seabed(friction=mu, friction_speed=0.002))
+    result = jc.simulate(model, env, 8.0, ts=np.linspace(6.0, 8.0, 11), rtol=1e-7, atol=1e-7)
+    pull = np.asarray(result.reactions[:, 0, 0])
+    regularised = speed / np.hypot(speed, 0.002)  # 0.99995: sliding far above v_s
+    np.testing.assert_allclose(pull, mu * WET_WEIGHT * length * regularised, rtol=1e-3)
