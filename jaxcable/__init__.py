@@ -49,6 +49,7 @@ from ._simulate import (
     stiff_solver as stiff_solver,
 )
 from ._state import State as State
+from ._sweep import SweepResult as SweepResult, sweep as sweep, sweep_grid as sweep_grid
 from ._statics import StaticSolution as StaticSolution, solve_statics as solve_statics
 from ._waves import (
     AbstractWave as AbstractWave,

@@ -75,7 +75,7 @@ def seed003_line(
     model = CableNetwork.from_branches(
         junctions=np.stack([anchor, fairlead]),
         branches=[Branch(0, 1, line, float(np.linalg.norm(fairlead - anchor)), n_segments)],
-        constraints={0: Fixed(), 1: Harmonic(float(seed003_amplitude(period)), period, direction=(1.0, 0.0, 0.0))},
+        constraints={0: Fixed(), 1: Harmonic(seed003_amplitude(period), period, direction=(1.0, 0.0, 0.0))},
         mass_matrix=mass_matrix,
     )
     return model, env

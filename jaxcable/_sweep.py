@@ -1,0 +1,564 @@
+"""Sweeps: one compiled, vmapped simulation over a batch of parameter values.
+
+A sweep builds the models of all cases at once: `build(**case)` is traced once under
+an eager `jax.vmap`, so float leaves that depend on the swept parameters come out
+batched while the topology (node and segment indices, motions' structure, static
+options) stays a single, unbatched constant. Every case is one diffrax solve with
+`throw=False` inside one compiled `vmap`; a case that fails keeps its own result code
+and does not stop, or change, the others.
+
+The case axis is split across devices by sharding: the batched inputs are placed with
+`NamedSharding(Mesh(devices, ("cases",)), PartitionSpec("cases"))` and the compiler
+partitions the vmapped solve to match. (Not `jax.shard_map`, which would let each
+device run its own loop without the per-step agreement on whether any case is still
+running: lineax, which the statics and implicit solvers use, rejects the
+manual-axis shardings that values carry inside it, with JAX 0.10 and lineax 0.1.)
+On one device no mesh is built and nothing is padded: the sweep is a plain
+`jit(vmap(...))`.
+"""
+
+import inspect
+import itertools
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import optimistix as optx
+from jax.sharding import Mesh, NamedSharding, PartitionSpec
+from jaxtyping import Array, ArrayLike, Bool, Float
+
+from . import _checks as checks
+from ._environment import Environment
+from ._network import CableNetwork
+from ._simulate import SimulationResult, _simulate, default_solver
+from ._state import State
+from ._statics import StaticSolution, solve_statics
+
+INITIAL_STATES = ("statics", "rest")
+
+# The mesh axis that cases are split along.
+_CASES = "cases"
+
+# What `build` does with a traced parameter that it cannot do under `vmap`: use its
+# value in Python (`float(x)`, `if x > 0`, numpy, a segment count).
+_TRACER_ERRORS = (
+    jax.errors.ConcretizationTypeError,
+    jax.errors.TracerArrayConversionError,
+    jax.errors.TracerBoolConversionError,
+    jax.errors.TracerIntegerConversionError,
+)
+
+
+class SweepResult(eqx.Module):
+    """What a sweep produced: one simulation per case, with a status for each.
+
+    Every array has a leading case axis of length `cases`, in the order of the
+    parameter arrays given to [`jaxcable.sweep`][].
+
+    **Attributes:**
+
+    - `parameters`: the swept values, a dict from each parameter's name to an array of
+        shape `(cases,)`.
+    - `simulation`: a [`jaxcable.SimulationResult`][] whose arrays carry the case axis
+        first: `tension` has shape `(cases, times, segments)`, `positions`
+        `(cases, times, nodes, 3)`, `result` one diffrax code per case. After a failure
+        a case's times and states are `inf` (diffrax's convention) and the strains and
+        tensions computed from them are not finite; a case whose statics failed is
+        `inf` throughout and has the statics' code, promoted to diffrax's `RESULTS`.
+    - `statics`: with `initial="statics"`, each case's
+        [`jaxcable.StaticSolution`][] (`tension` of shape `(cases, segments)`, ...);
+        otherwise `None`.
+    - `success`: `True` for a case whose statics (if any) and dynamics both succeeded,
+        shape `(cases,)`.
+    - `status`: one human-readable line per case: `"successful"`, diffrax's message,
+        or `"statics failed: ..."`.
+    """
+
+    parameters: dict[str, Float[Array, " cases"]]
+    simulation: SimulationResult
+    statics: StaticSolution | None
+    success: Bool[Array, " cases"]
+    status: tuple[str, ...] = eqx.field(static=True)
+
+    @property
+    def n_cases(self) -> int:
+        """The number of cases."""
+        return len(self.status)
+
+    @property
+    def failed(self) -> np.ndarray:
+        """Indices of the cases that failed, as a NumPy integer array."""
+        return np.flatnonzero(~np.asarray(self.success))
+
+    @property
+    def peak_tension(self) -> Float[Array, " cases"]:
+        """The largest tension (N) in any segment at any output time, shape `(cases,)`;
+        `nan` for a failed case, whose history stops early."""
+        peak = jnp.max(self.simulation.tension, axis=(1, 2))
+        return jnp.where(self.success, peak, jnp.nan)
+
+    def case(self, index: int) -> SimulationResult:
+        """The [`jaxcable.SimulationResult`][] of case `index` alone, as
+        [`jaxcable.simulate`][] would return it."""
+        if not -self.n_cases <= index < self.n_cases:
+            raise IndexError(f"SweepResult.case: index {index} is out of range for {self.n_cases} cases")
+        return jax.tree.map(lambda x: x[index], self.simulation)
+
+    def summary(self) -> str:
+        """A markdown table: one row per case with its parameters, peak tension (kN) and
+        status."""
+        names = list(self.parameters)
+        values = {k: np.asarray(v) for k, v in self.parameters.items()}
+        peak = np.asarray(self.peak_tension)
+        lines = [
+            "| case | " + " | ".join(names) + " | peak T (kN) | status |",
+            "|---" * (len(names) + 3) + "|",
+        ]
+        for i, status in enumerate(self.status):
+            row = [str(i), *(f"{values[k][i]:.6g}" for k in names), f"{peak[i] / 1e3:.2f}", status]
+            lines.append("| " + " | ".join(row) + " |")
+        return "\n".join(lines)
+
+
+def sweep_grid(**axes: ArrayLike) -> dict[str, np.ndarray]:
+    """The Cartesian product of parameter axes, as the flat arrays [`jaxcable.sweep`][]
+    takes.
+
+    The first axis varies slowest, as in `itertools.product` (or `numpy.meshgrid` with
+    `indexing="ij"`).
+
+    **Arguments:**
+
+    - `**axes`: each parameter's values, a non-empty 1-D array-like.
+
+    **Returns:**
+
+    A dict from each name to a float array of shape `(cases,)`, `cases` being the
+    product of the axes' lengths.
+
+    **Raises:**
+
+    `ValueError` naming the axis if it is not 1-D, empty or not finite, or if no axis is
+    given.
+
+    For example, `sweep_grid(a=[1.0, 2.0], b=[10.0, 20.0, 30.0])` gives six cases with
+    `a = [1, 1, 1, 2, 2, 2]` and `b = [10, 20, 30, 10, 20, 30]`.
+    """
+    if not axes:
+        raise ValueError("sweep_grid: give at least one axis, e.g. sweep_grid(steepness=[0.02, 0.04])")
+    values = {name: _parameter_values("sweep_grid", name, value) for name, value in axes.items()}
+    product = list(itertools.product(*values.values()))
+    return {name: np.array([case[k] for case in product]) for k, name in enumerate(values)}
+
+
+def sweep(
+    build: Callable[..., tuple[CableNetwork, Environment]],
+    parameters: Mapping[str, ArrayLike],
+    t1: float,
+    *,
+    t0: float = 0.0,
+    ts: ArrayLike | None = None,
+    initial: str | State = "statics",
+    solver: diffrax.AbstractSolver | None = None,
+    rtol: float = 1e-6,
+    atol: float = 1e-6,
+    dt0: float | None = None,
+    max_steps: int = 1_000_000,
+    devices: Sequence[jax.Device] | None = None,
+) -> SweepResult:
+    """Simulate one model over a batch of parameter values, in one compiled solve.
+
+    `build` is called once on concrete values (the first case, so that constructors'
+    checks run with real values and name any bad field), then once under an eager
+    `jax.vmap` over all cases, with one scalar per parameter. Not under `jit`: what
+    does not depend on the parameters stays concrete, so `build` may use numpy on its
+    fixed inputs. Everything it derives from the parameters comes out batched; its
+    topology must not depend on them. Each case is then integrated as
+    [`jaxcable.simulate`][] would, with `throw=False`, so a case that fails is reported
+    in its `status` and leaves the others' results untouched.
+
+    The cases are split across `devices` by sharding. When their number is not
+    a multiple of the device count the batch is padded by repeating the last case, and
+    the padding is dropped from the result. The returned arrays stay split by case
+    across the devices, except after padding was dropped: JAX cannot split an array
+    unevenly, so those are gathered onto every device. On one device nothing is
+    padded or sharded.
+
+    Compiles once per model structure (topology, static options, which leaves are
+    swept), batch size, device set and options. Later calls with new values reuse it,
+    even through a new `build` function that makes the same structure: the models
+    enter the compiled solve as data.
+
+    Each case matches its single [`jaxcable.simulate`][] run to rounding at first
+    (1e-11 of the peak tension over seed 003's first second). The batched and single
+    compiled code round differently, though, and over long snapping histories that can
+    change the adaptive steps: over 4 s, step counts differed by up to 4 % and
+    tensions at a given time by up to 3 % of the peak, the same order as the solver's
+    own error at `rtol = 1e-6`. Tighten `rtol` when histories must agree pointwise.
+
+    !!! note
+
+        The batch integrates in lockstep: a vmapped while loop runs until its slowest
+        case finishes, and finished cases wait. So a case that runs out of `max_steps`
+        costs every case on its device `max_steps` steps. Set `max_steps` to a few
+        times what a good case needs, rather than leaving it at a million.
+
+    **Arguments:**
+
+    - `build`: a function `build(**case) -> (model, env)` returning a
+        [`jaxcable.CableNetwork`][] and an [`jaxcable.Environment`][]. It receives one
+        scalar per parameter, by name; use JAX operations on them (not `float()`,
+        `if`, or numpy), or replace float leaves of a prebuilt model with
+        `eqx.tree_at`.
+    - `parameters`: a mapping from each of `build`'s keyword names to its values, a
+        1-D array of shape `(cases,)`; every parameter has the same number of cases.
+        [`jaxcable.sweep_grid`][] makes a Cartesian product.
+    - `t1`, `t0`: end and start time (s), shared by all cases.
+    - `ts`: output times (s), shape `(times,)`, shared; 201 evenly spaced times from
+        `t0` to `t1` by default.
+    - `initial`: where each case starts. `"statics"` (default): its own static
+        equilibrium, solved inside the batch by [`jaxcable.solve_statics`][] with
+        constrained nodes at their positions at `t0`; a case whose statics fails is
+        reported as failed and not integrated. Inside the batch there is no BFGS
+        fallback, so start from taut shapes. `"rest"`: `model.node_positions` at rest.
+        A [`jaxcable.State`][]: positions and velocities of shape `(nodes, 3)` shared by
+        all cases, or `(cases, nodes, 3)`, one per case.
+    - `solver`, `rtol`, `atol`, `dt0`, `max_steps`: as for [`jaxcable.simulate`][];
+        `max_steps` counts each case's own steps.
+    - `devices`: the JAX devices to split the cases across; `jax.devices()` by
+        default.
+
+    **Returns:**
+
+    A [`jaxcable.SweepResult`][].
+
+    **Raises:**
+
+    `ValueError` naming the parameter and value if `parameters` is empty, a parameter
+    is not 1-D, empty, not finite, of a different length from the others, or not a
+    keyword `build` takes; if `build` does not return `(CableNetwork, Environment)`,
+    uses a parameter's value in Python, or returns a topology that depends on the
+    parameters; and for bad times, `initial` or `devices`. Errors raised by `build` on
+    the first case propagate, with a note naming the case.
+    """
+    values = _check_parameters(parameters)
+    n_cases = len(next(iter(values.values())))
+    _check_keywords(build, values)
+    if not t1 > t0:
+        raise ValueError(f"sweep: t1 must be greater than t0, got t0={t0}, t1={t1}")
+    ts = np.linspace(t0, t1, 201) if ts is None else np.asarray(ts, dtype=float)
+    if ts.ndim != 1 or ts.size == 0:
+        raise ValueError(f"sweep: ts must be a non-empty 1-D array, got shape {ts.shape}")
+    if not (ts[0] >= t0 and ts[-1] <= t1 and np.all(np.diff(ts) >= 0)):
+        raise ValueError(f"sweep: ts must be increasing and lie within [t0, t1] = [{t0}, {t1}], got [{ts[0]}, {ts[-1]}]")
+    if isinstance(initial, str):
+        checks.option("sweep: initial", initial, INITIAL_STATES)
+    elif not isinstance(initial, State):
+        raise ValueError(f"sweep: initial must be 'statics', 'rest' or a jaxcable.State, got {initial!r}")
+    devices = _check_devices(devices)
+
+    reference = _build_first(build, values)
+    batched, unbatched = _build_batch(build, values, reference)
+
+    # Per-case inputs carry the case axis and are split across devices; shared inputs
+    # (the topology among them) are replicated.
+    per_case = {"model": batched}
+    shared = {
+        "model": unbatched,
+        "t0": np.asarray(t0, dtype=float),
+        "t1": np.asarray(t1, dtype=float),
+        "ts": ts,
+        "solver": default_solver() if solver is None else solver,
+    }
+    mode = initial if isinstance(initial, str) else "state"
+    if isinstance(initial, State):
+        shape = reference[0].node_positions.shape
+        start = (np.asarray(initial.positions, dtype=float), np.asarray(initial.velocities, dtype=float))
+        if start[0].shape != start[1].shape or start[0].shape not in (shape, (n_cases, *shape)):
+            raise ValueError(
+                f"sweep: initial.positions and initial.velocities must have shape {shape} (shared) "
+                f"or {(n_cases, *shape)} (one per case), got {start[0].shape} and {start[1].shape}"
+            )
+        if not (np.all(np.isfinite(start[0])) and np.all(np.isfinite(start[1]))):
+            raise ValueError("sweep: initial.positions and initial.velocities must be finite")
+        (per_case if start[0].ndim == 3 else shared)["initial"] = start
+
+    n_devices = len(devices)
+    padding = -n_cases % n_devices
+    if padding:
+        # Repeat the last case rather than pad with zeros (a zero stiffness, say),
+        # which could fail or take longer than every real case; it is dropped below.
+        per_case = jax.tree.map(lambda x: jnp.concatenate([x, jnp.repeat(x[-1:], padding, axis=0)]), per_case)
+    if n_devices == 1:
+        mesh = None
+        per_case, shared = _place((per_case, shared), devices[0])
+    else:
+        mesh = Mesh(np.asarray(devices), (_CASES,))
+        per_case = _place(per_case, NamedSharding(mesh, PartitionSpec(_CASES)))
+        shared = _place(shared, NamedSharding(mesh, PartitionSpec()))
+
+    simulation, statics, success = _run(per_case, shared, mode, rtol, atol, dt0, max_steps, mesh)
+    if padding:
+        simulation, statics, success = jax.tree.map(lambda x: x[:n_cases], (simulation, statics, success))
+    return SweepResult(
+        parameters={k: jnp.asarray(v) for k, v in values.items()},
+        simulation=simulation,
+        statics=statics,
+        success=success,
+        status=_status(simulation, statics),
+    )
+
+
+@eqx.filter_jit
+def _run(per_case, shared, mode, rtol, atol, dt0, max_steps, mesh):
+    """The compiled batch: `vmap` over cases, split across the devices of `mesh` (if
+    given) by the sharding of the inputs. Returns the batched `SimulationResult`,
+    `StaticSolution` (or `None`) and success flags.
+
+    Compiled once per model structure (topology, static options), batch size, mesh
+    and options: the model arrives as data, not through the user's `build`, so a new
+    `build` function does not recompile.
+    """
+    # vmap maps arrays only; the rest of the shared tree (the solver's functions, say)
+    # is closed over.
+    shared, shared_static = eqx.partition(shared, eqx.is_array)
+
+    def one(case, shared):
+        shared = eqx.combine(shared, shared_static)
+        model, env = eqx.combine(case["model"], shared["model"])
+        t0, t1, ts = shared["t0"], shared["t1"], shared["ts"]
+        statics = None
+        if mode == "statics":
+            statics = solve_statics(model, env, t=t0, throw=False)
+            start = (statics.state.positions, statics.state.velocities)
+            ok = statics.result == optx.RESULTS.successful
+            # A case without equilibrium is not integrated: with t1 = t0 diffrax takes
+            # no step, so it cannot hold the batch's loop (or its max_steps) hostage.
+            t1 = jnp.where(ok, t1, t0)
+            ts = jnp.where(ok, ts, t0)
+        elif mode == "rest":
+            start = (model.node_positions, jnp.zeros_like(model.node_positions))
+        else:
+            start = case["initial"] if "initial" in case else shared["initial"]
+        simulation = _simulate(
+            model, env, start, t0, t1, ts, shared["solver"], rtol, atol, dt0, max_steps,
+            diffrax.RecursiveCheckpointAdjoint(), diffrax.NoProgressMeter(), False,
+        )
+        if statics is not None:
+            # No state was integrated: inf throughout, as diffrax marks outputs past a
+            # failure, and the statics' code promoted to diffrax's enumeration so that
+            # `simulation.success` is False too.
+            arrays = ("times", "positions", "velocities", "strain", "tension", "reactions")
+            simulation = eqx.tree_at(
+                lambda s: [getattr(s, a) for a in arrays],
+                simulation,
+                [jnp.where(ok, getattr(simulation, a), jnp.inf) for a in arrays],
+            )
+            result = diffrax.RESULTS.where(ok, simulation.result, diffrax.RESULTS.promote(statics.result))
+            simulation = eqx.tree_at(lambda s: s.result, simulation, result)
+        return simulation, statics, simulation.result == diffrax.RESULTS.successful
+
+    outputs = jax.vmap(one, in_axes=(0, None))(per_case, shared)
+    if mesh is not None:
+        # Keep every output split by case, as the inputs are, so that no device
+        # gathers the whole batch.
+        outputs = jax.lax.with_sharding_constraint(outputs, NamedSharding(mesh, PartitionSpec(_CASES)))
+    return outputs
+
+
+def _place(tree, where):
+    """`jax.device_put` of the arrays in `tree`, leaving other leaves (a solver's
+    functions, say) as they are."""
+    arrays, rest = eqx.partition(tree, eqx.is_array)
+    return eqx.combine(jax.device_put(arrays, where), rest)
+
+
+def _status(simulation: SimulationResult, statics: StaticSolution | None) -> tuple[str, ...]:
+    """One line per case, from the result codes fetched to the host once."""
+    host = jax.tree.map(np.asarray, (simulation.result, simulation.stats, statics))
+    result, stats, statics = host
+    lines = []
+    for i in range(len(np.asarray(stats["num_steps"]))):
+        if statics is not None:
+            static_result = jax.tree.map(lambda x: np.asarray(x[i]), statics.result)
+            if static_result != optx.RESULTS.successful:
+                lines.append(
+                    f"statics failed: {optx.RESULTS[static_result]} The largest force left on a free "
+                    f"node is {statics.residual[i]:.4g} N after {statics.steps[i]} iterations. (Inside a sweep statics "
+                    "has no BFGS fallback: start from taut shapes, or pass a State from solve_statics.)"
+                )
+                continue
+        case_result = jax.tree.map(lambda x: np.asarray(x[i]), result)
+        if case_result == diffrax.RESULTS.successful:
+            lines.append("successful")
+        else:
+            lines.append(
+                f"{diffrax.RESULTS[case_result]} (stopped after {stats['num_steps'][i]} steps, "
+                f"{stats['num_rejected_steps'][i]} rejected)"
+            )
+    return tuple(lines)
+
+
+def _parameter_values(where: str, name: str, value: Any) -> np.ndarray:
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"{where}: parameter {name!r} must be an array of floats, got {value!r}") from e
+    if array.ndim != 1 or array.size == 0:
+        raise ValueError(f"{where}: parameter {name!r} must be a non-empty 1-D array, got shape {array.shape}")
+    bad = np.flatnonzero(~np.isfinite(array))
+    if bad.size:
+        raise ValueError(f"{where}: parameter {name!r} must be finite, got {array[bad[0]]} at index {bad[0]}")
+    return array
+
+
+def _check_parameters(parameters) -> dict[str, np.ndarray]:
+    if not isinstance(parameters, Mapping):
+        raise ValueError(f"sweep: parameters must be a dict from names to 1-D arrays, got {type(parameters).__name__}")
+    if not parameters:
+        raise ValueError("sweep: parameters must name at least one parameter")
+    values = {}
+    for name, value in parameters.items():
+        if not (isinstance(name, str) and name.isidentifier()):
+            raise ValueError(f"sweep: parameter names must be keyword names, got {name!r}")
+        values[name] = _parameter_values("sweep", name, value)
+    lengths = {name: len(v) for name, v in values.items()}
+    if len(set(lengths.values())) > 1:
+        raise ValueError(f"sweep: every parameter must have the same number of cases, got lengths {lengths}")
+    return values
+
+
+def _check_keywords(build, values) -> None:
+    """Match the parameters against `build`'s signature, where it has one."""
+    if not callable(build):
+        raise ValueError(f"sweep: build must be a function build(**case) -> (model, env), got {build!r}")
+    try:
+        signature = inspect.signature(build)
+    except (TypeError, ValueError):
+        return
+    try:
+        signature.bind(**values)
+    except TypeError as e:
+        accepted = [
+            p.name for p in signature.parameters.values()
+            if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
+        ]
+        unknown = [k for k in values if k not in accepted]
+        if unknown and not any(p.kind == p.VAR_KEYWORD for p in signature.parameters.values()):
+            raise ValueError(
+                f"sweep: parameter {unknown[0]!r} is not a keyword of build{signature}; "
+                f"it takes {accepted}"
+            ) from e
+        raise ValueError(f"sweep: build{signature} cannot be called with parameters {list(values)}: {e}") from e
+
+
+def _check_devices(devices) -> list:
+    devices = jax.devices() if devices is None else list(devices)
+    if not devices:
+        raise ValueError("sweep: devices must not be empty")
+    for d in devices:
+        if not isinstance(d, jax.Device):
+            raise ValueError(f"sweep: devices must be JAX devices (from jax.devices()), got {d!r}")
+    if len(set(devices)) != len(devices):
+        raise ValueError(f"sweep: devices must not repeat, got {devices}")
+    return devices
+
+
+def _check_output(output, where: str) -> None:
+    if not (
+        isinstance(output, tuple)
+        and len(output) == 2
+        and isinstance(output[0], CableNetwork)
+        and isinstance(output[1], Environment)
+    ):
+        raise ValueError(f"sweep: build must return (CableNetwork, Environment), got {output!r} {where}")
+
+
+def _build_first(build, values) -> tuple[CableNetwork, Environment]:
+    """`build` on the first case's concrete values: constructors check real values
+    there (they cannot check tracers), and it is the reference the traced build must
+    match."""
+    first = {k: float(v[0]) for k, v in values.items()}
+    try:
+        output = build(**first)
+    except Exception as e:
+        e.add_note(f"raised by sweep's build(**{first}) (the first case)")
+        raise
+    _check_output(output, f"for the first case {first}")
+    return output
+
+
+def _culprits(build, values) -> str:
+    """Name the parameters that `build` cannot take traced: each is tried alone under
+    vmap, the others held at the first case's values."""
+    first = {k: float(v[0]) for k, v in values.items()}
+    names = []
+    for name, value in values.items():
+        def alone(x, name=name):
+            return jax.tree.leaves(build(**{**first, name: x}))
+
+        try:
+            jax.vmap(alone)(jnp.asarray(value))
+        except _TRACER_ERRORS:
+            names.append(repr(name))
+        except Exception:  # another failure says nothing about this parameter
+            pass
+    if not names:
+        return "a swept parameter"
+    return ("parameter " if len(names) == 1 else "parameters ") + ", ".join(names)
+
+
+def _build_batch(build, values, reference):
+    """`build` under an eager `jax.vmap` over the cases.
+
+    Not under `jit`: there, every value is a tracer, and builders that compute with
+    numpy on their fixed inputs (`seed003_line` does) would fail. Under an eager vmap
+    only what depends on a swept parameter is a tracer, which tells the batched leaves
+    from the shared ones.
+
+    Returns two trees shaped like `(model, env)`: the batched leaves, with a leading
+    case axis, and the shared leaves, each with `None` in the other's places (as
+    `eqx.partition` makes them).
+    """
+    seen = {}
+
+    def traced(case):
+        output = build(**case)
+        _check_output(output, "when traced under vmap")
+        leaves, seen["treedef"] = jax.tree.flatten(output)
+        seen["is_batched"] = [isinstance(x, jax.core.Tracer) for x in leaves]
+        seen["shapes"] = [jnp.shape(x) for x in leaves]
+        seen["shared"] = [None if b else x for x, b in zip(leaves, seen["is_batched"])]
+        return [x for x, b in zip(leaves, seen["is_batched"]) if b]
+
+    try:
+        batched = jax.vmap(traced)({k: jnp.asarray(v) for k, v in values.items()})
+    except _TRACER_ERRORS as e:
+        raise ValueError(
+            f"sweep: build used the value of {_culprits(build, values)} in Python (float(), int(), "
+            "`if`, numpy, or as a count), which it cannot under vmap. Compute with jax.numpy on "
+            "the parameters, or replace float leaves of a prebuilt model with eqx.tree_at; "
+            "topology cannot be swept."
+        ) from e
+    leaves, treedef = jax.tree.flatten(reference)
+    if treedef != seen["treedef"] or [jnp.shape(x) for x in leaves] != seen["shapes"]:
+        raise ValueError(
+            "sweep: build returned a different structure when traced under vmap than for the "
+            "first case's values (different static options, node or segment counts, or leaves); "
+            "topology must not depend on the swept parameters."
+        )
+    paths = [jax.tree_util.keystr(p) for p, _ in jax.tree_util.tree_flatten_with_path(reference)[0]]
+    for path, leaf, is_batched in zip(paths, leaves, seen["is_batched"]):
+        if is_batched and not jnp.issubdtype(jnp.result_type(leaf), jnp.inexact):
+            raise ValueError(
+                f"sweep: build returned (model, env){path}, an integer or boolean array (topology), "
+                "that depends on the swept parameters; only float leaves can be swept. Run one "
+                "sweep per topology."
+            )
+    batched = iter(batched)
+    case_leaves = [next(batched) if b else None for b in seen["is_batched"]]
+    return jax.tree.unflatten(treedef, case_leaves), jax.tree.unflatten(treedef, seen["shared"])

@@ -1,0 +1,264 @@
+"""Sweeps: a vmapped batch equals its single runs, a failing case stays its own, and
+sharding the batch across devices changes nothing but where it runs."""
+
+import functools
+import os
+import subprocess
+import sys
+import textwrap
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxcable as jc
+from jaxcable._sweep import sweep, sweep_grid
+from jaxcable.examples import seed003_line
+
+T1 = 1.0
+TS = np.linspace(0.0, T1, 21)
+# Cases 0 and 1 take 122 and 169 steps; case 2, a hundred times stiffer, needs 1,163
+# (explicit steps are stability-limited there), so it runs out of steps. Case 3's
+# segments are 5 % longer than the straight guess: every segment is slack, Levenberg–
+# Marquardt has no stiffness to move it, and inside the batch there is no fallback.
+MAX_STEPS = 400
+CASES = {"stiffness_scale": [1.0, 2.0, 100.0, 1.0], "stretch": [1.0, 0.999, 1.0, 1.05]}
+
+
+@functools.cache
+def base():
+    return seed003_line(n_segments=4, mass_matrix="lumped")
+
+
+def build(stiffness_scale, stretch):
+    """Seed 003's line with C_E scaled and the unstretched lengths scaled: float
+    leaves replaced with `eqx.tree_at`, as a sweep over a prebuilt model does."""
+    model, env = base()
+    law = model.line.tension_law
+    model = eqx.tree_at(
+        lambda m: (m.line.tension_law.axial_stiffness, m.segment_length),
+        model,
+        (law.axial_stiffness * stiffness_scale, model.segment_length * stretch),
+    )
+    return model, env
+
+
+@pytest.fixture(scope="module")
+def swept():
+    return sweep(build, CASES, T1, ts=TS, max_steps=MAX_STEPS)
+
+
+def case(i):
+    return {k: v[i] for k, v in CASES.items()}
+
+
+@pytest.mark.parametrize("i", [0, 1])
+def test_sweep_equals_single_runs(swept, i):
+    model, env = build(**case(i))
+    # The equilibrium found inside the batch is one: the forces on the free nodes at
+    # rest vanish, relative to a segment's weight (an independent check of the
+    # batched statics, which never sees this eagerly built model).
+    positions = swept.statics.state.positions[i]
+    forces = jc.generalised_forces(model, env, 0.0, positions, jnp.zeros_like(positions))[model.free_nodes]
+    weight = float(model.line.mass_per_length[0] * env.gravity * model.segment_length[0])
+    assert float(jnp.max(jnp.abs(forces))) < 1e-6 * weight
+    assert float(swept.statics.residual[i]) < 1e-6 * weight
+
+    single = jc.simulate(model, env, T1, ts=TS, initial=jc.State(positions, jnp.zeros_like(positions)), max_steps=MAX_STEPS)
+    assert bool(single.success) and bool(swept.success[i])
+    one = swept.case(i)
+    np.testing.assert_allclose(one.tension, single.tension, rtol=1e-8)
+    np.testing.assert_allclose(one.positions, single.positions, rtol=1e-10, atol=1e-9)
+    np.testing.assert_allclose(one.times, TS)
+    assert int(one.stats["num_steps"]) == int(single.stats["num_steps"])
+    np.testing.assert_allclose(swept.peak_tension[i], np.max(single.tension), rtol=1e-8)
+    # The two cases really differ (a build that ignored its parameters would not).
+    assert abs(float(swept.peak_tension[1] / swept.peak_tension[0]) - 1) > 0.5
+
+
+def test_failures_are_reported_per_case(swept):
+    assert swept.n_cases == 4
+    np.testing.assert_array_equal(swept.success, [True, True, False, False])
+    np.testing.assert_array_equal(swept.failed, [2, 3])
+    assert swept.status[:2] == ("successful", "successful")
+    assert swept.status[2].startswith("The maximum number of solver steps was reached")
+    assert f"after {MAX_STEPS} steps" in swept.status[2]
+    assert bool(swept.case(2).result == diffrax.RESULTS.max_steps_reached)
+    # diffrax's convention after a failure: states past it are inf (so the tensions
+    # computed from them are not finite), those before are kept.
+    tension, positions = np.asarray(swept.simulation.tension[2]), np.asarray(swept.simulation.positions[2])
+    assert np.all(np.isfinite(tension[0])) and not np.any(np.isfinite(tension[-1]))
+    assert np.all(np.isinf(positions[-1][np.asarray(base()[0].free_nodes)]))
+    # Case 3's statics failed: reported as such, never integrated, inf throughout.
+    assert swept.status[3].startswith("statics failed: Nonlinear solve diverged.")
+    assert bool(swept.case(3).result == diffrax.RESULTS.nonlinear_divergence)
+    assert int(swept.simulation.stats["num_steps"][3]) == 0
+    assert np.all(np.isinf(np.asarray(swept.simulation.tension[3])))
+    assert np.all(np.isnan(np.asarray(swept.peak_tension[2:])))
+    assert "statics failed" in swept.summary().splitlines()[-1]
+    with pytest.raises(IndexError, match="out of range for 4 cases"):
+        swept.case(4)
+
+
+_SHARDED = textwrap.dedent(
+    """
+    import equinox as eqx
+    import jax
+    import numpy as np
+    from jaxcable._sweep import sweep
+    from jaxcable.examples import seed003_line
+
+    assert len(jax.devices()) == 2, jax.devices()
+
+    base, env = seed003_line(n_segments=4, mass_matrix="lumped")
+
+    def build(amplitude, stiffness_scale):
+        law = base.line.tension_law
+        model = eqx.tree_at(
+            lambda m: (m.motions[1].amplitude, m.line.tension_law.axial_stiffness),
+            base,
+            (amplitude, law.axial_stiffness * stiffness_scale),
+        )
+        return model, env
+
+    options = dict(ts=np.linspace(0.0, 1.0, 11), initial="rest", max_steps=2000)
+    odd = {"amplitude": [1.6, 0.8, 2.4], "stiffness_scale": [1.0, 2.0, 0.5]}
+    both = sweep(build, odd, 1.0, **options)  # padded to 4 cases, 2 per device
+    alone = sweep(build, odd, 1.0, devices=[jax.devices()[0]], **options)
+    assert both.n_cases == alone.n_cases == 3
+    assert both.simulation.tension.shape == alone.simulation.tension.shape == (3, 11, 4)
+    assert all(both.success) and all(alone.success), (both.status, alone.status)
+    np.testing.assert_allclose(both.simulation.tension, alone.simulation.tension, rtol=1e-9)
+    np.testing.assert_allclose(both.simulation.positions, alone.simulation.positions, rtol=1e-12, atol=1e-9)
+    np.testing.assert_array_equal(both.simulation.stats["num_steps"], alone.simulation.stats["num_steps"])
+    assert len(set(np.asarray(alone.peak_tension).round())) == 3  # the cases differ
+    assert alone.simulation.tension.sharding.device_set == {jax.devices()[0]}
+
+    # Four cases need no padding (and reuse the compiled batch): the outputs stay
+    # split by case, two on each device.
+    even = {k: v + [v[0]] for k, v in odd.items()}
+    split = sweep(build, even, 1.0, **options)
+    tension = split.simulation.tension
+    assert tension.sharding.device_set == set(jax.devices()), tension.sharding
+    assert not tension.sharding.is_fully_replicated, tension.sharding
+    assert sorted(s.data.shape[0] for s in tension.addressable_shards) == [2, 2]
+    np.testing.assert_allclose(tension[:3], alone.simulation.tension, rtol=1e-9)
+    np.testing.assert_allclose(tension[3], tension[0], rtol=1e-12)
+    print("sharded sweep OK")
+    """
+)
+
+
+def test_sharded_sweep_equals_unsharded():
+    # XLA reads the flag when jax initialises its backends, so it needs a fresh process.
+    # Keep the batch small: with as many host devices as cores, jaxlib's batched LU
+    # (the mass blocks' inverse) can deadlock once it splits a large batch across the
+    # thread pool, and the timeout turns such a hang into a failure.
+    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2", JAX_PLATFORMS="cpu")
+    run = subprocess.run([sys.executable, "-c", _SHARDED], env=env, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stdout + run.stderr[-4000:]
+    assert "sharded sweep OK" in run.stdout
+
+
+def test_sweep_grid():
+    grid = sweep_grid(a=[1.0, 2.0], b=[10.0, 20.0, 30.0])
+    np.testing.assert_array_equal(grid["a"], [1, 1, 1, 2, 2, 2])
+    np.testing.assert_array_equal(grid["b"], [10, 20, 30, 10, 20, 30])
+    with pytest.raises(ValueError, match="at least one axis"):
+        sweep_grid()
+    with pytest.raises(ValueError, match="parameter 'b' must be finite, got inf at index 1"):
+        sweep_grid(a=[1.0], b=[1.0, np.inf])
+
+
+def _int_topology(n, stiffness_scale):
+    model, env = build(stiffness_scale, 1.0)
+    return seed003_line(n_segments=int(n))[0], env
+
+
+def _batched_topology(stiffness_scale):
+    model, env = build(stiffness_scale, 1.0)
+    nodes = model.segment_nodes + jnp.asarray(0 * stiffness_scale).astype(model.segment_nodes.dtype)
+    return eqx.tree_at(lambda m: m.segment_nodes, model, nodes), env
+
+
+def _tracer_dependent_structure(stiffness_scale):
+    # Four segments for a concrete value, five when traced: a structure change that
+    # only shows under vmap.
+    if isinstance(stiffness_scale, jax.core.Tracer):
+        return seed003_line(n_segments=5)
+    return seed003_line(n_segments=4)
+
+
+def _not_a_model(stiffness_scale):
+    return base()[0]
+
+
+GOOD = {"stiffness_scale": [1.0, 2.0], "stretch": [1.0, 1.0]}
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(parameters={}), "at least one parameter"),
+        (dict(parameters=[1.0, 2.0]), "parameters must be a dict"),
+        (dict(parameters={"stiffness_scale": [1.0, 2.0], "stretch": [1.0]}), "same number of cases"),
+        (dict(parameters={"stiffness_scale": [[1.0, 2.0]], "stretch": [1.0]}), "'stiffness_scale' must be a non-empty 1-D array, got shape \\(1, 2\\)"),
+        (dict(parameters={"stiffness_scale": [], "stretch": []}), "'stiffness_scale' must be a non-empty 1-D"),
+        (dict(parameters={"stiffness_scale": [1.0, np.nan], "stretch": [1.0, 1.0]}), "'stiffness_scale' must be finite, got nan at index 1"),
+        (dict(parameters={"stiffness_scale": ["stiff"], "stretch": [1.0]}), "'stiffness_scale' must be an array of floats"),
+        (dict(parameters={**GOOD, "bogus": [1.0, 2.0]}), "parameter 'bogus' is not a keyword of build"),
+        (dict(parameters={"stiffness_scale": [1.0]}), "cannot be called with parameters \\['stiffness_scale'\\]"),
+        (dict(t1=0.0), "t1 must be greater than t0"),
+        (dict(ts=[0.0, 2.0]), "ts must be increasing and lie within"),
+        (dict(initial="equilibrium"), "initial must be one of \\('statics', 'rest'\\)"),
+        (dict(initial=jc.State(np.zeros((3, 3)), np.zeros((3, 3)))), "must have shape \\(5, 3\\)"),
+        (dict(devices=[]), "devices must not be empty"),
+        (dict(devices=["cpu"]), "devices must be JAX devices"),
+        (dict(build=_int_topology, parameters={"n": [4.0, 5.0], "stiffness_scale": [1.0, 2.0]}), "used the value of parameter 'n' in Python"),
+        (dict(build=_batched_topology, parameters={"stiffness_scale": [1.0, 2.0]}), "\\.segment_nodes, an integer"),
+        (dict(build=_tracer_dependent_structure, parameters={"stiffness_scale": [1.0, 2.0]}), "different structure when traced"),
+        (dict(build=_not_a_model, parameters={"stiffness_scale": [1.0, 2.0]}), "must return \\(CableNetwork, Environment\\)"),
+    ],
+)
+def test_input_errors(kwargs, match):
+    arguments = dict(build=build, parameters=GOOD, t1=T1)
+    arguments.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        sweep(arguments.pop("build"), arguments.pop("parameters"), arguments.pop("t1"), **arguments)
+
+
+def test_build_errors_name_the_first_case():
+    # A constructor's own check on a real value still fires (under vmap it could not),
+    # and a note says which case raised it.
+    def driven(period):
+        return seed003_line(n_segments=4, period=period)
+
+    with pytest.raises(ValueError, match="Harmonic.period must be positive, got -1.0") as info:
+        sweep(driven, {"period": [-1.0, 5.6]}, T1)
+    assert "(the first case)" in "".join(getattr(info.value, "__notes__", []))
+
+
+def test_sweep_over_wave_steepness_equals_single_runs():
+    """The issue's sweep: one compiled batch over Airy wave steepness H/λ, each case a
+    wave built from its steepness inside the traced `build`."""
+    model, _ = base()
+    period, depth = 5.6, 200.0
+
+    def waves(steepness):
+        wave = jc.Airy.from_steepness(steepness, period, depth)
+        return model, jc.Environment(depth=depth, waves=wave)
+
+    steepness = np.array([0.01, 0.04, 0.07])
+    swept = sweep(waves, {"steepness": steepness}, 1.5, ts=np.linspace(0.0, 1.5, 7), initial="rest")
+    assert bool(np.all(swept.success))
+    for i in (0, 2):
+        env = waves(steepness[i])[1]
+        assert float(env.waves[0].steepness) == pytest.approx(steepness[i], rel=1e-12)
+        single = jc.simulate(model, env, 1.5, ts=np.linspace(0.0, 1.5, 7))
+        np.testing.assert_allclose(swept.case(i).tension, single.tension, rtol=1e-8)
+    # The waves matter: the steepest case's tensions differ from the gentlest's.
+    difference = np.abs(np.asarray(swept.case(2).tension - swept.case(0).tension)).max()
+    assert difference > 0.01 * float(swept.peak_tension[0])
