@@ -179,11 +179,13 @@ def sloped_line(drag=0.0):
     return model, positions
 
 
-def test_fluid_inertia_is_morison_on_the_waters_acceleration():
+@pytest.mark.parametrize(
+    "wave", [jc.Airy(2.0, 7.0, 25.0, heading=20.0), jc.Cnoidal(3.0, 15.0, 25.0, heading=20.0)], ids=["airy", "cnoidal"]
+)
+def test_fluid_inertia_is_morison_on_the_waters_acceleration(wave):
     from jaxcable import _lagrangian as lag
 
     model, positions = sloped_line()
-    wave = jc.Airy(2.0, 7.0, 25.0, heading=20.0)
     env = jc.Environment(RHO, G, depth=25.0, waves=wave)
     t = 0.8
     got = np.asarray(lag.nonconservative_forces(model, env, t, jnp.asarray(positions), jnp.zeros((3, 3))))
