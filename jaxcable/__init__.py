@@ -8,6 +8,7 @@ import jax as _jax
 
 _jax.config.update("jax_enable_x64", True)
 
+from ._advice import Advice as Advice, advise as advise
 from ._cnoidal import Cnoidal as Cnoidal, cnoidal_coefficients as cnoidal_coefficients
 from ._environment import CurrentProfile as CurrentProfile, Environment as Environment, Seabed as Seabed
 from ._lagrangian import (
@@ -32,13 +33,16 @@ from ._plots import plot_run as plot_run
 from ._run import SceneRun as SceneRun, load_scene as load_scene, run_scene as run_scene
 from ._scene import (
     BuiltScene as BuiltScene,
+    CurrentProfileSpec as CurrentProfileSpec,
     LineSpec as LineSpec,
     LineTypeSpec as LineTypeSpec,
     PointSpec as PointSpec,
     RunSettings as RunSettings,
     Scene as Scene,
     SceneError as SceneError,
+    SeabedSpec as SeabedSpec,
     Water as Water,
+    WaveSpec as WaveSpec,
 )
 from ._scene_file import read_scene as read_scene
 from ._simulate import (

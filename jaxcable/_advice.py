@@ -1,11 +1,91 @@
-"""Advice on model and solver for a built scene: what limits an explicit step."""
+"""Advice on a model before running it: which wave theory and loads fit the sea, how
+many segments the lines' shapes need, whether lines may go slack, and what limits an
+explicit step.
 
+[`advise`][jaxcable._advice.advise] returns an [`Advice`][jaxcable._advice.Advice] of numbers, with
+`lines()` for the text that `jaxcable info` prints. It costs a few static solves: one
+for the mean equilibrium (the lines' curvature, and where they are shallowest), and two
+for each moving support (slack). The criteria, and where they come from:
+
+- **Wave theory.** The Ursell number U = H λ²/d³ weighs nonlinearity H/d against
+  dispersion (d/λ)². Stokes' second-order profile grows a second crest in its trough
+  when U > 8π²/3 ≈ 26 (its second harmonic is 3U/(32π²) of the first in shallow
+  water), so below that linear or Stokes theory holds (Airy is jaxcable's); above it,
+  in water shallow enough for the long-wave approximation, λ > 8 d (Fenton 1999, "The
+  cnoidal theory of water waves"), cnoidal theory does. A wave breaks beyond
+  H/d = 0.78 (McCowan 1894) or H/λ = 0.142 tanh(2π d/λ) (Miche 1944): no regular
+  theory then.
+- **Fluid inertia.** The Keulegan–Carpenter number KC = u T / D (u the water's
+  speed amplitude where the element is shallowest, T the period, D the diameter;
+  (6V/π)^⅓ for a body) sets the balance in Morison's equation. In sinusoidal flow the
+  peak inertia force (Froude–Krylov plus added mass) over the peak drag force is
+  r = 4π V C_M / (C_D A u T) per element (V the displaced volume, C_M = 1 + C_a, C_D A
+  the drag area; for a line per unit length, V = F and C_D A = K_n d, so
+  r = π² C_M / (K_n KC) when F = π d²/4). The peak of the sum is the drag peak times
+  1 + r²/4 for r ≤ 2: inertia adds less than 6 % when r < 0.5, and dominates when
+  r > 2. With C_M = 2 and K_n = 1.2 these are KC > 33 and KC < 8, within the usual
+  rules of thumb (drag dominant above KC of about 25 to 45, inertia below about 3 to
+  10; e.g. Sarpkaya & Isaacson 1981, Journée & Massie 2001), here on each element's own
+  coefficients. When every element is drag-dominated, `fluid_inertia = false` loses
+  little.
+- **Segments.** A polyline of segments h = L/N through a smooth curve of curvature κ
+  deviates from it by at most √2/8 · h² · max κ (linear interpolation's error bound,
+  h²/8 · max |r''| per component, on the two components of the curve's plane). The
+  curvature is estimated at each interior node of the mean equilibrium as the turning
+  angle over the mean of the adjacent segments' lengths, which under-resolves a peak
+  narrower than a segment: where more segments are needed, the count is a lower bound.
+- **Slack.** Each moving support is held at either extreme of its motion (a harmonic
+  motion's ±amplitude along its direction; a table's extreme samples) and the statics
+  solved: a line goes slack quasi-statically when a segment's tension falls below 1 %
+  of the largest at rest, or no taut equilibrium exists. Dynamics make slack more
+  likely than this: a line falls sideways no faster than its terminal speed
+  √(2 w / (ρ K_n d)) (wet weight w per length against drag), and a support moving
+  faster than that outruns it and loads it by snap.
+- **Explicit step.** Explicit Runge–Kutta methods of order 4–5 are stable for |λ Δt|
+  up to about 3, with |λ| the fastest of the lines' axial mode
+  ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode]) and, where lines
+  touch a seabed, of its contact ([`seabed_mode`][jaxcable._advice.seabed_mode]).
+
+Statics here leave the waves out (their drag and inertia at one instant are no mean
+load) and hold every support at its reference position.
+"""
+
+from dataclasses import dataclass
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
 import numpy as np
+import optimistix as optx
 
+from ._cnoidal import Cnoidal
+from ._environment import Environment
+from ._motion import Fixed, Harmonic, Sampled
+from ._network import CableNetwork
 from ._scene import BuiltScene
+from ._state import State
+from ._statics import solve_statics
+from ._waves import AbstractWave, Airy
+
+# Stokes' second harmonic reaches a quarter of the first (a second crest in the
+# trough) at U = 8π²/3.
+URSELL_LIMIT = 8 * np.pi**2 / 3
+# Cnoidal theory for waves longer than 8 depths (Fenton 1999).
+CNOIDAL_RELATIVE_DEPTH = 1 / 8
+DEEP_RELATIVE_DEPTH, SHALLOW_RELATIVE_DEPTH = 0.5, 0.05
+BREAKING_HEIGHT_RATIO = 0.78  # H/d, McCowan (1894)
+BREAKING_STEEPNESS = 0.142  # H/λ in deep water, Miche (1944): times tanh(2π d/λ)
+# Peak inertia over peak drag: below, inertia adds < 6 % to the peak force; above the
+# other, inertia dominates.
+DRAG_DOMINATES, INERTIA_DOMINATES = 0.5, 2.0
+# A segment is slack when its tension is below this fraction of the largest at rest.
+SLACK_FRACTION = 0.01
+# Explicit Runge–Kutta methods of order 4–5 are stable for |λ Δt| up to about 3.
+STABLE_STEP = 3.0
+DEFAULT_TOLERANCE = 0.01  # of each line's length
 
 
-def stiffest_axial_mode(built: BuiltScene) -> tuple[float, float, int]:
+def stiffest_axial_mode(model: CableNetwork | BuiltScene, env: Environment | None = None) -> tuple[float, float, int]:
     """The fastest axial mode of the discretised lines.
 
     The highest axial mode moves neighbouring nodes in opposition:
@@ -15,15 +95,19 @@ def stiffest_axial_mode(built: BuiltScene) -> tuple[float, float, int]:
     tangential added mass. Lumped, ω_n = 2 √(EA / m) / l, seed 003's and MoorDyn's
     stiffness bound; consistent, √3 times that.
 
+    **Arguments:**
+
+    - `model`, `env`: the network and the water; or a [`jaxcable.BuiltScene`][] alone.
+
     **Returns:**
 
     `(ω_n (rad/s), |λ| (1/s), segment index)`: the natural frequency and the largest
     eigenvalue magnitude, damping included, at the segment where |λ| is largest.
     """
-    model = built.model
+    model, env, _ = _unpack(model, env)
     line = model.line
     length = np.asarray(model.segment_length)
-    rho = float(built.environment.water_density)
+    rho = float(env.water_density)
     mass = np.asarray(line.mass_per_length) + rho * np.asarray(line.area) * np.asarray(line.tangential_added_mass)
     node_mass = mass * length / (3.0 if model.mass_matrix == "consistent" else 1.0)
     stiffness = np.asarray(line.tension_law.axial_stiffness) / length
@@ -36,20 +120,683 @@ def stiffest_axial_mode(built: BuiltScene) -> tuple[float, float, int]:
     return float(omega[s]), float(magnitude[s]), s
 
 
-def advice(built: BuiltScene, duration: float) -> list[str]:
-    """Plain-language advice for running `built` for `duration` (s)."""
-    omega, magnitude, s = stiffest_axial_mode(built)
-    # Explicit Runge–Kutta methods of order 4–5 are stable for |λ Δt| up to about 3.
-    step = 3.0 / magnitude
-    lines = [
-        f"stiffest axial mode: ω_n = {omega:.4g} rad/s (period {2 * np.pi / omega:.3g} s) at segment {s}; "
-        f"with damping |λ| = {magnitude:.4g} 1/s",
-        f"an explicit solver (dopri5, tsit5) is stable for steps up to about 3/|λ| = {step:.3g} s, so "
-        f"{duration:g} s needs at least ~{int(np.ceil(duration / step)):,} steps",
-    ]
-    if step < 1e-3:
-        lines.append(
-            "that step is short: if the run is slow, fewer segments (--segments) lengthen it in proportion, "
-            "or an implicit solver (--solver kvaerno5) removes the limit at a higher cost per step"
+def seabed_mode(model: CableNetwork, env: Environment, touching=None) -> tuple[float, str]:
+    """The fastest local mode of a node on the seabed, as |λ| (1/s), and what sets it.
+
+    A node of mass M (m + ρF C_a per length; a third of it with the consistent mass
+    matrix, as for the axial mode) on contact area A = d per length sees the bed's
+    spring k A and damper c A: |λ| = (c' + √(c'² − 4k'))/2 with c' = cA/M, k' = kA/M
+    (√k' if underdamped), independent of the segment length. Friction below its
+    `friction_speed` v_s is a viscous drag μN/v_s on a node carrying N, its wet weight
+    w per length: |λ| = μ w / (v_s M) along the bed, with M's tangential added mass.
+
+    **Arguments:**
+
+    - `model`, `env`: the network and the water.
+    - `touching`: the segments that can reach the bed (a boolean mask); all by default.
+
+    **Returns:**
+
+    `(|λ| (1/s), "damping" | "stiffness" | "friction")`; `(0.0, "")` without a seabed.
+    """
+    bed = env.seabed
+    if bed is None:
+        return 0.0, ""
+    line = model.line
+    rho, g = float(env.water_density), float(env.gravity)
+    fields = {f: np.broadcast_to(np.asarray(getattr(line, f)), (model.n_segments,)) for f in
+              ("mass_per_length", "area", "diameter", "normal_added_mass", "tangential_added_mass")}
+    mask = np.ones(model.n_segments, bool) if touching is None else np.asarray(touching, bool)
+    if not mask.any():
+        return 0.0, ""
+    share = 3.0 if model.mass_matrix == "consistent" else 1.0
+    m, area, d = fields["mass_per_length"][mask], fields["area"][mask], fields["diameter"][mask]
+    normal = (m + rho * area * fields["normal_added_mass"][mask]) / share
+    damping, stiffness = float(bed.damping) * d / normal, float(bed.stiffness) * d / normal
+    discriminant = damping**2 - 4 * stiffness
+    contact = np.where(discriminant > 0, 0.5 * (damping + np.sqrt(np.maximum(discriminant, 0))), np.sqrt(stiffness))
+    along = (m + rho * area * fields["tangential_added_mass"][mask]) / share
+    weight = np.maximum((m - rho * area) * g, 0.0)
+    friction = float(bed.friction) * weight / (float(bed.friction_speed) * along)
+    if friction.max() > contact.max():
+        return float(friction.max()), "friction"
+    return float(contact.max()), "damping" if np.any(discriminant > 0) else "stiffness"
+
+
+# --------------------------------------------------------------------------------------
+# The parts of the advice
+
+
+@dataclass(frozen=True)
+class WaveFit:
+    """Which wave theory fits one wave (module docstring).
+
+    - `index`: the wave's place in `Environment.waves`.
+    - `theory`: what the model uses, `"airy"` or `"cnoidal"`.
+    - `height` H, `period` T, `wavelength` λ, `depth` d: (m, s, m, m).
+    - `ursell`: U = H λ²/d³; `relative_depth`: d/λ; `height_ratio`: H/d;
+        `steepness`: H/λ.
+    - `regime`: `"deep"` (d/λ > 0.5), `"intermediate"` or `"shallow"` (d/λ < 0.05).
+    - `fits`: `"airy"`, `"cnoidal"`, `"breaking"` (none: the wave breaks) or `"none"`
+        (between the theories jaxcable has).
+    - `reason`: why, in words.
+    """
+
+    index: int
+    theory: str
+    height: float
+    period: float
+    wavelength: float
+    depth: float
+    ursell: float
+    relative_depth: float
+    height_ratio: float
+    steepness: float
+    regime: str
+    fits: str
+    reason: str
+
+    @property
+    def uses_fitting_theory(self) -> bool:
+        """Whether the model's theory is the one that fits."""
+        return self.theory == self.fits
+
+
+@dataclass(frozen=True)
+class InertiaCheck:
+    """Drag against fluid inertia on one element in one wave (module docstring).
+
+    - `element`: what it is (`"line type chain"`, `"body at point buoy"`, ...).
+    - `wave`: the wave's index; `period` T (s).
+    - `depth`: z (m) where the element is shallowest, at which `speed` u (m/s), the
+        water's speed amplitude, is taken.
+    - `diameter`: D (m), a line's, or a body's volume-equivalent (6V/π)^⅓.
+    - `keulegan_carpenter`: KC = u T / D.
+    - `inertia_ratio`: r, the peak inertia force over the peak drag force.
+    """
+
+    element: str
+    wave: int
+    period: float
+    depth: float
+    speed: float
+    diameter: float
+    keulegan_carpenter: float
+    inertia_ratio: float
+
+    @property
+    def regime(self) -> str:
+        """`"drag"` (r < 0.5), `"inertia"` (r > 2) or `"both"`."""
+        if self.inertia_ratio < DRAG_DOMINATES:
+            return "drag"
+        return "inertia" if self.inertia_ratio > INERTIA_DOMINATES else "both"
+
+
+@dataclass(frozen=True)
+class Discretisation:
+    """Whether a line's segments follow its mean shape.
+
+    - `line`: its name; `length` L (m, unstretched); `segments` N.
+    - `curvature`: κ_max (1/m), the largest turning angle per length at an interior
+        node; `node`: that node's index in the model (−1 for a single segment).
+    - `deviation`: √2/8 · (L/N)² · κ_max (m), the polyline's error bound now.
+    - `tolerance`: (m), the deviation allowed.
+    - `needed`: the N that meets it.
+    """
+
+    line: str
+    length: float
+    segments: int
+    curvature: float
+    node: int
+    deviation: float
+    tolerance: float
+    needed: int
+
+
+@dataclass(frozen=True)
+class SlackCheck:
+    """One moving support held at one extreme of its motion.
+
+    - `point`: its name; `node`: its index in the model.
+    - `displacement`: (m), from its reference position.
+    - `converged`: whether the statics found an equilibrium there.
+    - `min_tension`: (N), the smallest segment tension (NaN if not converged);
+        `line`: the line with that segment, `segment`: the model's segment index.
+    - `slack`: whether a segment goes slack (module docstring).
+    - `speed`: the support's largest speed (m/s); `terminal_speed`: the slowest
+        terminal speed (m/s) at which the lines it holds fall sideways, or NaN for a
+        buoyant line.
+    """
+
+    point: str
+    node: int
+    displacement: tuple[float, float, float]
+    converged: bool
+    min_tension: float
+    line: str
+    segment: int
+    slack: bool
+    speed: float
+    terminal_speed: float
+
+
+@dataclass(frozen=True)
+class Advice:
+    """What [`advise`][jaxcable._advice.advise] found. The fields hold numbers; `lines()` says them.
+
+    - `omega`, `eigenvalue`, `segment`: [`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode].
+    - `seabed_eigenvalue`, `seabed_limit`: [`seabed_mode`][jaxcable._advice.seabed_mode]
+        on the segments that touch the bed at rest (0 and `""` if none).
+    - `explicit_step`: 3/|λ| (s), the longest stable step of an explicit solver, |λ|
+        the larger of the axial and the seabed's.
+    - `duration`: (s) or `None`; `steps`: the explicit steps it needs at least.
+    - `waves`: a [`WaveFit`][jaxcable._advice.WaveFit] per wave.
+    - `inertia`: an [`InertiaCheck`][jaxcable._advice.InertiaCheck] per element and
+        wave; `fluid_inertia`: whether the model has fluid inertia switched on.
+    - `discretisation`: a [`Discretisation`][jaxcable._advice.Discretisation] per line.
+    - `rest_min_tension`, `rest_max_tension`: (N) at the mean equilibrium.
+    - `slack`: a [`SlackCheck`][jaxcable._advice.SlackCheck] per extreme of each moving
+        support.
+    - `statics_error`: why the mean equilibrium was not found, or `None`.
+    """
+
+    omega: float
+    eigenvalue: float
+    segment: int
+    seabed_eigenvalue: float
+    seabed_limit: str
+    explicit_step: float
+    duration: float | None
+    steps: int | None
+    waves: tuple[WaveFit, ...]
+    inertia: tuple[InertiaCheck, ...]
+    fluid_inertia: bool
+    discretisation: tuple[Discretisation, ...]
+    rest_min_tension: float | None
+    rest_max_tension: float | None
+    slack: tuple[SlackCheck, ...]
+    statics_error: str | None
+
+    @property
+    def drag_dominates(self) -> bool | None:
+        """Whether drag dominates on every element in every wave (`None` without waves)."""
+        if not self.inertia:
+            return None
+        return bool(all(check.regime == "drag" for check in self.inertia))
+
+    @property
+    def slack_expected(self) -> bool | None:
+        """Whether any extreme of any moving support slackens a line quasi-statically
+        (`None` without moving supports or without an equilibrium)."""
+        if not self.slack:
+            return None
+        return bool(any(check.slack for check in self.slack))
+
+    @property
+    def snap_possible(self) -> bool | None:
+        """Whether a support moves faster than a line it holds can fall sideways."""
+        checks = [c for c in self.slack if np.isfinite(c.terminal_speed)]
+        if not checks:
+            return None
+        return bool(any(c.speed > c.terminal_speed for c in checks))
+
+    def lines(self) -> list[str]:
+        """The advice in words, one item per line."""
+        text = []
+        for fit in self.waves:
+            uses = "which it uses" if fit.uses_fitting_theory else f"but the model uses {fit.theory}"
+            fits = {"airy": "Airy fits", "cnoidal": "cnoidal fits", "breaking": "the wave breaks",
+                    "none": "neither theory fits well"}[fit.fits]
+            text.append(
+                f"wave {fit.index + 1} ({fit.theory}, H = {fit.height:.3g} m, T = {fit.period:.3g} s): "
+                f"λ = {fit.wavelength:.4g} m, d/λ = {fit.relative_depth:.3g} ({fit.regime} water), "
+                f"U = Hλ²/d³ = {fit.ursell:.3g}, H/d = {fit.height_ratio:.3g}: {fits}"
+                + ("" if fit.fits in ("breaking", "none") else f", {uses}")
+                + f" — {fit.reason}"
+            )
+        for check in self.inertia:
+            regime = {"drag": "drag dominates", "inertia": "inertia dominates", "both": "drag and inertia both matter"}
+            text.append(
+                f"{check.element} in wave {check.wave + 1}: u = {check.speed:.3g} m/s at z = {check.depth:.3g} m, "
+                f"KC = uT/D = {check.keulegan_carpenter:.3g} (D = {check.diameter:.3g} m), peak inertia/drag "
+                f"= {check.inertia_ratio:.3g}: {regime[check.regime]}"
+            )
+        if self.drag_dominates is True and self.fluid_inertia:
+            text.append(
+                "drag dominates everywhere: fluid_inertia = false would lose less than 6 % of the peak wave load "
+                "and save evaluating the water's acceleration"
+            )
+        elif self.drag_dominates is False and not self.fluid_inertia:
+            text.append("fluid inertia matters on some element: set fluid_inertia = true")
+        if self.statics_error is not None:
+            text.append(f"no mean equilibrium, so no check of the segments or of slack: {self.statics_error}")
+        for d in self.discretisation:
+            verdict = "enough" if d.needed <= d.segments else f"more needed: about {d.needed}"
+            text.append(
+                f"line {d.line}: {d.segments} segments of {d.length / d.segments:.4g} m, largest curvature "
+                f"{d.curvature:.3g} 1/m, polyline error ≤ √2/8·h²·κ = {d.deviation:.3g} m against {d.tolerance:.3g} m"
+                f" allowed: {d.segments} segments {verdict}"
+                + (" (a lower bound: the curvature is taken from the coarse shape)" if d.needed > d.segments else "")
+            )
+        if self.rest_min_tension is not None and self.slack:
+            text.append(
+                f"at rest the tension is {self.rest_min_tension / 1e3:.4g} to {self.rest_max_tension / 1e3:.4g} kN"
+            )
+        for c in self.slack:
+            shift = ", ".join(f"{x:.3g}" for x in c.displacement)
+            if not c.converged:
+                state = "no taut equilibrium: slack"
+            else:
+                state = f"smallest tension {c.min_tension / 1e3:.4g} kN (line {c.line})" + (": slack" if c.slack else "")
+            text.append(f"point {c.point} moved by ({shift}) m: {state}")
+        if self.slack:
+            if self.slack_expected:
+                text.append("slack expected, quasi-statically; dynamics (drag, inertia) make it more likely still")
+            else:
+                text.append(
+                    "no slack quasi-statically; dynamics (drag, inertia) can still slacken a line that this misses"
+                )
+            for c in self.slack:
+                if np.isfinite(c.terminal_speed) and c.speed > c.terminal_speed:
+                    text.append(
+                        f"point {c.point} moves at up to {c.speed:.3g} m/s, faster than its lines fall sideways "
+                        f"({c.terminal_speed:.3g} m/s, their terminal speed): expect slack and snap loads"
+                    )
+                    break
+        text.append(
+            f"stiffest axial mode: ω_n = {self.omega:.4g} rad/s (period {2 * np.pi / self.omega:.3g} s) at segment "
+            f"{self.segment}; with damping |λ| = {self.eigenvalue:.4g} 1/s"
         )
-    return lines
+        if self.seabed_eigenvalue > 0:
+            what = {"damping": "its damping", "stiffness": "its stiffness", "friction": "friction below friction_speed"}
+            text.append(
+                f"seabed contact: |λ| = {self.seabed_eigenvalue:.4g} 1/s from {what[self.seabed_limit]}"
+                + (", faster than the axial mode" if self.seabed_eigenvalue > self.eigenvalue else "")
+            )
+        steps = (
+            f", so {self.duration:g} s needs at least ~{self.steps:,} steps" if self.duration is not None else ""
+        )
+        text.append(
+            f"an explicit solver (dopri5, tsit5) is stable for steps up to about 3/|λ| = {self.explicit_step:.3g} s"
+            + steps
+        )
+        if self.explicit_step < 1e-3:
+            text.append(
+                "that step is short: if the run is slow, fewer segments (--segments) lengthen it in proportion, "
+                "or an implicit solver (--solver kvaerno5) removes the limit at a higher cost per step"
+            )
+        return text
+
+
+# --------------------------------------------------------------------------------------
+# The criteria, one at a time
+
+
+def wave_fit(wave: AbstractWave, index: int = 0) -> WaveFit:
+    """The [`WaveFit`][jaxcable._advice.WaveFit] of `wave` (module docstring)."""
+    height, period, depth = float(wave.height), float(wave.period), float(wave.depth)
+    length = float(wave.wavelength)
+    ursell = height * length**2 / depth**3
+    relative = depth / length
+    regime = "deep" if relative > DEEP_RELATIVE_DEPTH else "shallow" if relative < SHALLOW_RELATIVE_DEPTH else "intermediate"
+    miche = BREAKING_STEEPNESS * np.tanh(2 * np.pi * relative)
+    if height / depth > BREAKING_HEIGHT_RATIO or height / length > miche:
+        fits = "breaking"
+        reason = (
+            f"H/d = {height / depth:.3g} against 0.78 (McCowan) and H/λ = {height / length:.3g} against "
+            f"0.142 tanh(2πd/λ) = {miche:.3g} (Miche): no regular wave theory holds"
+        )
+    elif ursell < URSELL_LIMIT:
+        fits = "airy"
+        reason = (
+            "U < 8π²/3 ≈ 26, where Stokes' second harmonic stays below a quarter of the first: linear or "
+            "Stokes theory, and Airy is jaxcable's"
+        )
+    elif relative < CNOIDAL_RELATIVE_DEPTH:
+        fits = "cnoidal"
+        reason = "U > 26 and λ > 8d: long waves, cnoidal theory (Fenton 1999)"
+    else:
+        fits = "none"
+        reason = (
+            "U > 26 but λ < 8d: a higher-order Stokes or stream-function wave fits, which jaxcable does not have; "
+            "Airy understates the crest's kinematics, and cnoidal's long-wave approximation is weak"
+        )
+    theory = "cnoidal" if isinstance(wave, Cnoidal) else "airy" if isinstance(wave, Airy) else type(wave).__name__
+    return WaveFit(index, theory, height, period, length, depth, ursell, relative, height / depth,
+                   height / length, regime, fits, reason)
+
+
+def particle_speed(wave: AbstractWave, position, samples: int = 720) -> float:
+    """The water's largest speed (m/s) over one period at `position` (m): for an Airy
+    wave, its horizontal amplitude (H/2) ω cosh k(z + d) / sinh kd."""
+    times = jnp.arange(samples) * (wave.period / samples)
+    position = jnp.asarray(position, dtype=float)
+    velocities = jax.vmap(lambda t: wave.velocity(position, t))(times)
+    return float(jnp.max(jnp.linalg.norm(velocities, axis=-1)))
+
+
+def inertia_ratio(volume: float, added_mass: float, drag_area: float, speed: float, period: float) -> float:
+    """r = 4π V (1 + C_a) / (C_D A u T): the peak of Morison's inertia force (Froude–
+    Krylov plus added mass) over the peak of its drag force, in sinusoidal flow of speed
+    amplitude `speed` u and `period` T, on an element of displaced `volume` V, added
+    mass coefficient C_a and `drag_area` C_D A (per unit length for a line: V = F and
+    C_D A = K_n d)."""
+    if drag_area <= 0 or speed <= 0:
+        return float("inf")
+    return 4 * np.pi * volume * (1 + added_mass) / (drag_area * speed * period)
+
+
+def polyline_curvature(positions) -> np.ndarray:
+    """The curvature (1/m) at each interior point of a polyline, shape `(points − 2,)`:
+    the turning angle between its two segments over their mean length."""
+    x = np.asarray(positions, dtype=float)
+    chords = np.diff(x, axis=0)
+    lengths = np.linalg.norm(chords, axis=1)
+    a, b = chords[:-1], chords[1:]
+    angle = np.arctan2(np.linalg.norm(np.cross(a, b), axis=1), np.sum(a * b, axis=1))
+    return angle / (0.5 * (lengths[:-1] + lengths[1:]))
+
+
+def segments_needed(length: float, curvature: float, tolerance: float) -> int:
+    """The least N with √2/8 · (L/N)² · κ ≤ `tolerance` (m), for a line of `length` L (m)
+    and largest `curvature` κ (1/m); at least 1."""
+    if curvature <= 0:
+        return 1
+    return max(1, int(np.ceil(length * np.sqrt(np.sqrt(2) * curvature / (8 * tolerance)) - 1e-9)))
+
+
+def terminal_speed(mass_per_length: float, area: float, diameter: float, normal_drag: float, density: float,
+                   gravity: float) -> float:
+    """√(2 w / (ρ K_n d)) (m/s): how fast a line of wet weight w = (m − ρF) g per length
+    falls sideways through still water; NaN for a buoyant or weightless line."""
+    w = (mass_per_length - density * area) * gravity
+    if w <= 0 or normal_drag <= 0:
+        return float("nan")
+    return float(np.sqrt(2 * w / (density * normal_drag * diameter)))
+
+
+# --------------------------------------------------------------------------------------
+# All together
+
+
+def advise(
+    model: CableNetwork | BuiltScene,
+    env: Environment | None = None,
+    *,
+    duration: float | None = None,
+    tolerance: float = DEFAULT_TOLERANCE,
+    absolute_tolerance: float | None = None,
+) -> Advice:
+    """Advice on a model before running it (module docstring): wave theory, drag
+    against fluid inertia, segment counts, slack, and the explicit step.
+
+    **Arguments:**
+
+    - `model`, `env`: the network and the water; or a [`jaxcable.BuiltScene`][] alone,
+        whose lines, line types and points then name the advice's items.
+    - `duration`: (s) the run's length, for a count of explicit steps.
+    - `tolerance`: the polyline's allowed deviation from the lines' smooth shape, as a
+        fraction of each line's length; 1 % by default.
+    - `absolute_tolerance`: the same in metres, if tighter.
+
+    **Returns:**
+
+    An [`Advice`][jaxcable._advice.Advice]; `advice.lines()` in words.
+    """
+    model, env, built = _unpack(model, env)
+    omega, magnitude, segment = stiffest_axial_mode(model, env)
+
+    chains = _chains(model, built)
+    still = _without_waves(env)
+    held = _held(model)
+    static = solve_statics(held, still, throw=False)
+    statics_error = None
+    if static.result != optx.RESULTS.successful:
+        statics_error = f"the largest force left on a free node is {float(static.residual):.3g} N"
+        positions = np.asarray(model.node_positions)
+    else:
+        positions = np.asarray(static.state.positions)
+
+    touching = None
+    if statics_error is None and env.seabed is not None:
+        low = positions[:, 2] < -float(env.depth)
+        touching = low[np.asarray(model.segment_nodes)].any(axis=1)
+    bed, limit = seabed_mode(model, env, touching)
+    step = STABLE_STEP / max(magnitude, bed)
+    steps = None if duration is None else int(np.ceil(duration / step))
+
+    waves = tuple(wave_fit(wave, k) for k, wave in enumerate(env.waves))
+    inertia = _inertia(model, env, built, chains, positions)
+    discretisation, slack = (), ()
+    rest_min = rest_max = None
+    if statics_error is None:
+        discretisation = tuple(
+            _discretisation(name, nodes, segments, model, positions, tolerance, absolute_tolerance)
+            for name, nodes, segments in chains
+        )
+        tension = np.asarray(static.tension)
+        rest_min, rest_max = float(tension.min()), float(tension.max())
+        slack = _slack(model, held, still, built, chains, static, rest_max)
+    return Advice(omega, magnitude, segment, bed, limit, step, duration, steps, waves, inertia, env.fluid_inertia,
+                  discretisation, rest_min, rest_max, slack, statics_error)
+
+
+def advice(built: BuiltScene, duration: float) -> list[str]:
+    """[`advise`][jaxcable._advice.advise] for running `built` for `duration` (s), in words."""
+    return advise(built, duration=duration).lines()
+
+
+def _unpack(model, env):
+    if isinstance(model, BuiltScene):
+        built = model
+        return built.model, built.environment if env is None else env, built
+    if env is None:
+        raise ValueError("give the environment with the model (or a BuiltScene alone)")
+    return model, env, None
+
+
+def _without_waves(env: Environment) -> Environment:
+    return Environment(env.water_density, env.gravity, env.current, env.free_surface, depth=env.depth,
+                       seabed=env.seabed, fluid_inertia=env.fluid_inertia)
+
+
+def _held(model: CableNetwork) -> CableNetwork:
+    """The model with every support held at its reference position."""
+    return eqx.tree_at(lambda m: m.motions, model, tuple(Fixed() for _ in model.motions))
+
+
+def _chains(model: CableNetwork, built: BuiltScene | None) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """`(name, nodes, segments)` of each line, from end A to end B: a scene's lines, or
+    the chains of the graph between nodes that are not plain interior nodes (supports,
+    bodies, junctions, ends)."""
+    if built is not None:
+        return [(line.name, np.asarray(n), np.asarray(s))
+                for line, n, s in zip(built.scene.lines, built.line_nodes, built.line_segments)]
+    edges = np.asarray(model.segment_nodes)
+    n_nodes = model.n_nodes
+    incident = [[] for _ in range(n_nodes)]
+    for s, (a, b) in enumerate(edges):
+        incident[a].append(s)
+        incident[b].append(s)
+    volume = np.asarray(model.body.volume)
+    mass = np.asarray(model.body.mass)
+    stops = {int(k) for k in np.asarray(model.constrained_nodes)}
+    stops |= {k for k in range(n_nodes) if len(incident[k]) != 2 or volume[k] or mass[k]}
+    seen, chains = set(), []
+    starts = sorted(stops) or [int(edges[0, 0])]  # a closed loop of plain nodes starts anywhere
+    for start in starts:
+        for first in incident[start]:
+            if first in seen:
+                continue
+            nodes, segments, node, s = [start], [], start, first
+            while True:
+                seen.add(s)
+                segments.append(s)
+                a, b = edges[s]
+                node = int(b if a == node else a)
+                nodes.append(node)
+                if node in stops or node == start:
+                    break
+                s = next(t for t in incident[node] if t != s)
+            chains.append((f"{len(chains) + 1}", np.array(nodes), np.array(segments)))
+    return chains
+
+
+def _discretisation(name, nodes, segments, model, positions, tolerance, absolute_tolerance) -> Discretisation:
+    length = float(np.sum(np.asarray(model.segment_length)[segments]))
+    n = len(segments)
+    allowed = tolerance * length if absolute_tolerance is None else min(tolerance * length, absolute_tolerance)
+    curvature = polyline_curvature(positions[nodes]) if n > 1 else np.zeros(0)
+    k = int(np.argmax(curvature)) if curvature.size else -1
+    kappa = float(curvature[k]) if curvature.size else 0.0
+    deviation = np.sqrt(2) / 8 * (length / n) ** 2 * kappa
+    return Discretisation(name, length, n, kappa, int(nodes[k + 1]) if k >= 0 else -1, deviation, allowed,
+                          segments_needed(length, kappa, allowed))
+
+
+def _inertia(model, env, built, chains, positions) -> tuple[InertiaCheck, ...]:
+    """KC and the inertia ratio for each kind of line and each body, in each wave."""
+    if not env.waves:
+        return ()
+    line = model.line
+    rho = float(env.water_density)
+    fields = {name: np.asarray(getattr(line, name)) for name in ("diameter", "area", "normal_drag", "normal_added_mass")}
+    groups: dict[str, list[int]] = {}  # element name → its segments
+    if built is not None:
+        for spec, (_, _, segments) in zip(built.scene.lines, chains):
+            groups.setdefault(f"line type {spec.line_type}", []).extend(segments.tolist())
+    else:
+        keys = {}
+        for s in range(model.n_segments):
+            key = tuple(float(fields[f][s]) for f in fields)
+            keys.setdefault(key, []).append(s)
+        for (d, *_), segments in keys.items():
+            groups[f"segments of d = {d:.4g} m"] = segments
+    edges = np.asarray(model.segment_nodes)
+    elements = []
+    for name, segments in groups.items():
+        s = segments[0]
+        nodes = np.unique(edges[segments])
+        top = nodes[np.argmax(positions[nodes, 2])]
+        elements.append((name, positions[top], fields["diameter"][s], fields["area"][s],
+                         fields["normal_added_mass"][s], fields["normal_drag"][s] * fields["diameter"][s]))
+    body = model.body
+    volume = np.asarray(body.volume)
+    for k in np.flatnonzero(volume > 0):
+        name = f"body at point {built.scene.points[k].name}" if built is not None and k < len(built.scene.points) \
+            else f"body at node {k}"
+        drag_area = float(body.drag_area[k]) + 2 * float(body.specific_drag[k] * body.organism_mass[k]) * float(
+            env.gravity) / rho
+        elements.append((name, positions[k], (6 * volume[k] / np.pi) ** (1 / 3), volume[k],
+                         float(body.added_mass[k]), drag_area))
+    checks = []
+    for w, wave in enumerate(env.waves):
+        period = float(wave.period)
+        for name, position, diameter, v, added, drag_area in elements:
+            speed = particle_speed(wave, position)
+            checks.append(InertiaCheck(
+                name, w, period, float(min(position[2], 0.0)), speed, float(diameter), speed * period / diameter,
+                inertia_ratio(float(v), float(added), float(drag_area), speed, period),
+            ))
+    return tuple(checks)
+
+
+def _extremes(motion) -> list[np.ndarray]:
+    """The displacements (m) at the extremes of a support's motion: a harmonic one's
+    ±A e, a table's samples furthest apart along its largest excursion."""
+    if isinstance(motion, Harmonic):
+        shift = float(motion.amplitude) * np.asarray(motion.direction)
+        return [shift, -shift] if float(motion.amplitude) else []
+    if isinstance(motion, Sampled):
+        samples = np.asarray(motion.displacements)
+        largest = samples[np.argmax(np.linalg.norm(samples, axis=1))]
+        if not np.any(largest):
+            return []
+        along = samples @ largest
+        return [samples[np.argmax(along)], samples[np.argmin(along)]]
+    return []
+
+
+def _peak_speed(motion) -> float:
+    if isinstance(motion, Harmonic):
+        return abs(float(motion.amplitude)) * 2 * np.pi / float(motion.period)
+    if isinstance(motion, Sampled):
+        times = np.asarray(motion.times)
+        t = np.linspace(times[0], times[-1], 20 * times.size)
+        velocity = jax.vmap(lambda s: motion.kinematics(s)[1])(jnp.asarray(t))
+        return float(jnp.max(jnp.linalg.norm(velocity, axis=-1)))
+    return 0.0
+
+
+def _slack(model, held, still, built, chains, static, rest_max) -> tuple[SlackCheck, ...]:
+    line = model.line
+    rho, g = float(still.water_density), float(still.gravity)
+    edges = np.asarray(model.segment_nodes)
+    segment_line = np.empty(model.n_segments, dtype=object)
+    for name, _, segments in chains:
+        segment_line[segments] = name
+    checks = []
+    for node, motion in zip(np.asarray(model.constrained_nodes), model.motions):
+        node = int(node)
+        extremes = _extremes(motion)
+        if not extremes:
+            continue
+        name = built.scene.points[node].name if built is not None and node < len(built.scene.points) else str(node)
+        attached = np.flatnonzero((edges[:, 0] == node) | (edges[:, 1] == node))
+        speeds = [terminal_speed(*(float(np.asarray(getattr(line, f))[s]) for f in
+                                   ("mass_per_length", "area", "diameter", "normal_drag")), rho, g) for s in attached]
+        speeds = [v for v in speeds if np.isfinite(v)]
+        fall = min(speeds) if speeds else float("nan")
+        share = _harmonic_share(model, node)
+        for shift in extremes:
+            moved = eqx.tree_at(lambda m: m.node_positions, held, held.node_positions.at[node].add(shift))
+            # The rest at equilibrium, each free node moved by its share of the shift:
+            # a start near the new equilibrium (on a catenary, a third of the
+            # iterations that moving the support alone takes).
+            start = static.state.positions + jnp.asarray(share[:, None] * shift)
+            solution = solve_statics(moved, still, initial=State(start, jnp.zeros_like(start)), throw=False)
+            converged = bool(solution.result == optx.RESULTS.successful)
+            tension = np.asarray(solution.tension)
+            s = int(np.argmin(tension))
+            slack = not converged or bool(tension[s] < SLACK_FRACTION * rest_max)
+            checks.append(SlackCheck(name, node, tuple(float(x) + 0.0 for x in shift), converged,
+                                     float(tension[s]) if converged else float("nan"), str(segment_line[s]), s, slack,
+                                     _peak_speed(motion), fall))
+    return tuple(checks)
+
+
+def _harmonic_share(model: CableNetwork, node: int) -> np.ndarray:
+    """φ on the nodes: 1 at `node`, 0 at the other supports, and on each free node the
+    mean of its neighbours' (the graph's discrete harmonic function), by conjugate
+    gradients on the graph Laplacian of the free nodes (positive definite: every part
+    of the network is held)."""
+    edges = np.asarray(model.segment_nodes)
+    n = model.n_nodes
+    free = np.zeros(n, bool)
+    free[np.asarray(model.free_nodes)] = True
+    phi = np.zeros(n)
+    phi[node] = 1.0
+
+    def laplacian(x):  # L x on every node
+        out = np.zeros(n)
+        difference = x[edges[:, 0]] - x[edges[:, 1]]
+        np.add.at(out, edges[:, 0], difference)
+        np.add.at(out, edges[:, 1], -difference)
+        return out
+
+    b = np.where(free, -laplacian(phi), 0.0)
+    x = np.zeros(n)
+    r = b.copy()
+    d = r.copy()
+    rr = r @ r
+    for _ in range(4 * n):
+        if rr <= 1e-24 * max(b @ b, 1e-300):
+            break
+        q = np.where(free, laplacian(d), 0.0)
+        alpha = rr / (d @ q)
+        x += alpha * d
+        r -= alpha * q
+        rr, previous = r @ r, rr
+        d = r + (rr / previous) * d
+    return np.where(free, x, phi)

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from . import _output as output
-from ._advice import advice
+from ._advice import advise
 from ._motion import Harmonic, Sampled
 from ._motion_file import read_motion_file
 from ._run import load_scene, run_scene
@@ -139,8 +139,22 @@ def _info(args) -> int:
     duration = scene.run.duration if args.duration is None else args.duration
     print(f"{scene.source}" + (f": {scene.title}" if scene.title else ""))
     depth = "unbounded" if water.depth is None else f"{water.depth:g} m"
-    print(f"water: density {water.density:g} kg/m³, g = {water.gravity:g} m/s², depth {depth}, current {water.current} m/s, "
-          f"free surface {'on' if water.free_surface else 'off (lines wholly submerged)'}")
+    profile = water.current_profile
+    current = (f"{water.current} m/s" if profile is None else
+               f"profile {profile.speeds} m/s at z = {profile.heights} m, towards {profile.heading:g}°")
+    print(f"water: density {water.density:g} kg/m³, g = {water.gravity:g} m/s², depth {depth}, current {current}, "
+          f"free surface {'on' if water.free_surface else 'off (lines wholly submerged)'}, "
+          f"fluid inertia {'on' if water.fluid_inertia else 'off (waves load by drag only)'}")
+    for k, wave in enumerate(water.waves, start=1):
+        size = f"H = {wave.height:g} m" if wave.height is not None else f"H/λ = {wave.steepness:g}"
+        print(f"wave {k}: {wave.theory}, {size}, T = {wave.period:g} s, heading {wave.heading:g}°, "
+              f"phase {wave.phase:g} rad" + (", Wheeler stretching" if wave.wheeler else ""))
+    if water.seabed is not None:
+        bed = water.seabed
+        friction = f"friction μ = {bed.friction:g}" + (
+            f" (viscous below {bed.friction_speed:.4g} m/s)" if bed.friction else " (none)")
+        print(f"seabed: at z = {-water.depth:g} m, stiffness {bed.stiffness:g} Pa/m, damping {bed.damping:g} Pa·s/m, "
+              f"{friction}")
     print(f"model: {model.n_nodes} nodes ({model.free_nodes.size} free), {model.n_segments} segments, "
           f"{model.mass_matrix} mass matrix")
     print("line types:")
@@ -176,7 +190,7 @@ def _info(args) -> int:
     for note in scene.notes:
         print(f"  {note}")
     print("advice:")
-    for line in advice(built, duration):
+    for line in advise(built, duration=duration).lines():
         print(f"  {line}")
     return 0
 

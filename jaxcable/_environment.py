@@ -6,6 +6,8 @@ has is static structure, so a scene without waves compiles no wave code, one wit
 seabed no contact code.
 """
 
+import dataclasses
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -214,6 +216,10 @@ class Environment(eqx.Module):
         if seabed is not None and self.depth is None:
             raise ValueError("Environment.seabed needs the water depth: give Environment.depth")
         self.seabed = seabed
+
+    def without_waves(self) -> "Environment":
+        """The same water without its waves: still, or with the current alone."""
+        return dataclasses.replace(self, waves=())
 
     @property
     def has_fluid_acceleration(self) -> bool:

@@ -9,18 +9,31 @@ and `Ca`, `CaAx` are jaxcable's normal and tangential added-mass coefficients on
 N·s when positive and a fraction of critical damping when negative; the reader turns it
 into `axial_damping` or `axial_damping_ratio` (see [`jaxcable.LineTypeSpec`][]).
 
+The seabed is MoorDyn's: MoorDyn always has one, flat at `WtrDpth` (0 by default),
+which it lowers to the deepest point when a point lies below it (MoorDyn2.cpp, reading
+POINTS), and pushes each line node below it up by `(kBot δ − cBot ż) d l` with l the
+node's share of unstretched length — jaxcable's [`jaxcable.Seabed`][] on the same
+contact area, so `kBot` and `cBot` (3e6 Pa/m and 3e5 Pa·s/m when absent) are copied.
+`FrictionCoefficient` μ is copied; MoorDyn's friction is `μ FricDamp |v|` capped at
+`μ N` (Line.cpp), jaxcable's `μ N v / √(v² + v_s²)`: the two agree at low speed when
+v_s = N / FricDamp, which depends on each node's bed reaction N, so the reader sets
+`friction_speed` from the heaviest line's node weight and says so in a note.
+
 Features jaxcable does not model raise a [`jaxcable.SceneError`][] where leaving them
 out would change the system (rods, 6-DOF bodies, nonlinear or viscoelastic stiffness
 tables, VIV, constant point forces) and are listed in `Scene.notes` where the model is
-still meaningful without them (bending stiffness of a long line, seabed contact
-parameters, MoorDyn's time-step and initial-condition options). Notes on physics left
-out (bending, the seabed, waves) are also issued as Python warnings.
+still meaningful without them (bending stiffness of a long line, bathymetry files,
+static-to-dynamic friction ratios, MoorDyn's wave and current input, its time-step
+and initial-condition options). Notes on physics left out (bending, bathymetry,
+waves) are also issued as Python warnings.
 """
 
 import math
 import re
 import warnings
 from pathlib import Path
+
+import numpy as np
 
 from ._network import Body
 from ._scene import (
@@ -30,6 +43,7 @@ from ._scene import (
     RunSettings,
     Scene,
     SceneError,
+    SeabedSpec,
     Water,
     is_number,
     located,
@@ -77,7 +91,16 @@ _NOT_APPLICABLE = {
     "threshic", "icthresh", "gendynamicic", "icgendynamic", "fileic", "icfile",
 }
 _COSMETIC = {"echo", "writelog", "writeunits", "disableoutput", "disableouttime"}
-_SEABED = {"kbot", "kb", "cbot", "cb", "frictioncoefficient", "fricdamp", "statdynfricscale", "seafloorfile"}
+# Numeric options jaxcable uses, by lower-case name, and the values each may take.
+_USED = {
+    "g": "positive", "gravity": "positive", "rho": "positive", "wtrdnsty": "positive", "wtrdpth": "positive",
+    # dtOut = 0 is MoorDyn's "every step": jaxcable then keeps its default interval.
+    "dtout": "positive (or 0, MoorDyn's every step)",
+    "kbot": "positive", "kb": "positive", "cbot": "non-negative", "cb": "non-negative",
+    "frictioncoefficient": "non-negative", "fricdamp": "positive", "statdynfricscale": "positive",
+}
+# MoorDyn's defaults (MoorDyn2.cpp): bottom stiffness and damping, friction damping.
+_KBOT, _CBOT, _FRICDAMP = 3.0e6, 3.0e5, 200.0
 _WAVES = {"wavekin", "dtwave", "currents", "unifycurrentgrid"}
 
 
@@ -127,17 +150,17 @@ def read_moordyn(path: str | Path) -> Scene:
     options = _options(source, lines, sections, notes)
     channels = tuple(_outputs(lines, sections))
 
-    depth = options.get("wtrdpth")
-    for point in points:
-        if depth is not None and point.position[2] < -depth:
-            notes.append(f"{point.where}: point {point.name} lies below the seabed at z = {-depth} m")
     if any(p.kind == "coupled" for p in points):
         notes.append("coupled points are held fixed unless a motion table is given (jaxcable run --motion)")
+    density = options.get("wtrdnsty", options.get("rho", 1025.0))
+    gravity = options.get("g", options.get("gravity", 9.80665))
+    depth, seabed = _seabed(source, options, points, line_types, mdlines, density, gravity, notes)
     water = Water(
-        density=options.get("wtrdnsty", options.get("rho", 1025.0)),
-        gravity=options.get("g", options.get("gravity", 9.80665)),
+        density=density,
+        gravity=gravity,
         depth=depth,
         free_surface=True,  # MoorDyn counts only the submerged part of each segment
+        seabed=seabed,
     )
     run = RunSettings(dt_out=options.get("dtout") or None, mass_matrix="lumped")
     for note in notes:
@@ -292,8 +315,8 @@ def _line(source: str, line: int, fields: list[str], index: int, n_points: int, 
 
 
 def _options(source: str, lines: list[str], sections: dict[str, int], notes: list[str]) -> dict[str, float]:
-    """Numeric options jaxcable uses, by lower-case name; the rest become notes."""
-    used = {"g", "gravity", "rho", "wtrdnsty", "wtrdpth", "dtout"}
+    """Numeric options jaxcable uses, by lower-case name, with `where` (the line of each,
+    by the same name prefixed with `@`); the rest become notes."""
     options = {}
     for line, fields in _rows(lines, sections, "OPTIONS"):
         if len(fields) < 2:
@@ -301,13 +324,15 @@ def _options(source: str, lines: list[str], sections: dict[str, int], notes: lis
         value, name = fields[0], fields[1]
         key = name.lower()
         where = f"{source}, line {line}"
-        if key in used:
-            options[key] = _number(source, line, name, value)
-            # dtOut = 0 is MoorDyn's "every step"; jaxcable then keeps its default interval.
-            if not (options[key] > 0 or (key == "dtout" and options[key] == 0)):
-                raise SceneError(f"{where}: option {name} must be positive, got {value}")
-        elif key in _SEABED:
-            notes.append(f"{where}: option {name} = {value} ignored (seabed contact is not modelled yet)")
+        if key in _USED:
+            options[key] = number = _number(source, line, name, value)
+            options["@" + key] = where
+            if not (number >= 0 if _USED[key] != "positive" else number > 0):
+                raise SceneError(f"{where}: option {name} must be {_USED[key]}, got {value}")
+        elif key == "seafloorfile":
+            notes.append(
+                f"{where}: option {name} = {value} ignored (a bathymetry file; jaxcable's seabed is flat at WtrDpth)"
+            )
         elif key in _WAVES:
             if is_number(value) and float(value) == 0:
                 continue
@@ -317,6 +342,73 @@ def _options(source: str, lines: list[str], sections: dict[str, int], notes: lis
         elif key not in _COSMETIC:
             notes.append(f"{where}: unknown option {name} = {value} ignored")
     return options
+
+
+def _seabed(source, options, points, line_types, lines, density, gravity, notes) -> tuple[float | None, SeabedSpec | None]:
+    """The water depth and MoorDyn's seabed (module docstring)."""
+    depth = options.get("wtrdpth", 0.0)
+    deepest = min(range(len(points)), key=lambda k: points[k].position[2])
+    lowest = -points[deepest].position[2]
+    if lowest > depth:
+        point = points[deepest]
+        given = f"WtrDpth = {depth:g} m" if "wtrdpth" in options else "no WtrDpth"
+        notes.append(
+            f"{point.where}: {given}, but point {point.name} is at z = {-lowest:g} m: MoorDyn then sets the water "
+            f"depth to {lowest:g} m, with its seabed there, and so does jaxcable"
+        )
+        depth = lowest
+    if not depth > 0:
+        notes.append(f"{source}: no water depth and no point below z = 0: no seabed")
+        return None, None
+
+    def given(*keys, default):
+        for key in keys:
+            if key in options:
+                return options[key], options["@" + key]
+        return default, None
+
+    stiffness, where_k = given("kbot", "kb", default=_KBOT)
+    damping, where_c = given("cbot", "cb", default=_CBOT)
+    friction, where_f = given("frictioncoefficient", default=0.0)
+    fricdamp, _ = given("fricdamp", default=_FRICDAMP)
+    scale, where_s = given("statdynfricscale", default=1.0)
+    where = where_k or where_c or where_f or options.get("@wtrdpth") or source
+    friction_speed = SeabedSpec().friction_speed
+    if friction > 0:
+        # MoorDyn's friction is μ FricDamp |v| up to μ N; jaxcable's μ N v / √(v² + v_s²)
+        # has the same slope at rest for v_s = N / FricDamp. N is a node's share of its
+        # line's wet weight, here that of the line whose nodes weigh most.
+        types = {t.name: t for t in line_types}
+        weights = {
+            line.name: (types[line.line_type].mass_per_length - density * np.pi * types[line.line_type].diameter**2 / 4)
+            * gravity * line.length / line.segments
+            for line in lines
+        }
+        heaviest = max(weights, key=weights.get)
+        if weights[heaviest] > 0:
+            friction_speed = weights[heaviest] / fricdamp
+            notes.append(
+                f"{where_f}: seabed friction μ = {friction:g}: MoorDyn applies μ·FricDamp·|v| (FricDamp = "
+                f"{fricdamp:g} N·s/m) up to μN, jaxcable μN·v/√(v² + v_s²); they agree at low speed for "
+                f"v_s = N/FricDamp = {friction_speed:.4g} m/s with N = {weights[heaviest]:.4g} N, the wet weight "
+                f"of a node of line {heaviest} (the heaviest), so friction_speed = {friction_speed:.4g} m/s. "
+                "Nodes that weigh less slide a little more freely than in MoorDyn; re-dividing the lines "
+                "(--segments) changes N but not this speed"
+            )
+        else:
+            notes.append(
+                f"{where_f}: seabed friction μ = {friction:g} with FricDamp = {fricdamp:g} N·s/m: every line is "
+                f"buoyant, so friction_speed keeps jaxcable's default {friction_speed:g} m/s"
+            )
+    if scale != 1:
+        notes.append(
+            f"{where_s}: option StatDynFricScale = {scale:g} ignored (jaxcable's friction has one coefficient, "
+            "without a static-to-dynamic ratio)"
+        )
+    with located(where):
+        seabed = SeabedSpec(stiffness, damping, friction, friction_speed, where)
+        seabed.seabed()
+    return depth, seabed
 
 
 def _outputs(lines: list[str], sections: dict[str, int]):

@@ -101,8 +101,8 @@ def run_scene(
     solver: str | None = None,
     progress: bool = False,
 ) -> SceneRun:
-    """Solve a scene's statics and, for a positive duration, integrate its motion from
-    the equilibrium.
+    """Solve a scene's statics in still water (with its current, without its waves) and,
+    for a positive duration, integrate its motion from that equilibrium.
 
     **Arguments:**
 
@@ -141,7 +141,9 @@ def run_scene(
     model, env = built.model, built.environment
 
     start = time.perf_counter()
-    static = solve_statics(model, env)
+    # The run starts from still water (the current only): the waves' drag and inertia
+    # at t = 0 are one instant of a cycle, not a load to balance.
+    static = solve_statics(model, env.without_waves())
     statics_seconds = time.perf_counter() - start
     if duration == 0:
         as_series = lambda x: np.asarray(x)[None]  # noqa: E731
@@ -166,8 +168,8 @@ def run_scene(
 
 
 def _water_notes(scene: Scene, positions: np.ndarray) -> tuple[str, ...]:
-    """Where the run left the water the model assumes: above the surface or below the
-    seabed, neither of which jaxcable models yet."""
+    """Where the run left the water the model assumes: above the still-water level
+    without the free surface, or below the bottom without a seabed."""
     notes = []
     highest = float(positions[..., 2].max())
     if highest > 0 and not scene.water.free_surface:
@@ -176,9 +178,9 @@ def _water_notes(scene: Scene, positions: np.ndarray) -> tuple[str, ...]:
             "submerged, so buoyancy, drag and added mass act on the emerged part too"
         )
     depth = scene.water.depth
-    if depth is not None and positions[..., 2].min() < -depth:
+    if depth is not None and scene.water.seabed is None and positions[..., 2].min() < -depth:
         notes.append(
-            f"nodes reach z = {float(positions[..., 2].min()):.2f} m, below the seabed at z = {-depth:g} m: "
-            "seabed contact is not modelled, so lines there hang through it"
+            f"nodes reach z = {float(positions[..., 2].min()):.2f} m, below the bottom at z = {-depth:g} m: "
+            "the scene has no [seabed], so lines there hang through it"
         )
     return tuple(notes)

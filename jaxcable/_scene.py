@@ -10,18 +10,22 @@ produce and consume scenes.
 """
 
 import dataclasses
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from ._environment import Environment
+from ._cnoidal import Cnoidal
+from ._environment import CurrentProfile, Environment, Seabed
 from ._materials import KelvinVoigt
 from ._motion import AbstractMotion, Fixed, Sampled
 from ._network import Body, Branch, CableNetwork, LineType
+from ._waves import AbstractWave, Airy
 
 POINT_KINDS = ("fixed", "coupled", "free")
+WAVE_THEORIES = ("airy", "cnoidal")
 
 
 class SceneError(ValueError):
@@ -30,16 +34,151 @@ class SceneError(ValueError):
 
 
 @dataclass(frozen=True)
+class CurrentProfileSpec:
+    """A current whose speed varies over depth ([`jaxcable.CurrentProfile`][]): `speeds`
+    (m/s) at `heights` z (m, increasing; z = 0 is the still-water level), flowing
+    towards `heading` (degrees, from +x towards +y)."""
+
+    heights: tuple[float, ...]
+    speeds: tuple[float, ...]
+    heading: float = 0.0
+    where: str = ""
+
+    def profile(self) -> CurrentProfile:
+        """The engine's [`jaxcable.CurrentProfile`][]."""
+        with located(self.where):
+            return CurrentProfile(self.heights, self.speeds, self.heading)
+
+
+@dataclass(frozen=True)
+class WaveSpec:
+    """A regular wave, resolved against the water's depth and gravity when the scene is
+    built.
+
+    - `theory`: `"airy"` ([`jaxcable.Airy`][]) or `"cnoidal"` ([`jaxcable.Cnoidal`][]).
+    - `period`: T (s).
+    - `height`: H (m), crest to trough; or `steepness` H/λ (–): exactly one of them.
+    - `heading`: β (degrees), the direction of travel from +x towards +y.
+    - `phase`: θ₀ (rad); 0 puts a crest at x_β = 0 at t = 0.
+    - `wheeler`: Wheeler stretching (Airy only).
+    """
+
+    theory: str
+    period: float
+    height: float | None = None
+    steepness: float | None = None
+    heading: float = 0.0
+    phase: float = 0.0
+    wheeler: bool = False
+    where: str = ""
+
+    def wave(self, depth: float, gravity: float) -> AbstractWave:
+        """The engine's wave in water of `depth` (m) under `gravity` (m/s²).
+
+        **Raises:**
+
+        [`jaxcable.SceneError`][] at `where` for an unknown theory, neither or both of
+        height and steepness, Wheeler stretching on a cnoidal wave, or a value the wave
+        rejects (non-positive, breaking, a period too short for a cnoidal wave).
+        """
+        if self.theory not in WAVE_THEORIES:
+            raise SceneError(f"{self.where}: unknown wave theory {self.theory!r}; expected one of {WAVE_THEORIES}")
+        if (self.height is None) == (self.steepness is None):
+            raise SceneError(f"{self.where}: give exactly one of height and steepness")
+        if self.wheeler and self.theory != "airy":
+            raise SceneError(f"{self.where}: Wheeler stretching applies to Airy waves only")
+        kinds = {"airy": Airy, "cnoidal": Cnoidal}
+        kind = kinds[self.theory]
+        options = {"gravity": gravity, "heading": self.heading, "phase": self.phase}
+        if self.theory == "airy":
+            options["wheeler"] = self.wheeler
+        with located(self.where):
+            if self.height is not None:
+                return kind(self.height, self.period, depth, **options)
+            return kind.from_steepness(self.steepness, self.period, depth, **options)
+
+
+@dataclass(frozen=True)
+class SeabedSpec:
+    """A flat seabed at the water's depth ([`jaxcable.Seabed`][]): `stiffness` (Pa/m)
+    and `damping` (Pa·s/m) per unit contact area (MoorDyn's `kBot`, `cBot`), the
+    Coulomb `friction` coefficient (–) and the `friction_speed` (m/s) below which
+    friction is viscous."""
+
+    stiffness: float = 3.0e6
+    damping: float = 3.0e5
+    friction: float = 0.0
+    friction_speed: float = 0.01
+    where: str = ""
+
+    def seabed(self) -> Seabed:
+        """The engine's [`jaxcable.Seabed`][]."""
+        with located(self.where):
+            return Seabed(self.stiffness, self.damping, self.friction, self.friction_speed)
+
+
+@dataclass(frozen=True)
 class Water:
-    """The water: `density` ρ (kg/m³), `gravity` g (m/s²), `depth` (m, positive, or
-    `None` for unbounded), a uniform `current` (m/s, a 3-vector), and whether lines
-    feel the `free_surface` at z = 0 (see [`jaxcable.Environment`][])."""
+    """The water (see [`jaxcable.Environment`][]).
+
+    - `density` ρ (kg/m³), `gravity` g (m/s²).
+    - `depth` (m, positive), or `None` for water without a bottom (allowed only without
+        waves and seabed).
+    - `current`: a uniform current (m/s, a 3-vector); or `current_profile`, a
+        [`jaxcable.CurrentProfileSpec`][] (then `current` must stay zero).
+    - `free_surface`: whether lines are in the water only below z = 0.
+    - `waves`: regular waves, [`jaxcable.WaveSpec`][], superposed.
+    - `seabed`: a [`jaxcable.SeabedSpec`][] at z = −depth, or `None`.
+    - `fluid_inertia`: whether the waves' acceleration loads lines and bodies.
+    - `where`: where in its file the water was described, for errors.
+    """
 
     density: float = 1025.0
     gravity: float = 9.81
     depth: float | None = None
     current: tuple[float, float, float] = (0.0, 0.0, 0.0)
     free_surface: bool = False
+    current_profile: CurrentProfileSpec | None = None
+    waves: tuple[WaveSpec, ...] = ()
+    seabed: SeabedSpec | None = None
+    fluid_inertia: bool = True
+    where: str = ""
+
+    def environment(self) -> Environment:
+        """The engine's [`jaxcable.Environment`][].
+
+        **Raises:**
+
+        [`jaxcable.SceneError`][] naming the item's place in the file for waves or a
+        seabed without a depth, both a uniform current and a profile, or a value out of
+        range.
+        """
+        where = self.where or "[water]"
+        for item, what in ((self.waves[0] if self.waves else None, "waves"), (self.seabed, "a seabed")):
+            if item is not None and self.depth is None:
+                raise SceneError(f"{item.where or where}: {what} need the water depth: give [water] depth")
+        if self.current_profile is not None and any(self.current):
+            raise SceneError(
+                f"{self.current_profile.where or where}: give a uniform current or a current profile, not both"
+            )
+        current = self.current if self.current_profile is None else self.current_profile.profile()
+        with warnings.catch_warnings():
+            # A cnoidal wave of low Ursell number warns; the scene reader notes it, and
+            # jaxcable info's advice says which theory fits.
+            warnings.filterwarnings("ignore", message="Cnoidal wave of Ursell number", category=UserWarning)
+            waves = tuple(wave.wave(self.depth, self.gravity) for wave in self.waves)
+        seabed = None if self.seabed is None else self.seabed.seabed()
+        with located(where):
+            return Environment(
+                self.density,
+                self.gravity,
+                current,
+                self.free_surface,
+                depth=self.depth,
+                waves=waves,
+                seabed=seabed,
+                fluid_inertia=self.fluid_inertia,
+            )
 
 
 @dataclass(frozen=True)
@@ -256,9 +395,8 @@ class Scene:
             if p.kind != "free"
         }
         bodies = {k: p.body for k, p in enumerate(self.points) if p.body is not None}
+        environment = self.water.environment()
         with located(self.source):
-            water = self.water
-            environment = Environment(water.density, water.gravity, water.current, water.free_surface)
             model = CableNetwork.from_branches(
                 junctions=np.array([p.position for p in self.points], dtype=float),
                 branches=branches,

@@ -7,9 +7,29 @@ A scene file names its points and line types and lists its lines::
     [water]                      # all optional
     density = 1025.0             # kg/m³
     gravity = 9.81               # m/s²
-    depth = 200.0                # m
-    current = [0.5, 0.0, 0.0]    # m/s
+    depth = 200.0                # m; required with [[waves]] or [seabed]
+    current = [0.5, 0.0, 0.0]    # m/s, uniform
     free_surface = false         # true: only the part below z = 0 is in the water
+    fluid_inertia = true         # false: waves load lines and bodies by drag only
+
+    [water.current_profile]      # instead of a uniform current: speed over depth
+    heights = [-200.0, -50.0, 0.0]   # z (m), increasing; linear between, held beyond
+    speeds = [0.1, 0.4, 0.6]         # m/s
+    heading = 0.0                    # deg, the direction it flows towards (+x to +y)
+
+    [[waves]]                    # zero or more regular waves, superposed
+    theory = "airy"              # or "cnoidal"
+    height = 4.0                 # H (m), crest to trough; or steepness = H/λ (–)
+    period = 10.0                # T (s)
+    heading = 0.0                # deg, the direction of travel; optional
+    phase = 0.0                  # rad, 0: a crest at x = 0 at t = 0; optional
+    wheeler = false              # Wheeler stretching (airy only); optional
+
+    [seabed]                     # a flat bed at z = −depth; all keys optional
+    stiffness = 3.0e6            # Pa/m per contact area (MoorDyn's kBot)
+    damping = 3.0e5              # Pa·s/m (MoorDyn's cBot)
+    friction = 0.0               # Coulomb coefficient μ (–)
+    friction_speed = 0.01        # m/s, below which friction is viscous
 
     [simulation]                 # all optional
     duration = 30.0              # s
@@ -54,11 +74,14 @@ A scene file names its points and line types and lists its lines::
     channels = ["FairTen1", "AnchTen1", "L1N10PZ"]
 
 Lines are numbered from 1 in the order written, for channels such as `FairTen1`.
-Errors name the file, the line and the key.
+Errors name the file, the line and the key. Waves take the water's depth and gravity;
+see [`jaxcable.Environment`][], [`jaxcable.Airy`][], [`jaxcable.Cnoidal`][] and
+[`jaxcable.Seabed`][] for the physics.
 """
 
 import math
 import tomllib
+import warnings
 from pathlib import Path
 
 from ._motion import Harmonic, Sampled
@@ -66,21 +89,28 @@ from ._motion_file import read_motion_file
 from ._network import MASS_MATRICES, Body
 from ._scene import (
     POINT_KINDS,
+    WAVE_THEORIES,
+    CurrentProfileSpec,
     LineSpec,
     LineTypeSpec,
     PointSpec,
     RunSettings,
     Scene,
     SceneError,
+    SeabedSpec,
     Water,
+    WaveSpec,
     located,
     read_text,
     unique_names,
 )
 from ._simulate import SOLVERS
 
-_TOP = ("title", "water", "simulation", "line_types", "points", "lines", "output")
-_WATER = ("density", "gravity", "depth", "current", "free_surface")
+_TOP = ("title", "water", "waves", "seabed", "simulation", "line_types", "points", "lines", "output")
+_WATER = ("density", "gravity", "depth", "current", "current_profile", "free_surface", "fluid_inertia")
+_CURRENT_PROFILE = ("heights", "speeds", "heading")
+_WAVE = ("theory", "height", "steepness", "period", "heading", "phase", "wheeler")
+_SEABED = ("stiffness", "damping", "friction", "friction_speed")
 _SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "mass_matrix")
 _LINE_TYPE_REQUIRED = ("mass_per_length", "diameter", "axial_stiffness")
 _LINE_TYPE_OPTIONAL = (
@@ -111,18 +141,8 @@ def read_scene(path: str | Path) -> Scene:
     reader = _Reader(path, text)
     reader.keys(data, (), _TOP)
 
-    water = reader.table(data, ("water",))
-    reader.keys(water, ("water",), _WATER)
-    depth = reader.number(water, ("water", "depth"), None)
-    if depth is not None and not depth > 0:
-        raise SceneError(f"{reader.where(('water', 'depth'))}: must be positive, got {depth}")
-    water_spec = Water(
-        density=reader.number(water, ("water", "density"), 1025.0),
-        gravity=reader.number(water, ("water", "gravity"), 9.81),
-        depth=depth,
-        current=reader.vector(water, ("water", "current"), (0.0, 0.0, 0.0)),
-        free_surface=reader.boolean(water, ("water", "free_surface"), False),
-    )
+    notes: list[str] = []
+    water_spec = _water(reader, data, notes)
 
     simulation = reader.table(data, ("simulation",))
     reader.keys(simulation, ("simulation",), _SIMULATION)
@@ -215,7 +235,104 @@ def read_scene(path: str | Path) -> Scene:
         raise SceneError(f"{reader.where(('output', 'channels'))}: expected a list of channel names")
     title = reader.string(data, ("title",), "")
     return Scene(
-        tuple(points), tuple(line_types), tuple(lines), water_spec, run, tuple(channels), (), str(path), title
+        tuple(points), tuple(line_types), tuple(lines), water_spec, run, tuple(channels), tuple(notes), str(path), title
+    )
+
+
+def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
+    """`[water]`, its current profile, `[[waves]]` and `[seabed]`."""
+    water = reader.table(data, ("water",))
+    reader.keys(water, ("water",), _WATER)
+    depth = reader.number(water, ("water", "depth"), None)
+    if depth is not None and not depth > 0:
+        raise SceneError(f"{reader.where(('water', 'depth'))}: must be positive, got {depth}")
+    gravity = reader.number(water, ("water", "gravity"), 9.81)
+    current = reader.vector(water, ("water", "current"), (0.0, 0.0, 0.0))
+
+    profile = None
+    if "current_profile" in water:
+        keys = ("water", "current_profile")
+        table = reader.table(water, keys)
+        reader.keys(table, keys, _CURRENT_PROFILE)
+        if "current" in water:
+            raise SceneError(f"{reader.where(keys)}: give a uniform current or a current profile, not both")
+        profile = CurrentProfileSpec(
+            heights=reader.numbers(table, (*keys, "heights")),
+            speeds=reader.numbers(table, (*keys, "speeds")),
+            heading=reader.number(table, (*keys, "heading"), 0.0),
+            where=reader.where(keys),
+        )
+        profile.profile()  # the engine's checks: lengths match, heights increase
+
+    waves = []
+    rows = data.get("waves", [])
+    if not isinstance(rows, list):
+        raise SceneError(f"{reader.where(('waves',))}: expected [[waves]] tables, one per wave")
+    for k, row in enumerate(rows):
+        keys = ("waves", k)
+        if not isinstance(row, dict):
+            raise SceneError(f"{reader.where(keys)}: expected a [[waves]] table")
+        reader.keys(row, keys, _WAVE)
+        theory = reader.string(row, (*keys, "theory"))
+        if theory not in WAVE_THEORIES:
+            raise SceneError(
+                f"{reader.where((*keys, 'theory'))}: unknown wave theory {theory!r}; expected one of {WAVE_THEORIES}"
+            )
+        given = [key for key in ("height", "steepness") if key in row]
+        if len(given) != 1:
+            at = reader.where((*keys, given[-1])) if given else reader.where(keys)
+            raise SceneError(f"{at}: give exactly one of height (m) and steepness (H/λ), got {len(given)}")
+        values = {key: reader.number(row, (*keys, key)) for key in (*given, "period")}
+        for key, value in values.items():
+            if not value > 0:
+                raise SceneError(f"{reader.where((*keys, key))}: must be positive, got {value:g}")
+        wheeler = reader.boolean(row, (*keys, "wheeler"), False)
+        if "wheeler" in row and theory != "airy":
+            raise SceneError(f"{reader.where((*keys, 'wheeler'))}: Wheeler stretching applies to airy waves only")
+        if depth is None:
+            raise SceneError(f"{reader.where(keys)}: waves need the water depth: give [water] depth")
+        spec = WaveSpec(
+            theory=theory,
+            heading=reader.number(row, (*keys, "heading"), 0.0),
+            phase=reader.number(row, (*keys, "phase"), 0.0),
+            wheeler=wheeler,
+            where=reader.where(keys),
+            **values,
+        )
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UserWarning)
+            spec.wave(depth, gravity)  # the engine's checks: breaking, period range
+        notes += [f"{spec.where}: {w.message}" for w in caught]
+        waves.append(spec)
+
+    seabed = None
+    if "seabed" in data:
+        keys = ("seabed",)
+        table = reader.table(data, keys)
+        reader.keys(table, keys, _SEABED)
+        defaults = SeabedSpec()
+        values = {key: reader.number(table, (*keys, key), getattr(defaults, key)) for key in _SEABED}
+        for key, value in values.items():
+            positive = key in ("stiffness", "friction_speed")
+            if not (value > 0 if positive else value >= 0):
+                kind = "positive" if positive else "non-negative"
+                raise SceneError(f"{reader.where((*keys, key))}: must be {kind}, got {value:g}")
+        if depth is None:
+            raise SceneError(f"{reader.where(keys)}: a seabed needs the water depth: give [water] depth")
+        seabed = SeabedSpec(**values, where=reader.where(keys))
+        seabed.seabed()
+
+    return Water(
+        density=reader.number(water, ("water", "density"), 1025.0),
+        gravity=gravity,
+        depth=depth,
+        current=current,
+        free_surface=reader.boolean(water, ("water", "free_surface"), False),
+        current_profile=profile,
+        waves=tuple(waves),
+        seabed=seabed,
+        fluid_inertia=reader.boolean(water, ("water", "fluid_inertia"), True),
+        where=reader.where(("water",)),
     )
 
 
@@ -294,6 +411,16 @@ class _Reader:
         if given and not isinstance(value, str):
             raise SceneError(f"{self.where(keys)}: expected a string, got {value!r}")
         return value
+
+    def numbers(self, table: dict, keys: tuple, default=...) -> tuple[float, ...]:
+        value, given = self._value(table, keys, default, "a list of numbers")
+        if given and not (
+            isinstance(value, list)
+            and value
+            and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value)
+        ):
+            raise SceneError(f"{self.where(keys)}: expected a list of finite numbers, got {value!r}")
+        return tuple(float(v) for v in value) if given else value
 
     def vector(self, table: dict, keys: tuple, default=...) -> tuple[float, float, float]:
         value, given = self._value(table, keys, default, "[x, y, z]")

@@ -83,20 +83,21 @@ def solve_statics(
     A [`jaxcable.StaticSolution`][].
     """
     start = model.node_positions if initial is None else initial.positions
-    if env.seabed is not None:
+    descended = False
+    if env.seabed is not None and _reaches_bed(model, env, start):
         # Where the starting shape dips below the bed, the bed lifts it and its
         # segments go slack, and contact kinks the forces: Levenberg–Marquardt crawled
         # there (955 iterations for a 60-segment chain lying on the bottom, against 56
         # for the same chain hanging free, measured). Energy descent minds neither, so
         # it goes first, and often finishes the job.
         start, descent_steps = _descend(model, env, start, t, 40 * max_steps)
+        descended = True
         remaining, scale = _remaining(model, env, start, t)
         if checks.is_concrete(remaining) and remaining <= force_tolerance:
             return _solution(model, env, t, start, remaining, scale, optx.RESULTS.successful, descent_steps)
     solution, positions, remaining, scale = _solve(model, env, start, t, rtol, atol, max_steps)
-    if checks.is_concrete(remaining) and remaining > force_tolerance and env.seabed is None:
-        descended, _ = _descend(model, env, start, t, 10 * max_steps)
-        retry = _solve(model, env, descended, t, rtol, atol, max_steps)
+    if checks.is_concrete(remaining) and remaining > force_tolerance and not descended:
+        retry = _solve(model, env, _descend(model, env, start, t, 10 * max_steps)[0], t, rtol, atol, max_steps)
         if retry[2] < remaining:
             solution, positions, remaining, scale = retry
     # Levenberg–Marquardt stops when its steps vanish, which also happens on a slack
@@ -117,6 +118,15 @@ def solve_statics(
         else:
             remaining = eqx.error_if(remaining, failed, message.format("a large", "its"))
     return _solution(model, env, t, positions, remaining, scale, result, solution.stats["num_steps"])
+
+
+def _reaches_bed(model, env, positions) -> bool:
+    """Whether any free node starts below the seabed; `True` when that cannot be known
+    (traced positions), so that the robust path is taken."""
+    lowest = jnp.min(positions[model.free_nodes, 2], initial=jnp.inf)
+    if not (checks.is_concrete(lowest) and checks.is_concrete(env.depth)):
+        return True
+    return bool(lowest < -env.depth)
 
 
 @eqx.filter_jit

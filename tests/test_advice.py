@@ -1,13 +1,27 @@
-"""The advice's stiffest axial mode against the eigenvalues of the linearised model."""
+"""The advice against values computed here: the stiffest axial mode against the
+eigenvalues of the linearised model; the Ursell number against the dispersion relation
+solved by bisection; the Keulegan–Carpenter number against Airy's speed amplitude;
+curvature and segment counts on a circle and a catenary; quasi-static tensions against
+the catenary; slack on a line with nothing to hold it taut."""
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+import scipy.special
+from scipy.optimize import brentq
 
 import jaxcable as jc
 from jaxcable import _lagrangian as lag
-from jaxcable._advice import advice, stiffest_axial_mode
+from jaxcable._advice import (
+    advice,
+    advise,
+    polyline_curvature,
+    seabed_mode,
+    segments_needed,
+    stiffest_axial_mode,
+    wave_fit,
+)
 
 
 def taut_line(mass_matrix: str, damping_ratio: float = 0.0) -> jc.BuiltScene:
@@ -58,3 +72,240 @@ def test_advice_counts_steps_from_the_bound():
     assert magnitude == omega
     text = " ".join(advice(built, 10.0))
     assert f"~{int(np.ceil(10.0 / (3.0 / magnitude))):,} steps" in text
+
+
+# --------------------------------------------------------------------------------------
+# Wave theory: the Ursell number and d/λ, against the dispersion relation solved here.
+
+
+def linear_wavelength(period: float, depth: float, g: float = 9.81) -> float:
+    """λ (m) from ω² = g k tanh(k d), by bisection (independent of jaxcable's solver)."""
+    omega = 2 * np.pi / period
+    k = brentq(lambda k: g * k * np.tanh(k * depth) - omega**2, 1e-8, 10.0, xtol=1e-15)
+    return 2 * np.pi / k
+
+
+@pytest.mark.parametrize(
+    "height, period, depth, fits",
+    [
+        (2.0, 8.0, 30.0, "airy"),      # intermediate depth, U ≈ 0.8
+        (3.0, 14.0, 10.0, "cnoidal"),  # shallow and long: U ≈ 57, λ ≈ 13.7 d
+        (5.5, 8.0, 10.0, "none"),      # U ≈ 28 > 26 but λ ≈ 7 d
+        (8.0, 12.0, 10.0, "breaking"),  # H/d = 0.8 > 0.78
+    ],
+)
+def test_wave_fit_from_the_ursell_number(height, period, depth, fits):
+    wave = jc.Airy(height, period, depth)
+    fit = wave_fit(wave)
+    length = linear_wavelength(period, depth)
+    ursell = height * length**2 / depth**3
+    np.testing.assert_allclose([fit.wavelength, fit.ursell, fit.relative_depth, fit.height_ratio],
+                               [length, ursell, depth / length, height / depth], rtol=1e-9)
+    # The cases are where the docstring's rule puts them: U against 8π²/3, λ against 8d.
+    if fits == "airy":
+        assert ursell < 8 * np.pi**2 / 3
+    elif fits == "cnoidal":
+        assert ursell > 8 * np.pi**2 / 3 and length > 8 * depth
+    elif fits == "none":
+        assert ursell > 8 * np.pi**2 / 3 and length < 8 * depth and height / depth < 0.78
+        assert height / length < 0.142 * np.tanh(2 * np.pi * depth / length)  # not breaking (Miche)
+    assert fit.fits == fits and fit.theory == "airy"
+    assert fit.uses_fitting_theory == (fits == "airy")
+
+
+def test_cnoidal_wave_fit_uses_its_own_wavelength():
+    # For a cnoidal wave U = 16 m K(m)² / 3 exactly (first-order theory).
+    wave = jc.Cnoidal(3.0, 14.0, 10.0)
+    fit = wave_fit(wave)
+    np.testing.assert_allclose(fit.ursell, 16 * float(wave.m) * scipy.special.ellipk(float(wave.m)) ** 2 / 3, rtol=1e-9)
+    assert fit.theory == "cnoidal" and fit.fits == "cnoidal" and fit.uses_fitting_theory
+
+
+# --------------------------------------------------------------------------------------
+# Drag against fluid inertia: the Keulegan–Carpenter number by hand.
+
+
+def line_in_waves(diameter: float, area: float, wave: jc.Airy, body: jc.Body | None = None):
+    """A taut horizontal line 5 m below the still-water level, between two anchors,
+    with an optional body at its middle node."""
+    law = jc.LinearElastic(1e8)
+    line = jc.LineType(mass_per_length=2.0 * 1025 * area, diameter=diameter, tension_law=law, area=area,
+                       normal_drag=1.2, normal_added_mass=1.0)
+    model = jc.CableNetwork.from_branches(
+        junctions=[[0.0, 0.0, -5.0], [40.0, 0.0, -5.0], [20.0, 0.0, -5.0]],
+        branches=[jc.Branch(0, 2, line, 19.99, 4), jc.Branch(2, 1, line, 19.99, 4)],
+        constraints={0: jc.Fixed(), 1: jc.Fixed()},
+        bodies={2: body} if body is not None else None,
+    )
+    return model, jc.Environment(depth=float(wave.depth), waves=(wave,))
+
+
+def test_keulegan_carpenter_number_and_inertia_ratio_by_hand():
+    height, period, depth, z = 3.0, 9.0, 40.0, -5.0
+    wave = jc.Airy(height, period, depth)
+    k = 2 * np.pi / linear_wavelength(period, depth)
+    # The horizontal speed amplitude at the shallowest point, the anchors at z = −5 m.
+    u = np.pi * height / period * np.cosh(k * (z + depth)) / np.sinh(k * depth)
+
+    # A thin rope: KC in the hundreds, drag dominates.
+    d = 0.02
+    thin = advise(*line_in_waves(d, np.pi * d**2 / 4, wave))
+    (check,) = thin.inertia
+    np.testing.assert_allclose([check.speed, check.depth], [u, z], rtol=1e-6)
+    np.testing.assert_allclose(check.keulegan_carpenter, u * period / d, rtol=1e-6)
+    # r = π² C_M / (K_n KC) for a solid round section, C_M = 1 + C_a = 2.
+    np.testing.assert_allclose(check.inertia_ratio, np.pi**2 * 2 / (1.2 * u * period / d), rtol=1e-6)
+    assert check.regime == "drag" and thin.drag_dominates is True
+    assert any("fluid_inertia = false" in line for line in thin.lines())
+
+    # A 1 m pipe with a 0.5 m³ buoy on it: KC ≈ 10, inertia matters.
+    d, volume = 1.0, 0.5
+    body = jc.Body(mass=400.0, volume=volume, drag_area=0.3, added_mass=0.5)
+    thick = advise(*line_in_waves(d, np.pi * d**2 / 4, wave, body))
+    pipe, buoy = thick.inertia
+    np.testing.assert_allclose(pipe.keulegan_carpenter, u * period / d, rtol=1e-6)
+    assert pipe.regime in ("both", "inertia") and thick.drag_dominates is False
+    # The body: D = (6V/π)^⅓ and r = 4π V (1 + C_a) / (C_D A u T), at its own depth.
+    np.testing.assert_allclose(buoy.diameter, (6 * volume / np.pi) ** (1 / 3), rtol=1e-12)
+    z_body = buoy.depth
+    u_body = np.pi * height / period * np.cosh(k * (z_body + depth)) / np.sinh(k * depth)
+    np.testing.assert_allclose(buoy.speed, u_body, rtol=1e-6)
+    np.testing.assert_allclose(buoy.inertia_ratio, 4 * np.pi * volume * 1.5 / (0.3 * u_body * period), rtol=1e-6)
+    assert not any("fluid_inertia = false" in line for line in thick.lines())
+    # The body splits the line into two chains of the graph.
+    assert [d.segments for d in thick.discretisation] == [4, 4]
+
+
+# --------------------------------------------------------------------------------------
+# Segments: the polyline error bound on shapes whose curvature is known.
+
+
+def test_polyline_curvature_of_a_circle_and_the_segments_it_needs():
+    radius, n = 10.0, 8
+    angles = np.linspace(0.0, np.pi, n + 1)
+    points = radius * np.c_[np.cos(angles), np.sin(angles), np.zeros(n + 1)]
+    step = np.pi / n
+    chord = 2 * radius * np.sin(step / 2)
+    # Each interior node turns by the angle the chord subtends; over the chord length.
+    np.testing.assert_allclose(polyline_curvature(points), step / chord, rtol=1e-12)
+    assert abs(step / chord * radius - 1) < step**2 / 20
+    # A semicircle, L = πR, κ = 1/R, allowed 1 % of L = 0.314 m: √2/8 (L/N)² / R falls
+    # below it at N = 8 (0.278 m), not at 7 (0.356 m). The 8-gon's true sagitta, 0.192 m,
+    # is within the bound.
+    length, tolerance = np.pi * radius, 0.01 * np.pi * radius
+    assert np.sqrt(2) / 8 * (length / 7) ** 2 / radius > tolerance > np.sqrt(2) / 8 * (length / 8) ** 2 / radius
+    assert segments_needed(length, 1 / radius, tolerance) == 8
+    assert radius * (1 - np.cos(step / 2)) < np.sqrt(2) / 8 * chord**2 / radius
+    assert segments_needed(length, 0.0, tolerance) == 1
+
+
+def catenary_parameter(span: float, length: float) -> float:
+    """a = H/w of the inextensible catenary of `length` between points level `span` apart."""
+    return brentq(lambda a: 2 * a * np.sinh(span / (2 * a)) - length, 1.0, 1e4, xtol=1e-14)
+
+
+@pytest.fixture(scope="module")
+def hanging():
+    """A heavy line hanging between an anchor and a support at the same height that
+    moves 4 m along x, in water; its advice. It stretches by 1e-4 at most: a catenary."""
+    law = jc.LinearElastic(1e8)
+    line = jc.LineType(mass_per_length=20.0, diameter=0.05, tension_law=law, normal_drag=1.2)
+    motion = jc.Harmonic(amplitude=4.0, period=10.0, direction=(1.0, 0.0, 0.0))
+    model = jc.CableNetwork.from_branches(
+        junctions=[[0.0, 0.0, -20.0], [80.0, 0.0, -20.0]],
+        branches=[jc.Branch(0, 1, line, 100.0, 40)],
+        constraints={0: jc.Fixed(), 1: motion},
+        mass_matrix="lumped",
+    )
+    env = jc.Environment()
+    return model, env, advise(model, env, tolerance=0.01)
+
+
+def test_catenary_curvature_gives_the_segment_count(hanging):
+    model, env, result = hanging
+    (d,) = result.discretisation
+    # The curvature of a catenary is largest at its lowest point, 1/a.
+    a = catenary_parameter(80.0, 100.0)
+    np.testing.assert_allclose(d.curvature, 1 / a, rtol=0.01)  # O((l/a)²), l = 2.5 m, a ≈ 25 m
+    assert d.node == int(np.asarray(model.free_nodes)[19])  # the middle node of 41
+    np.testing.assert_allclose(d.deviation, np.sqrt(2) / 8 * 2.5**2 * d.curvature, rtol=1e-12)
+    assert d.tolerance == pytest.approx(1.0) and d.needed == segments_needed(100.0, d.curvature, 1.0)
+    assert d.needed < 40 < segments_needed(100.0, d.curvature, 0.01)
+    assert advise(model, env, absolute_tolerance=0.01).discretisation[0].needed > 40
+
+
+def test_catenary_quasi_static_tension_at_the_extremes_of_the_motion(hanging):
+    model, env, result = hanging
+    w = (20.0 - 1025.0 * np.pi * 0.05**2 / 4) * 9.81
+    # Each extreme is a catenary of span 80 ± 4 m: its smallest tension, at the lowest
+    # point, is H = w a; the segment there is within (l/2a)²/2 of it.
+    for check, span in zip(result.slack, (84.0, 76.0)):
+        assert check.converged and not check.slack
+        np.testing.assert_allclose(check.displacement, [span - 80.0, 0.0, 0.0], atol=1e-12)
+        np.testing.assert_allclose(check.min_tension, w * catenary_parameter(span, 100.0), rtol=2e-3)
+    assert result.slack_expected is False
+    # The support's top speed A ω against the line's terminal sideways speed.
+    terminal = np.sqrt(2 * w / (1025.0 * 1.2 * 0.05))
+    np.testing.assert_allclose([result.slack[0].speed, result.slack[0].terminal_speed],
+                               [4.0 * 2 * np.pi / 10.0, terminal], rtol=1e-12)
+    assert 4.0 * 2 * np.pi / 10.0 > terminal and result.snap_possible is True  # 2.51 against 2.40 m/s
+
+
+def taut_weightless_line(amplitude: float):
+    """A neutrally buoyant line 100 m long between supports 101 m apart: straight, at
+    1 % strain; its far end moves by `amplitude` along the line."""
+    area = 3e-4
+    line = jc.LineType(mass_per_length=1025.0 * area, diameter=0.02, tension_law=jc.LinearElastic(4e6), area=area)
+    model = jc.CableNetwork.from_branches(
+        junctions=[[0.0, 0.0, -30.0], [101.0, 0.0, -30.0]],
+        branches=[jc.Branch(0, 1, line, 100.0, 10)],
+        constraints={0: jc.Fixed(), 1: jc.Harmonic(amplitude=amplitude, period=8.0)},
+        mass_matrix="lumped",
+    )
+    return model, jc.Environment()
+
+
+def test_slack_when_the_support_moves_past_the_stretch():
+    # Towards the anchor by 2 m, more than the 1 m stretch: nothing holds the line taut.
+    result = advise(*taut_weightless_line(2.0))
+    towards = [c for c in result.slack if c.displacement[0] < 0]
+    assert len(towards) == 1 and towards[0].slack and result.slack_expected is True
+    assert any("slack expected" in line for line in result.lines())
+
+
+def test_no_slack_when_the_support_moves_less_than_the_stretch():
+    # 0.5 m either way: strain 0.5 % and 1.5 %, tension EA ε exactly (no weight).
+    result = advise(*taut_weightless_line(0.5))
+    assert result.slack_expected is False
+    np.testing.assert_allclose([c.min_tension for c in result.slack], [4e6 * 0.015, 4e6 * 0.005], rtol=1e-8)
+    np.testing.assert_allclose([result.rest_min_tension, result.rest_max_tension], 4e6 * 0.01, rtol=1e-8)
+    assert np.isnan(result.slack[0].terminal_speed) and result.snap_possible is None
+
+
+# --------------------------------------------------------------------------------------
+# The seabed's contact modes.
+
+
+def test_seabed_mode_by_hand():
+    m, d, area, ca, cat = 50.0, 0.09, 6.4e-3, 1.0, 0.5
+    line = jc.LineType(mass_per_length=m, diameter=d, tension_law=jc.LinearElastic(2e8), area=area,
+                       normal_added_mass=ca, tangential_added_mass=cat)
+    model = jc.CableNetwork.from_branches([[0.0, 0.0, -60.0], [100.0, 0.0, -60.0]], [jc.Branch(0, 1, line, 99.0, 10)],
+                                          {0: jc.Fixed(), 1: jc.Fixed()}, mass_matrix="lumped")
+    rho, g = 1025.0, 9.81
+    normal, along = m + rho * area * ca, m + rho * area * cat
+    # Overdamped contact: |λ| = (c' + √(c'² − 4k'))/2.
+    env = jc.Environment(depth=60.0, seabed=jc.Seabed(3e6, 3e5))
+    c, k = 3e5 * d / normal, 3e6 * d / normal
+    rate, kind = seabed_mode(model, env)
+    np.testing.assert_allclose(rate, (c + np.sqrt(c**2 - 4 * k)) / 2, rtol=1e-12)
+    assert kind == "damping"
+    # Friction with a small friction speed: μ w / (v_s M).
+    env = jc.Environment(depth=60.0, seabed=jc.Seabed(3e6, 3e5, friction=0.8, friction_speed=0.005))
+    rate, kind = seabed_mode(model, env)
+    np.testing.assert_allclose(rate, 0.8 * (m - rho * area) * g / (0.005 * along), rtol=1e-12)
+    assert kind == "friction"
+    # Underdamped: √k'.
+    env = jc.Environment(depth=60.0, seabed=jc.Seabed(3e6, 1e3))
+    np.testing.assert_allclose(seabed_mode(model, env)[0], np.sqrt(k), rtol=1e-12)
+    assert seabed_mode(model, jc.Environment()) == (0.0, "")

@@ -4,7 +4,7 @@ command line's handling of bad input.
 Everything here reads and builds models; nothing integrates, so the file runs in
 seconds. Inputs are written into `tmp_path` by the tests, and the line numbers that
 errors must report are counted from that text, not from the reader. The MoorDyn reader
-warns of physics it leaves out (bending, the seabed, waves); the tests that cause such
+warns of physics it leaves out (bending, bathymetry, waves); the tests that cause such
 notes check the warning too.
 """
 
@@ -13,11 +13,13 @@ import re
 import warnings
 from pathlib import Path
 
+import jax.numpy as jnp
 import numpy as np
 import pytest
 
 import jaxcable as jc
 from jaxcable._cli import main as cli_main
+from jaxcable._scene import SeabedSpec, WaveSpec
 
 LOWE_AND_LANGLEY = Path(__file__).parent / "data" / "lowe_and_langley_2006" / "line.txt"
 
@@ -197,11 +199,16 @@ def test_moordyn_options_and_outputs(tmp_path):
 
 
 def test_moordyn_option_aliases_and_defaults(tmp_path):
+    # Without WtrDpth, MoorDyn's depth (0) is lowered to the deepest point, the anchor
+    # at z = −100 m, and its seabed is there.
     scene = jc.read_moordyn(write_moordyn(tmp_path, options=("1000  rho", "9.7  gravity")))
-    assert (scene.water.density, scene.water.gravity, scene.water.depth) == (1000.0, 9.7, None)
+    assert (scene.water.density, scene.water.gravity, scene.water.depth) == (1000.0, 9.7, 100.0)
     assert scene.run.dt_out is None and scene.channels == ()
-    scene = jc.read_moordyn(write_moordyn(tmp_path, "bare.txt", options=()))
-    assert (scene.water.density, scene.water.gravity, scene.water.depth) == (1025.0, 9.80665, None)
+    path = write_moordyn(tmp_path, "bare.txt", options=())
+    scene = jc.read_moordyn(path)
+    assert (scene.water.density, scene.water.gravity, scene.water.depth) == (1025.0, 9.80665, 100.0)
+    (note,) = [n for n in scene.notes if "water depth" in n]
+    assert "no WtrDpth" in note and "point 1" in note and re.search(rf"\bline {line_of(path, 'Fixed')}\b", note)
 
 
 def test_moordyn_bad_option_value_is_located(tmp_path):
@@ -272,13 +279,107 @@ def test_moordyn_bending_stiffness_is_a_note(tmp_path):
     assert not any("bending" in n for n in scene.notes)
 
 
-def test_moordyn_seabed_options_are_a_note(tmp_path):
-    path = write_moordyn(tmp_path, options=(*OPTIONS, "3.0e6    kBot   bottom stiffness"))
-    with pytest.warns(UserWarning, match="kBot"):
-        scene = jc.read_moordyn(path)
-    (note,) = [n for n in scene.notes if "kBot" in n]
-    assert "seabed" in note and re.search(rf"\bline {line_of(path, 'kBot')}\b", note)
+def test_moordyn_seabed_is_always_on_with_moordyns_defaults(tmp_path):
+    # MoorDyn (MoorDyn2.cpp): kb = 3.0e6 Pa/m, cb = 3.0e5 Pa·s/m, no friction, and the
+    # bed at WtrDpth whether or not any seabed option is given.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        scene = jc.read_moordyn(write_moordyn(tmp_path))
+    bed = scene.water.seabed
+    assert (bed.stiffness, bed.damping, bed.friction) == (3.0e6, 3.0e5, 0.0)
     assert scene.water.depth == 150.0
+    assert not any("seabed" in n or "water depth" in n for n in scene.notes)
+    env = scene.build().environment
+    assert float(env.depth) == 150.0
+    np.testing.assert_array_equal([env.seabed.stiffness, env.seabed.damping, env.seabed.friction], [3.0e6, 3.0e5, 0.0])
+
+
+@pytest.mark.parametrize("stiffness, damping", [("kBot", "cBot"), ("kb", "cb"), ("KBOT", "CBot")])
+def test_moordyn_seabed_options_map_to_the_seabed(tmp_path, stiffness, damping):
+    options = (*OPTIONS, f"2.5e6    {stiffness}   bottom stiffness", f"4.0e4    {damping}   bottom damping")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # mapped, not left out: no warning
+        scene = jc.read_moordyn(write_moordyn(tmp_path, options=options))
+    bed = scene.water.seabed
+    assert (bed.stiffness, bed.damping, bed.friction) == (2.5e6, 4.0e4, 0.0)
+    assert not any(stiffness in n or damping in n for n in scene.notes)
+    env = scene.build().environment
+    assert (float(env.seabed.stiffness), float(env.seabed.damping)) == (2.5e6, 4.0e4)
+
+
+def test_moordyn_friction_matches_moordyns_slope_at_rest(tmp_path):
+    # MoorDyn's friction on a node sliding at v is μ FricDamp v (below μN); jaxcable's
+    # μ N v / √(v² + v_s²) → μ N v / v_s. Equal for v_s = N / FricDamp, N the node's
+    # wet weight: chain of 20 kg/m, d = 0.1 m (displacing π d²/4), 25 m segments.
+    options = (*OPTIONS, "0.6   FrictionCoefficient", "150   FricDamp")
+    path = write_moordyn(tmp_path, options=options)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        scene = jc.read_moordyn(path)
+    node_weight = (20.0 - 1025.0 * np.pi * 0.1**2 / 4) * 9.81 * 250.0 / 10
+    bed = scene.water.seabed
+    assert bed.friction == 0.6
+    assert bed.friction_speed == pytest.approx(node_weight / 150.0, rel=1e-12)
+    (note,) = [n for n in scene.notes if "FricDamp" in n]
+    assert re.search(rf"\bline {line_of(path, 'FrictionCoefficient')}\b", note)
+    assert f"{node_weight / 150.0:.4g} m/s" in note and "ignored" not in note
+    # The default FricDamp is MoorDyn's 200 N·s/m.
+    scene = jc.read_moordyn(write_moordyn(tmp_path, "default.txt", options=(*OPTIONS, "0.6   FrictionCoefficient")))
+    assert scene.water.seabed.friction_speed == pytest.approx(node_weight / 200.0, rel=1e-12)
+
+
+def test_moordyn_static_to_dynamic_friction_ratio_and_bathymetry_are_notes(tmp_path):
+    options = (*OPTIONS, "0.6   FrictionCoefficient", "1.5   StatDynFricScale", "bathymetry.txt   SeafloorFile")
+    path = write_moordyn(tmp_path, options=options)
+    with pytest.warns(UserWarning) as caught:
+        scene = jc.read_moordyn(path)
+    said = " ".join(str(w.message) for w in caught)
+    assert "StatDynFricScale" in said and "SeafloorFile" in said
+    for option in ("StatDynFricScale", "SeafloorFile"):
+        (note,) = [n for n in scene.notes if option in n]
+        assert "ignored" in note and re.search(rf"\bline {line_of(path, option)}\b", note)
+    assert scene.water.seabed.friction == 0.6 and scene.water.depth == 150.0
+
+
+def test_moordyn_point_below_wtrdpth_lowers_the_seabed(tmp_path):
+    # MoorDyn sets the water depth to a point's depth when the point lies below it.
+    path = write_moordyn(tmp_path, options=("1025.0   WtrDnsty", "80.0    WtrDpth    depth"))
+    scene = jc.read_moordyn(path)
+    assert scene.water.depth == 100.0
+    (note,) = [n for n in scene.notes if "water depth" in n]
+    assert "WtrDpth = 80 m" in note and "z = -100 m" in note and re.search(rf"\bline {line_of(path, 'Fixed')}\b", note)
+
+
+@pytest.mark.parametrize(
+    "row, expected",
+    [("-3.0e6   kBot", "kBot must be positive"), ("-1.0   cBot", "cBot must be non-negative"),
+     ("-0.5   FrictionCoefficient", "must be non-negative"), ("0   FricDamp", "FricDamp must be positive")],
+)
+def test_moordyn_bad_seabed_options_are_located(tmp_path, row, expected):
+    path = write_moordyn(tmp_path, options=(*OPTIONS, row))
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, expected)
+
+
+def test_moordyn_lying_chain_presses_into_the_bed_as_moordyn_says(tmp_path):
+    # A chain much longer than its span lies on the bed at 100 m, where each interior
+    # node's weight w l is carried by kBot δ d l (MoorDyn's bottom pressure on d times
+    # the node's length): δ = w / (kBot d).
+    points = ("1    Fixed     0.0     0.0    -100.0  0       0        0      0",
+              "2    Fixed     60.0    0.0    -60.0   0       0        0      0")
+    lines = ("1    chain     1        2        150.0     10       -",)
+    options = ("1025.0   WtrDnsty", "9.81   g", "100.0   WtrDpth", "1.0e6   kBot")
+    scene = jc.read_moordyn(write_moordyn(tmp_path, points=points, lines=lines, options=options))
+    built = scene.build()
+    static = jc.solve_statics(built.model, built.environment)
+    z = np.asarray(static.state.positions)[built.line_nodes[0], 2]
+    w = (20.0 - 1025.0 * np.pi * 0.1**2 / 4) * 9.81
+    lying = z < -100.0
+    assert lying.sum() >= 3  # the line does lie on the bed
+    # Nodes well inside the lying part carry their own weight only.
+    inner = np.flatnonzero(lying)[1:-2]
+    np.testing.assert_allclose(-100.0 - z[inner], w / (1.0e6 * 0.1), rtol=1e-3)
 
 
 def test_moordyn_file_with_nothing_left_out_reads_without_warnings(tmp_path):
@@ -523,7 +624,7 @@ def test_moordyn_missing_file(tmp_path):
 
 
 def test_moordyn_lowe_and_langley_file():
-    with pytest.warns(UserWarning):  # bending, seabed and wave input left out
+    with pytest.warns(UserWarning):  # bending and wave input left out
         scene = jc.read_moordyn(LOWE_AND_LANGLEY)
     assert [p.kind for p in scene.points] == ["fixed", "coupled"]
     assert scene.points[0].position == (-100.0, 0.0, -55.0)
@@ -535,7 +636,8 @@ def test_moordyn_lowe_and_langley_file():
     assert (spec.axial_damping, spec.axial_damping_ratio) == (0.0, 0.5)
     assert (spec.diameter, spec.mass_per_length, spec.normal_drag, spec.normal_added_mass) == (0.396, 165.0, 1.0, 1.0)
     assert any("bending" in n for n in scene.notes)
-    assert any("kBot" in n and "seabed" in n for n in scene.notes)
+    assert not any("kBot" in n or "cBot" in n for n in scene.notes)
+    assert (scene.water.seabed.stiffness, scene.water.seabed.damping) == (3.0e6, 3.0e5)  # the file's kBot, cBot
     assert (scene.water.density, scene.water.gravity, scene.water.depth) == (1000.0, 9.807, 100.0)
     damping = segment_damping(scene.build(), 0)
     np.testing.assert_allclose(damping, 0.5 * 170.0 / 68 * np.sqrt(5e8 * 165.0), rtol=1e-12)
@@ -721,6 +823,156 @@ def test_toml_motion_table_file(tmp_path):
     motion = scene.points[1].motion
     assert isinstance(motion, jc.Sampled)
     np.testing.assert_allclose(np.asarray(motion.displacement(1.0)), [1.0, 0.0, 0.5], atol=1e-12)
+
+
+# --------------------------------------------------------------------------------------
+# TOML scenes: the sea
+
+
+SEA = """
+[water.current_profile]
+heights = [-150.0, -50.0, 0.0]
+speeds = [0.1, 0.3, 0.6]
+heading = 30.0
+
+[[waves]]
+theory = "airy"
+height = 4.0
+period = 10.0
+heading = 45.0
+phase = 1.5
+wheeler = true
+
+[[waves]]
+theory = "cnoidal"
+steepness = 0.005
+period = 40.0
+
+[seabed]
+stiffness = 2.0e6
+friction = 0.4
+friction_speed = 0.05
+"""
+
+
+def test_toml_sea_is_read_and_built(tmp_path):
+    text = edited("depth = 150.0\n", "depth = 150.0\nfluid_inertia = false\n") + SEA
+    scene = jc.read_scene(write_scene(tmp_path, text))
+    water = scene.water
+    assert water.fluid_inertia is False and water.depth == 150.0
+    assert (water.current_profile.heights, water.current_profile.speeds) == ((-150.0, -50.0, 0.0), (0.1, 0.3, 0.6))
+    airy, cnoidal = water.waves
+    assert (airy.theory, airy.height, airy.steepness, airy.period, airy.heading, airy.phase, airy.wheeler) == (
+        "airy", 4.0, None, 10.0, 45.0, 1.5, True)
+    assert (cnoidal.theory, cnoidal.height, cnoidal.steepness, cnoidal.heading, cnoidal.wheeler) == (
+        "cnoidal", None, 0.005, 0.0, False)
+    bed = water.seabed
+    assert (bed.stiffness, bed.damping, bed.friction, bed.friction_speed) == (2.0e6, 3.0e5, 0.4, 0.05)
+
+    env = scene.build().environment
+    assert env.fluid_inertia is False and float(env.depth) == 150.0
+    first, second = env.waves
+    assert isinstance(first, jc.Airy) and first.wheeler
+    np.testing.assert_allclose([first.height, first.period, first.heading, first.phase, first.depth, first.gravity],
+                               [4.0, 10.0, 45.0, 1.5, 150.0, 9.81])
+    # From the steepness: H/λ as given, in the water's depth.
+    assert isinstance(second, jc.Cnoidal)
+    np.testing.assert_allclose(float(second.steepness), 0.005, rtol=1e-9)
+    assert float(second.depth) == 150.0
+    assert isinstance(env.current, jc.CurrentProfile)
+    # 0.3 m/s at z = −50 m, towards 30°.
+    np.testing.assert_allclose(np.asarray(env.current.velocity(jnp.array([0.0, 0.0, -50.0]))),
+                               0.3 * np.array([np.cos(np.pi / 6), np.sin(np.pi / 6), 0.0]), atol=1e-12)
+    np.testing.assert_allclose([env.seabed.stiffness, env.seabed.damping, env.seabed.friction,
+                                env.seabed.friction_speed], [2.0e6, 3.0e5, 0.4, 0.05])
+
+
+def test_toml_sea_defaults(tmp_path):
+    text = SCENE + '\n[[waves]]\ntheory = "airy"\nsteepness = 0.02\nperiod = 8.0\n\n[seabed]\n'
+    scene = jc.read_scene(write_scene(tmp_path, text))
+    (wave,) = scene.water.waves
+    assert (wave.heading, wave.phase, wave.wheeler) == (0.0, 0.0, False)
+    bed = scene.water.seabed
+    assert (bed.stiffness, bed.damping, bed.friction, bed.friction_speed) == (3.0e6, 3.0e5, 0.0, 0.01)
+    assert scene.water.fluid_inertia is True and scene.water.current_profile is None
+    env = scene.build().environment
+    np.testing.assert_allclose(float(env.waves[0].steepness), 0.02, rtol=1e-12)
+    # Without [seabed] or [[waves]]: none.
+    env = jc.read_scene(write_scene(tmp_path, SCENE, "plain.toml")).build().environment
+    assert env.seabed is None and env.waves == ()
+
+
+WAVE = '\n[[waves]]\ntheory = "airy"\nheight = 2.0\nperiod = 8.0\n'
+
+
+@pytest.mark.parametrize(
+    "text, fragment, words",
+    [
+        # Schema: unknown keys, wrong types, missing keys.
+        (SCENE + WAVE.replace("period", "perod"), "perod", ("waves[0].perod", "unknown key", "period")),
+        (SCENE + WAVE.replace("8.0", '"8"'), 'period = "8"', ("waves[0].period", "finite number")),
+        (SCENE + WAVE + "wheeler = 1\n", "wheeler = 1", ("waves[0].wheeler", "true or false")),
+        (SCENE + WAVE.replace('theory = "airy"\n', ""), "[[waves]]", ("waves[0].theory", "missing required key")),
+        (SCENE + WAVE.replace("period = 8.0\n", ""), "[[waves]]", ("waves[0].period", "missing required key")),
+        (SCENE + "\n[waves]\ntheory = \"airy\"\n", "[waves]", ("key waves", "[[waves]]")),
+        (SCENE + "\n[seabed]\nstifness = 1.0\n", "stifness", ("seabed.stifness", "unknown key", "stiffness")),
+        (edited("depth = 150.0", "depth = 150.0\nfluid_inertia = 0"), "fluid_inertia", ("water.fluid_inertia",
+                                                                                      "true or false")),
+        # Values.
+        (SCENE + WAVE.replace("airy", "stokes"), 'theory = "stokes"', ("waves[0].theory", "unknown wave theory 'stokes'",
+                                                                       "cnoidal")),
+        (SCENE + WAVE + "steepness = 0.01\n", "steepness = 0.01", ("waves[0].steepness", "exactly one of height")),
+        (SCENE + WAVE.replace("height = 2.0\n", ""), "[[waves]]", ("waves[0]", "exactly one of height")),
+        (SCENE + WAVE.replace("8.0", "-8.0"), "period = -8.0", ("waves[0].period", "positive")),
+        (SCENE + WAVE.replace("2.0", "0.0"), "height = 0.0", ("waves[0].height", "positive")),
+        (SCENE + WAVE.replace("airy", "cnoidal").replace("period = 8.0", "period = 60.0") + "wheeler = false\n",
+         "wheeler = false", ("waves[0].wheeler", "airy waves only")),
+        (SCENE + "\n[seabed]\nstiffness = -3.0e6\n", "stiffness = -3.0e6", ("seabed.stiffness", "positive")),
+        (SCENE + "\n[seabed]\nfriction = -0.1\n", "friction = -0.1", ("seabed.friction", "non-negative")),
+        (SCENE + "\n[seabed]\nfriction_speed = 0\n", "friction_speed = 0", ("seabed.friction_speed", "positive")),
+        # The engine's own checks, located at the wave's table.
+        (SCENE + WAVE.replace("airy", "cnoidal").replace("height = 2.0", "height = 120.0"), "[[waves]]",
+         ("waves[0]", "breaking")),
+        (SCENE + WAVE.replace("airy", "cnoidal"), "[[waves]]", ("waves[0]", "Cnoidal.period", "use Airy")),
+        # Depth: waves and a seabed need it.
+        (SCENE.replace("depth = 150.0\n", "") + WAVE, "[[waves]]", ("waves[0]", "water depth", "[water] depth")),
+        (SCENE.replace("depth = 150.0\n", "") + "\n[seabed]\n", "[seabed]", ("key seabed", "water depth")),
+        # Currents.
+        (edited("depth = 150.0", "depth = 150.0\ncurrent = [0.1, 0.0, 0.0]") + SEA.split("[[waves]]")[0],
+         "[water.current_profile]", ("water.current_profile", "not both")),
+        (SCENE + "\n[water.current_profile]\nheights = [0.0, -10.0]\nspeeds = [0.1, 0.2]\n",
+         "[water.current_profile]", ("water.current_profile", "strictly increasing")),
+        (SCENE + "\n[water.current_profile]\nheights = [-10.0, 0.0]\nspeeds = 0.2\n",
+         "speeds = 0.2", ("water.current_profile.speeds", "list of finite numbers")),
+    ],
+)
+def test_toml_sea_errors_are_located(tmp_path, text, fragment, words):
+    error, path = read_scene_error(tmp_path, text)
+    assert_located(error, path, fragment, *words)
+
+
+def test_toml_low_ursell_cnoidal_wave_is_a_note(tmp_path):
+    # A cnoidal wave of Ursell number below 5: the engine warns that Airy fits better;
+    # the reader keeps it as a note on the wave's line.
+    text = SCENE + WAVE.replace("airy", "cnoidal").replace("period = 8.0", "period = 30.0")
+    path = write_scene(tmp_path, text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        scene = jc.read_scene(path)
+        scene.build()
+    (note,) = scene.notes
+    assert "Ursell" in note and "Airy" in note and re.search(rf"\bline {line_of(path, '[[waves]]')}\b", note)
+
+
+def test_water_built_from_python_checks_its_depth():
+    # A Water made in Python, without a file: still a SceneError, naming what is missing.
+    water = jc.Water(waves=(WaveSpec("airy", 8.0, height=2.0, where="wave 1"),))
+    with pytest.raises(jc.SceneError, match="wave 1: waves need the water depth"):
+        water.environment()
+    with pytest.raises(jc.SceneError, match="give exactly one of height and steepness"):
+        jc.Water(depth=50.0, waves=(WaveSpec("airy", 8.0),)).environment()
+    with pytest.raises(jc.SceneError, match="Seabed.stiffness must be positive"):
+        jc.Water(depth=50.0, seabed=SeabedSpec(stiffness=0.0)).environment()
 
 
 # --------------------------------------------------------------------------------------

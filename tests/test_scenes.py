@@ -48,6 +48,13 @@ def water(data: dict) -> tuple[float, float, np.ndarray]:
     return w.get("density", 1025.0), w.get("gravity", 9.81), np.array(w.get("current", [0.0, 0.0, 0.0]), float)
 
 
+def calm(data: dict) -> bool:
+    """Whether the scene's statics are those of still water on no seabed, which the
+    force balances below compute: no waves (whose flow at t = 0 the statics feel), no
+    seabed (whose contact forces they leave out). wave_mooring is checked on its own."""
+    return not data.get("waves") and "seabed" not in data
+
+
 def line_type(data: dict, name: str) -> dict:
     """A line type's numbers, with the defaults the format documents."""
     t = data["line_types"][name]
@@ -246,7 +253,10 @@ def total_wet_weight(data: dict) -> float:
     return lines + bodies
 
 
-@pytest.mark.parametrize("name", NAMES)
+CALM = [n for n in NAMES if calm(toml(n))]
+
+
+@pytest.mark.parametrize("name", CALM)
 def test_statics_global_balance(name, runs):
     """The supports carry the wet weight of everything, less the current's drag."""
     data = toml(name)
@@ -265,7 +275,7 @@ def test_statics_global_balance(name, runs):
     np.testing.assert_allclose(reactions.sum(axis=0), [0.0, 0.0, weight] - drag, rtol=0, atol=1e-8 * scale)
 
 
-@pytest.mark.parametrize("name", NAMES)
+@pytest.mark.parametrize("name", CALM)
 def test_statics_node_balance(name, runs):
     """Every free node is in equilibrium, and each support's reaction is what holds
     its node, with forces computed from the file's numbers and the positions."""
@@ -318,7 +328,7 @@ class ElasticCatenary:
         return x, z
 
 
-STILL_WATER = [n for n in NAMES if not np.any(water(toml(n))[2])]
+STILL_WATER = [n for n in CALM if not np.any(water(toml(n))[2])]
 
 
 @pytest.mark.parametrize("name", STILL_WATER)
@@ -357,6 +367,28 @@ def test_still_water_lines_are_elastic_catenaries(name, runs):
         sag = segment**2 / radius
         np.testing.assert_allclose(along, shape[:, 0], rtol=0, atol=0.1 * sag, err_msg=f"line {k + 1}")
         np.testing.assert_allclose(x[nodes, 2] - a[2], shape[:, 1], rtol=0, atol=0.1 * sag, err_msg=f"line {k + 1}")
+
+
+def test_wave_mooring_chain_rests_on_the_seabed(runs):
+    """The lying chain's nodes carry their wet weight w l on the bed's spring k δ d l
+    (contact area d per length, MoorDyn's kBot convention): δ = w / (k d). The wave's
+    flow on the bed is horizontal, along the lying chain, so it does not change that."""
+    data = toml("wave_mooring")
+    rho, g, _ = water(data)
+    assert data["waves"] and data["seabed"]
+    t = line_type(data, "chain")
+    depth, stiffness = data["water"]["depth"], data["seabed"]["stiffness"]
+    run = runs("wave_mooring")
+    z = np.asarray(run.static.state.positions)[run.built.line_nodes[0], 2]
+    lying = np.flatnonzero(z < -depth)
+    # The chain lies from the anchor over about half its length (header: 13 of 26 nodes).
+    assert lying[0] == 1 and 10 <= lying.size <= 16 and np.all(np.diff(lying) == 1)  # node 0: the anchor, at -d
+    inner = lying[1:-2]  # away from the anchor and from the touchdown's bend
+    penetration = -depth - z[inner]
+    np.testing.assert_allclose(penetration, (t["m"] - rho * t["F"]) * g / (stiffness * t["d"]), rtol=1e-4)
+    # The suspended part rises to the buoy, the top segment the most loaded.
+    tension = np.asarray(run.static.tension)[run.built.line_segments[0]]
+    assert np.argmax(tension) == tension.size - 1
 
 
 def test_seed003_file_is_the_seed003_builder():
@@ -432,6 +464,26 @@ def test_cli_info_bundled_example(capsys):
     for line in lines:
         assert f"  {line['name']}: {line['type']} from {line['from']} to {line['to']}" in out
     assert "advice:" in out and "stiffest axial mode" in out
+
+
+def test_cli_info_on_the_sea(capsys):
+    """wave_mooring's sea and the advice on it, against its file's numbers: the Ursell
+    number from the dispersion relation solved here, KC from Airy's surface speed."""
+    assert main(["info", "wave_mooring"]) == 0
+    out = capsys.readouterr().out
+    data = toml("wave_mooring")
+    (wave,) = data["waves"]
+    h, period, depth = wave["height"], wave["period"], data["water"]["depth"]
+    assert f"wave 1: airy, H = {h:g} m, T = {period:g} s, heading 0°" in out
+    assert f"seabed: at z = -{depth:g} m, stiffness 3e+06 Pa/m, damping 300000 Pa·s/m, friction μ = 0.5" in out
+    omega = 2 * np.pi / period
+    k = fsolve(lambda k: 9.81 * k * np.tanh(k * depth) - omega**2, omega**2 / 9.81, xtol=1e-14)[0]
+    wavelength = 2 * np.pi / k
+    assert f"U = Hλ²/d³ = {h * wavelength**2 / depth**3:.3g}" in out and "Airy fits, which it uses" in out
+    speed = omega * h / 2 / np.tanh(k * depth)  # at the surface, where the buoy holds the chain
+    diameter = data["line_types"]["chain"]["diameter"]
+    assert f"KC = uT/D = {speed * period / diameter:.3g}" in out and "drag dominates" in out
+    assert "fluid_inertia = false" in out and "no slack quasi-statically" in out
 
 
 def test_cli_statics_only(runs, tmp_path, capsys):
