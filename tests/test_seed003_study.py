@@ -5,8 +5,9 @@
   polyline's O(1/N²) error, and the change that C_E1 makes is reproduced even though it
   is smaller than that error.
 - The slack-time measure on a rectified sine, whose slack fraction is known.
-- The vmapped study's linear case against a plain `jaxcable.simulate` run of the line
-  with a `LinearElastic` law: batching and the C_E1 substitution change nothing.
+- The swept study's linear cases against plain `jaxcable.simulate` runs of the line
+  with a `LinearElastic` law, with a sweep per angle and with one sweep over angle ×
+  ratio: batching, the angle's lookup and the C_E1 substitution change nothing.
 - The claims' verdict on made-up tables with known answers.
 """
 
@@ -19,7 +20,7 @@ from scipy.optimize import fsolve
 
 import jaxcable as jc
 from jaxcable.examples._seed003 import AREA, DEPTH, MASS_PER_LENGTH
-from jaxcable.examples._seed003_study import seed003_case, seed003_study, slack_time, static_equilibrium, verdict
+from jaxcable.examples._seed003_study import seed003_case, seed003_study, slack_time, verdict
 
 RHO, G = 1025.0, 9.81
 N = 20  # one shape for every test here: one compilation of each program
@@ -55,7 +56,7 @@ def test_static_end_forces_match_the_nonlinear_elastic_catenary(angle):
     forces, expected = {}, {}
     for ratio in (0.0, 0.2):
         model, env = seed003_case(N, angle, ratio, c_e)
-        static = static_equilibrium(model, env)
+        static = jc.solve_statics(model, env)
         length = float(jnp.sum(model.segment_length))
         top, bottom = catenary_end_tensions(span, DEPTH, length, weight, c_e, ratio * c_e)
         # Node 0 is the anchor, node 1 the fairlead: the supports' forces on the line.
@@ -77,7 +78,7 @@ def test_case_sets_both_stiffnesses_on_every_segment():
     law = model.line.tension_law
     assert np.allclose(law.axial_stiffness, 2.5e6) and law.axial_stiffness.shape == (N,)
     assert np.allclose(law.quadratic_coefficient, 0.5e6) and law.quadratic_coefficient.shape == (N,)
-    static = static_equilibrium(model, env)
+    static = jc.solve_statics(model, env)
     eps = np.asarray(static.strain)
     assert eps.min() > 1e-3
     assert np.allclose(np.asarray(static.tension), 2.5e6 * eps + 0.5e6 * eps**2, rtol=1e-12)
@@ -93,23 +94,30 @@ def test_slack_time_of_a_rectified_sine():
     assert abs(slack_time(times, tension, threshold=0.5e4)[1] - 2 / 3) < 2e-3
 
 
-def test_batched_study_matches_plain_simulations():
-    """The vmapped C_E1 batch at C_E1 = 0 equals a plain run of a LinearElastic line."""
-    angle, c_e, window, rtol = 45.0, 1e7, (1.0, 2.0), 1e-9
-    study = seed003_study((angle,), (0.0, 0.2), axial_stiffness=c_e, n_segments=N, duration=2.0, window=window,
-                          sample_rate=50.0, rtol=rtol, atol=rtol)
-    model, env = seed003_case(N, angle, 0.0, c_e)
-    linear = eqx.tree_at(lambda m: m.line.tension_law, model, jc.LinearElastic(jnp.full(N, c_e), 1e-5))
-    static = static_equilibrium(model, env)  # C_E1 = 0: the linear law's equilibrium, compiled already
-    result = jc.simulate(linear, env, 2.0, ts=np.linspace(*window, 51), initial=static.state, rtol=rtol, atol=rtol)
-    case = study.case(angle, 0.0)
-    assert case.success and study.case(angle, 0.2).success
-    np.testing.assert_allclose(case.tension, np.asarray(result.tension), rtol=1e-5, atol=1e-4 * case.peak_line)
-    assert case.peak_top == pytest.approx(float(result.tension[:, -1].max()), rel=1e-5)
-    assert case.slack_fraction == np.mean(np.asarray(result.tension[:, -1]) <= 0.0)
-    # C_E1 > 0 stiffens: the same geometry holds a little more tension.
-    assert study.case(angle, 0.2).static_tension[-1] > case.static_tension[-1]
-    assert not np.allclose(study.case(angle, 0.2).tension, case.tension, rtol=1e-7, atol=0)
+@pytest.mark.parametrize("one_sweep", [False, True], ids=["sweep_per_angle", "one_sweep"])
+def test_batched_study_matches_plain_simulations(one_sweep):
+    """The swept study's linear cases equal plain runs of a LinearElastic line, whether
+    each angle has a sweep of its own or one sweep takes every angle and ratio."""
+    angles, c_e, window, rtol = (45.0, 60.0), 1e7, (1.0, 2.0), 1e-9
+    study = seed003_study(angles, (0.0, 0.2), axial_stiffness=c_e, n_segments=N, duration=2.0, window=window,
+                          sample_rate=50.0, rtol=rtol, atol=rtol, one_sweep=one_sweep)
+    assert [(c.angle, c.ratio) for c in study.cases] == [(a, r) for a in angles for r in (0.0, 0.2)]
+    assert set(study.run_s_by_angle) == (set() if one_sweep else set(angles))
+    for angle in angles:
+        model, env = seed003_case(N, angle, 0.0, c_e)
+        linear = eqx.tree_at(lambda m: m.line.tension_law, model, jc.LinearElastic(jnp.full(N, c_e), 1e-5))
+        static = jc.solve_statics(model, env)  # C_E1 = 0: the linear law's equilibrium
+        result = jc.simulate(linear, env, 2.0, ts=np.linspace(*window, 51), initial=static.state, rtol=rtol, atol=rtol)
+        case = study.case(angle, 0.0)
+        assert case.success and study.case(angle, 0.2).success
+        np.testing.assert_array_equal(case.static_tension, np.asarray(static.tension))
+        np.testing.assert_allclose(case.arc_length, np.cumsum(model.segment_length) - model.segment_length / 2)
+        np.testing.assert_allclose(case.tension, np.asarray(result.tension), rtol=1e-5, atol=1e-4 * case.peak_line)
+        assert case.peak_top == pytest.approx(float(result.tension[:, -1].max()), rel=1e-5)
+        assert case.slack_fraction == np.mean(np.asarray(result.tension[:, -1]) <= 0.0)
+        # C_E1 > 0 stiffens: the same geometry holds a little more tension.
+        assert study.case(angle, 0.2).static_tension[-1] > case.static_tension[-1]
+        assert not np.allclose(study.case(angle, 0.2).tension, case.tension, rtol=1e-7, atol=0)
 
 
 def _rows(peaks):

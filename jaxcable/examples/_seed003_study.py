@@ -9,10 +9,12 @@ t = 30–48 s (Figs. 2–4) and along the line (Fig. 5). They claim that
 2. the peak hardly changes from α = 30° to 45° but is about 25 % lower at 60°.
 
 This module runs those cases in jaxcable and measures the same things: each case starts
-from its own static equilibrium (`solve_statics`, compiled whole), is simulated to `duration`, and is
-read inside `window`. The four ratios of one angle run as one `jax.vmap` batch over
-C_E1 (`throw=False`, success read per case), compiled once for every angle and every
-C_E of a study, since those change only array values.
+from its own static equilibrium (`jaxcable.solve_statics`), is simulated to `duration`,
+and is read inside `window`. The ratios of one angle run as one `jaxcable.sweep` over
+C_E1 (success read per case), compiled once for every angle and every C_E of a study,
+since those change only array values. With `one_sweep=True` every angle and ratio run
+as a single sweep over `jaxcable.sweep_grid(angle, ratio)` instead: the angle moves the
+fairlead, which changes node positions and segment lengths but not the topology.
 
 The paper does not give C_E; `seed003_line` takes 3e7 N (a steel rope's E ≈ 100 GPa on
 F = 0.0003 m²). `axial_stiffness` overrides it (through `eqx.tree_at` on the
@@ -32,11 +34,10 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
 
-from .._simulate import simulate
 from .._state import State
 from .._statics import solve_statics
+from .._sweep import sweep, sweep_grid
 from ._seed003 import AXIAL_STIFFNESS, WAVE_PERIOD, seed003_line
 
 ANGLES = (30.0, 45.0, 60.0)
@@ -50,7 +51,9 @@ which scatter by as much among themselves; the effect of C_E1 stays within ±2 %
 SMALL = {"n_segments": 8, "rtol": 1e-7, "atol": 1e-7, "duration": 30.0, "window": (18.0, 30.0)}
 """A configuration small enough for the test suite (the notebook's default)."""
 
-_COMPILED: dict = {}
+# A study's first sweep runs to this time (s) only: it compiles the batch, which the timed
+# sweeps then reuse.
+_WARM_UP = 1e-3
 
 
 def seed003_case(
@@ -77,26 +80,6 @@ def seed003_case(
         ),
     )
     return model, env
-
-
-@eqx.filter_jit
-def _jit_statics(model, env):
-    return solve_statics(model, env, throw=False)
-
-
-def static_equilibrium(model, env):
-    """`solve_statics(model, env)`, compiled as one program per shape.
-
-    `solve_statics` runs its post-processing op by op, which costs tens of seconds on a
-    first call; compiled whole it is one compilation. Compiled, it cannot take its
-    energy-descent fallback, so a failed solve is retried by the plain function (which
-    raises if it fails too). The seed 003 lines start taut and straight and converge
-    directly.
-    """
-    solution = _jit_statics(model, env)
-    if solution.result != optx.RESULTS.successful:
-        solution = solve_statics(model, env)
-    return solution
 
 
 def slack_time(times: np.ndarray, tension: np.ndarray, threshold: float = 0.0) -> tuple[float, float]:
@@ -211,7 +194,11 @@ class Seed003Case:
 
 @dataclasses.dataclass
 class Seed003Study:
-    """A set of cases run with one configuration; see `seed003_study`."""
+    """A set of cases run with one configuration; see `seed003_study`.
+
+    `compile_s`, `run_s` and `run_s_by_angle` (s) are as `seed003_study` returns them;
+    `run_s_by_angle` has the angles that ran in a sweep of their own.
+    """
 
     cases: list[Seed003Case]
     settings: dict
@@ -270,31 +257,32 @@ class Seed003Study:
         }
 
 
-def _batched_runner(static, t1, solver, rtol, atol, max_steps):
-    """A jitted `(dynamic, quadratic, positions0, velocities0, ts) -> outputs`, batched
-    over C_E1 (and the matching initial states)."""
+def _sweep_build(angles, n_segments, axial_stiffness, mass_matrix, slack_width, period):
+    """`build(angle_degrees, quadratic_ratio)` for `jaxcable.sweep`, as `seed003_case`.
 
-    def run(dynamic, quadratic, positions0, velocities0, ts):
-        model, env = eqx.combine(dynamic, static)
+    `seed003_line` lays the line out with numpy, which cannot take a traced angle, so the
+    line of every angle in `angles` is built here and `build` picks the one nearest its
+    angle (the sweep passes only those). Only their float leaves that differ (node
+    positions and segment lengths) are picked; C_E1 = `quadratic_ratio` × C_E is then set
+    with `eqx.tree_at`.
+
+    **Returns:** `(build, lines)`, `lines` the `(model, environment)` of each angle.
+    """
+    lines = [seed003_case(n_segments, a, 0.0, axial_stiffness, mass_matrix, slack_width, period) for a in angles]
+    arrays = [eqx.filter(line, eqx.is_array) for line in lines]
+    rest = eqx.filter(lines[0], eqx.is_array, inverse=True)
+    varying = jax.tree.map(lambda first, *others: not all(np.array_equal(first, x) for x in others), *arrays)
+    table = jax.tree.map(lambda v, *xs: jnp.stack(xs) if v else xs[0], varying, *arrays)
+    angle_table = jnp.asarray(angles, dtype=float)
+
+    def build(angle_degrees, quadratic_ratio):
+        i = jnp.argmin(jnp.abs(angle_table - angle_degrees))
+        model, env = eqx.combine(jax.tree.map(lambda v, x: x[i] if v else x, varying, table), rest)
         law = model.line.tension_law
+        model = eqx.tree_at(lambda m: m.line.tension_law.quadratic_coefficient, model, quadratic_ratio * law.axial_stiffness)
+        return model, env
 
-        def one(c_e1, x0, v0):
-            m = eqx.tree_at(
-                lambda m: m.line.tension_law.quadratic_coefficient, model, jnp.full_like(law.quadratic_coefficient, c_e1)
-            )
-            r = simulate(
-                m, env, t1, ts=ts, initial=State(x0, v0), solver=solver, rtol=rtol, atol=atol, max_steps=max_steps, throw=False
-            )
-            return (
-                r.tension,
-                r.stats["num_steps"],
-                r.stats["num_rejected_steps"],
-                r.result == diffrax.RESULTS.successful,
-            )
-
-        return jax.vmap(one)(quadratic, positions0, velocities0)
-
-    return jax.jit(run)
+    return build, lines
 
 
 def seed003_study(
@@ -313,15 +301,24 @@ def seed003_study(
     max_steps: int = 4_000_000,
     slack_width: float = 1e-5,
     period: float = WAVE_PERIOD,
+    one_sweep: bool = False,
     verbose: bool = False,
 ) -> Seed003Study:
     """Run seed 003's cases and read them inside `window`.
 
-    Every case starts from its own static equilibrium at t = 0 and is simulated to
-    `duration`; tensions are sampled at `sample_rate` Hz inside `window`. The ratios of
-    one angle run as one `vmap` batch; the batch is compiled once per shape and option
-    set and reused for every angle, every C_E and later studies (those change only
-    array values). The defaults are `FULL`'s; `SMALL` is a quick configuration.
+    Every case starts from its own static equilibrium at t = 0 (`jaxcable.solve_statics`,
+    case by case) and is simulated to `duration`; tensions are sampled at `sample_rate` Hz
+    inside `window`. The ratios of one angle run as one `jaxcable.sweep`; its compilation
+    is reused for every angle, every C_E and later studies of the same shape and options
+    (those change only array values). The defaults are `FULL`'s; `SMALL` is a quick
+    configuration.
+
+    With `one_sweep`, all of `angles` × `ratios` run as a single sweep over
+    `jaxcable.sweep_grid`. A sweep integrates in lockstep, every case as long as its
+    slowest, and the 60° cases take about 1.6 times the steps of the 30° ones (`FULL`),
+    so on a 2-core CPU that ran 5–15 % slower than a sweep per angle (`FULL`'s 12 cases:
+    196 s against 185 s). It also batches differently, which moves the snaps' timing: the
+    peaks change by a few per cent, as they do with the tolerance.
 
     On this snapping line the peak inside a window is sensitive: at rtol = 1e-6 it
     moves by several per cent with the tolerance alone (a snap a little early or late);
@@ -335,67 +332,69 @@ def seed003_study(
     - `duration`: simulated time (s), at least `window[1]`.
     - `window`: `(start, end)` (s) over which peaks, minima and slack time are read.
     - `sample_rate`: output samples per second inside the window.
-    - `rtol`, `atol`, `solver`, `max_steps`: as `jaxcable.simulate` (Dopri5 by default;
+    - `rtol`, `atol`, `solver`, `max_steps`: as `jaxcable.sweep` (Dopri5 by default;
         `jaxcable.simulate`'s own default tolerance, 1e-6, is too loose for peaks here).
-    - `verbose`: print one line per angle.
+    - `one_sweep`: one sweep over every angle and ratio, rather than one per angle.
+    - `verbose`: print one line per sweep.
 
-    **Returns:** a `Seed003Study`, with `compile_s` (compilation, once) and `run_s`
-    (every batch's run, compilation excluded) in seconds.
+    **Returns:** a `Seed003Study`, with `compile_s` (a first sweep to 1 ms, which
+    compiles the batch, or finds it compiled: then a fraction of a second), `run_s` (the
+    timed sweeps, compilation excluded) and `run_s_by_angle` (each single-angle sweep's
+    share) in seconds. Neither counts the statics.
     """
     if duration < window[1] or window[0] >= window[1]:
         raise ValueError(f"seed003_study: need window[0] < window[1] <= duration, got {window}, {duration}")
     solver = diffrax.Dopri5() if solver is None else solver
     n_samples = int(round((window[1] - window[0]) * sample_rate)) + 1
-    ts = jnp.linspace(window[0], window[1], n_samples)
+    ts = np.asarray(jnp.linspace(window[0], window[1], n_samples))
+    angles = [float(a) for a in angles]
     ratios = [float(r) for r in ratios]
+    options = dict(solver=solver, rtol=rtol, atol=atol, max_steps=max_steps)
     cases, compile_s, run_s, by_angle = [], 0.0, 0.0, {}
-    for angle in angles:
-        model, env = seed003_case(n_segments, angle, 0.0, axial_stiffness, mass_matrix, slack_width, period)
-        statics, quadratic = [], []
-        for ratio in ratios:
-            m, _ = seed003_case(n_segments, angle, ratio, axial_stiffness, mass_matrix, slack_width, period)
-            statics.append(static_equilibrium(m, env))
-            quadratic.append(ratio * axial_stiffness)
-        positions0 = jnp.stack([s.state.positions for s in statics])
-        velocities0 = jnp.stack([s.state.velocities for s in statics])
-        dynamic, static = eqx.partition((model, env), eqx.is_array)
-        args = (dynamic, jnp.asarray(quadratic), positions0, velocities0, ts)
-        # One compilation per shape and option set, reused across angles, C_E and studies.
-        key = (n_segments, mass_matrix, len(ratios), n_samples, float(duration), repr(solver), rtol, atol, max_steps)
-        cached = _COMPILED.get(key)
-        if cached is None or not eqx.tree_equal(static, cached[0]):
+    for group in [angles] if one_sweep else [[a] for a in angles]:
+        build, lines = _sweep_build(group, n_segments, axial_stiffness, mass_matrix, slack_width, period)
+        grid = sweep_grid(angle_degrees=group, quadratic_ratio=ratios)  # angle slowest, as the cases are listed
+        # Outside the sweep, statics can fall back on energy descent (and raises if it fails).
+        statics = [solve_statics(*build(a, q)) for a, q in zip(*grid.values())]
+        initial = State(np.stack([s.state.positions for s in statics]), np.stack([s.state.velocities for s in statics]))
+        if not cases:
+            # The groups share one compiled batch: only the end time (data) differs here.
             start = time.perf_counter()
-            runner = _batched_runner(static, float(duration), solver, rtol, atol, max_steps)
-            _COMPILED[key] = cached = (static, runner.lower(*args).compile())
-            compile_s += time.perf_counter() - start
-        compiled = cached[1]
+            warm_up = np.linspace(0.0, _WARM_UP, n_samples)
+            jax.block_until_ready(sweep(build, grid, _WARM_UP, ts=warm_up, initial=initial, **options))
+            compile_s = time.perf_counter() - start
         start = time.perf_counter()
-        tension, steps, rejected, ok = jax.block_until_ready(compiled(*args))
+        result = jax.block_until_ready(sweep(build, grid, float(duration), ts=ts, initial=initial, **options))
         elapsed = time.perf_counter() - start
         run_s += elapsed
-        by_angle[float(angle)] = elapsed
-        segment_length = np.asarray(model.segment_length)
-        arc = np.cumsum(segment_length) - segment_length / 2
-        for i, ratio in enumerate(ratios):
+        if len(group) == 1:
+            by_angle[group[0]] = elapsed
+        tension = np.asarray(result.simulation.tension)
+        steps = np.asarray(result.simulation.stats["num_steps"])
+        rejected = np.asarray(result.simulation.stats["num_rejected_steps"])
+        success = np.asarray(result.success)
+        for i, (angle, ratio) in enumerate(zip(*grid.values())):
+            segment_length = np.asarray(lines[group.index(angle)][0].segment_length)
             cases.append(
                 Seed003Case(
                     angle=float(angle),
-                    ratio=ratio,
+                    ratio=float(ratio),
                     axial_stiffness=float(axial_stiffness),
-                    times=np.asarray(ts),
-                    tension=np.asarray(tension[i]),
-                    arc_length=arc,
+                    times=ts,
+                    tension=tension[i],
+                    arc_length=np.cumsum(segment_length) - segment_length / 2,
                     static_tension=np.asarray(statics[i].tension),
-                    success=bool(ok[i]),
+                    success=bool(success[i]),
                     steps=int(steps[i]),
                     rejected_steps=int(rejected[i]),
                 )
             )
         if verbose:
-            peaks = ", ".join(f"{c.peak_top / 1e3:.1f}" for c in cases[-len(ratios):])
-            print(f"α = {angle:g}°, C_E = {axial_stiffness:.0e} N: {elapsed:.1f} s, top peaks (kN) {peaks}", flush=True)
+            peaks = ", ".join(f"{c.peak_top / 1e3:.1f}" for c in cases[-len(statics):])
+            where = f"α = {group[0]:g}°" if len(group) == 1 else f"α = {', '.join(f'{a:g}' for a in group)}°"
+            print(f"{where}, C_E = {axial_stiffness:.0e} N: {elapsed:.1f} s, top peaks (kN) {peaks}", flush=True)
     settings = {
-        "angles": [float(a) for a in angles],
+        "angles": angles,
         "ratios": ratios,
         "axial_stiffness_N": float(axial_stiffness),
         "n_segments": n_segments,
@@ -408,6 +407,7 @@ def seed003_study(
         "solver": type(solver).__name__,
         "slack_width": slack_width,
         "period_s": period,
+        "one_sweep": one_sweep,
     }
     return Seed003Study(cases, settings, compile_s, run_s, by_angle)
 
