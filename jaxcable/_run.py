@@ -150,7 +150,7 @@ def run_scene(
         positions = as_series(static.state.positions)
         return SceneRun(
             built, static, np.zeros(1), positions, as_series(static.state.velocities), as_series(static.tension),
-            as_series(static.reactions), 0, statics_seconds, 0.0, _water_notes(scene, positions),
+            as_series(static.reactions), 0, statics_seconds, 0.0, _water_notes(built, positions),
         )
 
     start = time.perf_counter()
@@ -163,18 +163,21 @@ def run_scene(
     return SceneRun(
         built, static, np.asarray(result.times), positions, np.asarray(result.velocities), np.asarray(result.tension),
         np.asarray(result.reactions), int(result.stats["num_steps"]), statics_seconds, dynamics_seconds,
-        _water_notes(scene, positions),
+        _water_notes(built, positions),
     )
 
 
-def _water_notes(scene: Scene, positions: np.ndarray) -> tuple[str, ...]:
-    """Where the run left the water the model assumes: above the still-water level
-    without the free surface, or below the bottom without a seabed."""
+def _water_notes(built: BuiltScene, positions: np.ndarray) -> tuple[str, ...]:
+    """Where the run left the water the model assumes: above the highest crest without
+    the free surface, or below the bottom without a seabed."""
+    scene, env = built.scene, built.environment
     notes = []
     highest = float(positions[..., 2].max())
-    if highest > 0 and not scene.water.free_surface:
+    crest = sum(float(wave.crest) for wave in env.waves)
+    if highest > crest + 1e-6 and not scene.water.free_surface:
+        where = "the still-water level" if not env.waves else f"the highest crest, {crest:.2f} m"
         notes.append(
-            f"nodes reach z = {highest:.2f} m, above the still-water level: every segment is treated as "
+            f"nodes reach z = {highest:.2f} m, above {where}: every segment is treated as "
             "submerged, so buoyancy, drag and added mass act on the emerged part too"
         )
     depth = scene.water.depth

@@ -65,6 +65,11 @@ class AbstractWave(eqx.Module):
     def wavelength(self) -> Float[Array, ""]:
         """λ (m)."""
 
+    @property
+    @abc.abstractmethod
+    def crest(self) -> Float[Array, ""]:
+        """The crest's elevation η_c (m) above the still-water level."""
+
     @abc.abstractmethod
     def elevation(self, x: Float[Array, "*batch"], y: Float[Array, "*batch"], t) -> Float[Array, "*batch"]:
         """The surface elevation η (m) above the still-water level at `(x, y)` (m) and
@@ -189,6 +194,10 @@ class Airy(AbstractWave):
     @property
     def wavelength(self) -> Float[Array, ""]:
         return 2 * jnp.pi / self.wavenumber
+
+    @property
+    def crest(self) -> Float[Array, ""]:
+        return 0.5 * self.height
 
     def _theta(self, x, y, t):
         return self.wavenumber * self._along(x, y) - self.angular_frequency * t + self.phase
