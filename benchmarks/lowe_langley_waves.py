@@ -23,7 +23,6 @@ import argparse
 import json
 import platform
 import shutil
-import statistics
 import tempfile
 import time
 from pathlib import Path
@@ -32,6 +31,8 @@ import jax
 import numpy as np
 
 import jaxcable as jc
+
+from _timing import timed
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "lowe_and_langley_2006"
 RESULTS = Path(__file__).resolve().parent / "results" / "lowe_langley_waves.json"
@@ -66,18 +67,10 @@ def run_jaxcable(case: int, repeats: int) -> dict:
     def run():
         return jc.simulate(model, env, SETTLE + AFTER, ts=ts, initial=static.state)
 
-    start = time.perf_counter()
-    result = jax.block_until_ready(run())
-    first = time.perf_counter() - start
-    walls = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        jax.block_until_ready(run())
-        walls.append(time.perf_counter() - start)
-    wall = statistics.median(walls)
+    result, compile_time, wall = timed(run, repeats)
     reaction = np.linalg.norm(np.asarray(result.reactions[:, top]), axis=1) / 1e3
     return {
-        "times": ts, "reaction": reaction, "compile": max(first - wall, 0.0), "run": wall,
+        "times": ts, "reaction": reaction, "compile": compile_time, "run": wall,
         "steps": int(result.stats["num_steps"]), "success": bool(result.success),
     }
 

@@ -18,7 +18,6 @@ import argparse
 import json
 import os
 import platform
-import statistics
 import time
 from pathlib import Path
 
@@ -29,6 +28,8 @@ import numpy as np
 import jaxcable as jc
 from jaxcable.examples import seed003_line
 
+from _timing import timed
+
 SOLVERS = {
     "default": jc.default_solver,
     "kvaerno5-verychord": lambda: diffrax.Kvaerno5(),
@@ -36,20 +37,6 @@ SOLVERS = {
     "tsit5": diffrax.Tsit5,
     "dopri5": diffrax.Dopri5,
 }
-
-
-def timed(run, repeats):
-    """Compile-and-run time of the first call, then the median of `repeats` warm calls."""
-    start = time.perf_counter()
-    result = jax.block_until_ready(run())
-    first = time.perf_counter() - start
-    warm = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        jax.block_until_ready(run())
-        warm.append(time.perf_counter() - start)
-    run_time = statistics.median(warm)
-    return result, max(first - run_time, 0.0), run_time
 
 
 def main():
