@@ -24,11 +24,26 @@ from ._materials import (
     NonlinearElastic as NonlinearElastic,
     slack_switch as slack_switch,
 )
-from ._motion import AbstractMotion as AbstractMotion, Fixed as Fixed, Harmonic as Harmonic, Sampled as Sampled
+from ._motion import (
+    AbstractMotion as AbstractMotion,
+    Fixed as Fixed,
+    Harmonic as Harmonic,
+    Sampled as Sampled,
+)
 from ._moordyn import read_moordyn as read_moordyn
 from ._motion_file import read_motion_file as read_motion_file
 from ._network import Body as Body, Branch as Branch, CableNetwork as CableNetwork, LineType as LineType
 from ._output import write as write_output
+from ._records import (
+    COLUMNS as COLUMNS,
+    UNITS as UNITS,
+    RecordError as RecordError,
+    TowingRecord as TowingRecord,
+    read_record as read_record,
+    read_records as read_records,
+    to_si as to_si,
+    write_record as write_record,
+)
 from ._plots import plot_run as plot_run
 from ._run import SceneRun as SceneRun, load_scene as load_scene, run_scene as run_scene
 from ._scene import (
