@@ -29,6 +29,7 @@ from ._motion import (
     Fixed as Fixed,
     Harmonic as Harmonic,
     Sampled as Sampled,
+    Towing as Towing,
 )
 from ._moordyn import read_moordyn as read_moordyn
 from ._motion_file import read_motion_file as read_motion_file

@@ -156,3 +156,61 @@ def _natural_spline_curvatures(times: Array, values: Array) -> Array:
     interior = jax.lax.linalg.tridiagonal_solve(lower, 2 * (h[:-1] + h[1:]), upper, rhs)
     zero = jnp.zeros((1, values.shape[1]))
     return jnp.concatenate([zero, interior, zero])
+
+
+class Towing(AbstractMotion):
+    """A tow point moving along `direction` at a speed history: the velocity is the
+    piecewise-linear interpolation of `speeds` at `times`, and the displacement its
+    exact integral, zero at `times[0]`. Before the first and after the last sample the
+    speed holds its end value.
+
+    Piecewise-linear, not a spline: a towing record's speed is a measured input, and a
+    spline through a speed step (seed 002's 1 → 3 m/s) would overshoot it. The
+    acceleration steps at each sample; with the lumped mass matrix it enters only the
+    support's reaction, not the free nodes' equations, so the solver does not see the
+    steps. Smooth a noisy measured speed before using it: its differences are
+    accelerations.
+
+    **Arguments:**
+
+    - `times`: sample times (s), shape `(samples,)`, strictly increasing.
+    - `speeds`: the speed (m/s) at each sample, shape `(samples,)`.
+    - `direction`: the towing direction, a 3-vector, normalised here; +x by default.
+    """
+
+    times: Float[Array, " samples"]
+    speeds: Float[Array, " samples"]
+    direction: Float[Array, "3"]
+    distances: Float[Array, " samples"]
+
+    def __init__(self, times: ArrayLike, speeds: ArrayLike, direction=(1.0, 0.0, 0.0)):
+        times = checks.float_array("Towing.times", times)
+        if times.ndim != 1 or times.shape[0] < 2:
+            raise ValueError(f"Towing.times must be 1-D with at least 2 samples, got shape {times.shape}")
+        speeds = checks.float_array("Towing.speeds", speeds)
+        if speeds.shape != times.shape:
+            raise ValueError(f"Towing.speeds must have shape {times.shape} to match Towing.times, got {speeds.shape}")
+        if checks.is_concrete(times) and not bool(jnp.all(jnp.diff(times) > 0)):
+            raise ValueError("Towing.times must be strictly increasing")
+        direction = checks.float_array("Towing.direction", direction)
+        if direction.shape != (3,):
+            raise ValueError(f"Towing.direction must have shape (3,), got {direction.shape}")
+        norm = jnp.linalg.norm(direction)
+        checks.positive("Towing.direction (its length)", norm)
+        self.times = times
+        self.speeds = speeds
+        self.direction = direction / norm
+        # The distance run at each sample: the trapezoid rule is exact for linear speed.
+        steps = 0.5 * (speeds[1:] + speeds[:-1]) * jnp.diff(times)
+        self.distances = jnp.concatenate([jnp.zeros(1), jnp.cumsum(steps)])
+
+    def displacement(self, t):
+        ts, vs = self.times, self.speeds
+        k = jnp.clip(jnp.searchsorted(ts, t, side="right") - 1, 0, ts.shape[0] - 2)
+        s = t - ts[k]
+        slope = (vs[k + 1] - vs[k]) / (ts[k + 1] - ts[k])
+        inside = self.distances[k] + vs[k] * s + 0.5 * slope * s**2
+        before = vs[0] * (t - ts[0])
+        after = self.distances[-1] + vs[-1] * (t - ts[-1])
+        distance = jnp.where(t < ts[0], before, jnp.where(t > ts[-1], after, inside))
+        return distance * self.direction

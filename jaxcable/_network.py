@@ -178,8 +178,11 @@ class CableNetwork(eqx.Module):
 
     `ValueError` naming the field and value for non-finite input, non-positive lengths,
     masses, stiffnesses or diameters, node indices out of range, a segment joining a
-    node to itself, mismatched shapes, an unknown option, or a connected part of the
-    network that no constrained node holds.
+    node to itself, mismatched shapes, or an unknown option.
+
+    A part of the network that no constrained node holds is allowed: it moves freely
+    (a free ascent, a drifting buoy), and only [`jaxcable.solve_statics`][], which has
+    no equilibrium to find for it, refuses it.
     """
 
     node_positions: Float[Array, "nodes 3"]
@@ -255,8 +258,6 @@ class CableNetwork(eqx.Module):
             if not isinstance(b, Body):
                 raise ValueError(f"CableNetwork.bodies[{k}] must be a Body, got {b!r}")
         self.body = _scatter_bodies(bodies, n_nodes)
-
-        _check_held(edges, n_nodes, constrained)
 
     @property
     def n_nodes(self) -> int:
@@ -409,9 +410,15 @@ def _scatter_bodies(bodies: Mapping[int, Body], n_nodes: int) -> Body:
     return jax.tree.map(lambda x: jnp.zeros(n_nodes).at[nodes].set(x), stacked)
 
 
-def _check_held(edges: np.ndarray, n_nodes: int, constrained: list[int]) -> None:
-    """Raise unless every connected part of the graph has a constrained node."""
-    labels = np.arange(n_nodes)
+def check_held(model: CableNetwork) -> None:
+    """Raise `ValueError` unless every connected part of the graph has a constrained
+    node: a part that nothing holds has no static equilibrium. Topology traced inside
+    `jit` cannot be inspected and is not checked."""
+    if not (checks.is_concrete(model.segment_nodes) and checks.is_concrete(model.constrained_nodes)):
+        return
+    edges = np.asarray(model.segment_nodes)
+    constrained = np.asarray(model.constrained_nodes)
+    labels = np.arange(model.n_nodes)
     while True:
         merged = np.minimum(labels[edges[:, 0]], labels[edges[:, 1]])
         updated = labels.copy()
@@ -427,6 +434,7 @@ def _check_held(edges: np.ndarray, n_nodes: int, constrained: list[int]) -> None
             members = np.flatnonzero(labels == component)
             shown = ", ".join(map(str, members[:8])) + (", ..." if members.size > 8 else "")
             raise ValueError(
-                f"CableNetwork: nodes [{shown}] form a part of the network with no constrained "
-                "node, so nothing holds it; fix or prescribe the motion of at least one of them"
+                f"solve_statics: nodes [{shown}] form a part of the network with no constrained "
+                "node, so it has no equilibrium; fix or prescribe the motion of at least one of "
+                "them, or simulate it from a given initial state"
             )

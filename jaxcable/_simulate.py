@@ -121,7 +121,8 @@ def simulate(
     **Arguments:**
 
     - `model`, `env`: the network and the water.
-    - `t1`, `t0`: end and start time (s).
+    - `t1`, `t0`: end and start time (s); traced values are allowed (records of
+        different spans in one `vmap`).
     - `ts`: output times (s); 201 evenly spaced times from `t0` to `t1` by default.
     - `initial`: the initial [`jaxcable.State`][]; `model.node_positions` at rest by
         default. Use `solve_statics(...).state` to start from equilibrium.
@@ -147,7 +148,7 @@ def simulate(
     With `throw=True`, an error carrying diffrax's message when the solve fails (too
     many steps, step size collapse). Non-finite states are rejected steps, not output.
     """
-    if not t1 > t0:
+    if checks.is_concrete(t0) and checks.is_concrete(t1) and not t1 > t0:
         raise ValueError(f"simulate: t1 must be greater than t0, got t0={t0}, t1={t1}")
     ts = jnp.linspace(t0, t1, 201) if ts is None else jnp.asarray(ts, dtype=float)
     if ts.ndim != 1 or ts.size == 0:

@@ -7,7 +7,7 @@ from jaxtyping import Array, Float, Int
 
 from . import _checks as checks, _lagrangian as lag
 from ._environment import Environment
-from ._network import CableNetwork
+from ._network import CableNetwork, check_held
 from ._state import State
 
 
@@ -81,7 +81,13 @@ def solve_statics(
     **Returns:**
 
     A [`jaxcable.StaticSolution`][].
+
+    **Raises:**
+
+    `ValueError` if a part of the network has no constrained node; with `throw=True`,
+    `RuntimeError` if no equilibrium is found.
     """
+    check_held(model)
     start = model.node_positions if initial is None else initial.positions
     descended = False
     if env.seabed is not None and _reaches_bed(model, env, start):

@@ -1,6 +1,7 @@
 """Prescribed motions against closed-form kinematics."""
 
 import numpy as np
+import pytest
 
 import jaxcable as jc
 
@@ -78,3 +79,29 @@ def test_ramped_harmonic_starts_at_rest_and_matches_its_closed_form():
         np.testing.assert_allclose(a[2], amplitude * (ddf * s + 2 * df * omega * c - f * omega**2 * s), atol=1e-12)
     _, v0, a0 = motion.kinematics(0.0)
     assert np.all(v0 == 0) and np.all(a0 == 0)
+
+
+def test_towing_follows_its_speed_history():
+    # Seed 002's step, 1 -> 3 m/s over 2 s: distance by hand, piece by piece.
+    motion = jc.Towing([0.0, 10.0, 12.0, 20.0], [1.0, 1.0, 3.0, 3.0], direction=(0.0, 2.0, 0.0))
+    for t, distance, speed, acceleration in [
+        (-1.0, -1.0, 1.0, 0.0),  # before the record: the first speed, held
+        (5.0, 5.0, 1.0, 0.0),
+        (11.0, 10.0 + 1.0 + 0.5 * 1.0 * 1.0**2, 2.0, 1.0),  # mid-ramp: 1 m/s² over 1 s
+        (12.0, 10.0 + 2.0 + 0.5 * 1.0 * 2.0**2, 3.0, 0.0),
+        (15.0, 14.0 + 9.0, 3.0, 0.0),
+        (25.0, 14.0 + 24.0 + 15.0, 3.0, 0.0),  # after the record: the last speed, held
+    ]:
+        r, v, a = motion.kinematics(t)
+        np.testing.assert_allclose(np.asarray(r), [0.0, distance, 0.0], rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(np.asarray(v), [0.0, speed, 0.0], rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(np.asarray(a), [0.0, acceleration, 0.0], rtol=1e-14, atol=1e-14)
+
+
+def test_towing_rejects_bad_input():
+    with pytest.raises(ValueError, match="Towing.times must be strictly increasing"):
+        jc.Towing([0.0, 1.0, 1.0], [1.0, 1.0, 1.0])
+    with pytest.raises(ValueError, match=r"Towing.speeds must have shape \(3,\)"):
+        jc.Towing([0.0, 1.0, 2.0], [1.0, 1.0])
+    with pytest.raises(ValueError, match="Towing.speeds must be finite, got nan"):
+        jc.Towing([0.0, 1.0], [1.0, float("nan")])

@@ -104,16 +104,19 @@ def test_segment_joining_a_node_to_itself():
         network(segment_nodes=[[0, 1], [1, 1]])
 
 
-def test_unheld_part_of_the_network():
-    # Nodes 2-3 form their own component, with no constrained node.
+def test_unheld_part_of_the_network_has_no_statics():
+    # Nodes 2-3 form their own component, with no constrained node: it may move freely,
+    # but it has no equilibrium.
+    env = jc.Environment(water_density=1025.0)
+    free_pair = network(
+        node_positions=[[0.0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]],
+        segment_nodes=[[0, 1], [2, 3]],
+        constraints={0: jc.Fixed()},
+    )
     with pytest.raises(ValueError, match=r"nodes \[2, 3\] form a part of the network with no constrained node"):
-        network(
-            node_positions=[[0.0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]],
-            segment_nodes=[[0, 1], [2, 3]],
-            constraints={0: jc.Fixed()},
-        )
+        jc.solve_statics(free_pair, env)
     with pytest.raises(ValueError, match=r"no constrained node"):
-        network(constraints={})
+        jc.solve_statics(network(constraints={}), env)
 
 
 def test_mismatched_shapes():
