@@ -9,6 +9,11 @@ import jax as _jax
 _jax.config.update("jax_enable_x64", True)
 
 from ._advice import Advice as Advice, advise as advise
+from ._calibrate import (
+    CalibrationResult as CalibrationResult,
+    calibrate as calibrate,
+    synthetic_record as synthetic_record,
+)
 from ._cnoidal import Cnoidal as Cnoidal, cnoidal_coefficients as cnoidal_coefficients
 from ._environment import CurrentProfile as CurrentProfile, Environment as Environment, Seabed as Seabed
 from ._lagrangian import (
@@ -45,7 +50,7 @@ from ._records import (
     to_si as to_si,
     write_record as write_record,
 )
-from ._plots import plot_run as plot_run
+from ._plots import plot_calibration as plot_calibration, plot_run as plot_run
 from ._run import SceneRun as SceneRun, load_scene as load_scene, run_scene as run_scene
 from ._scene import (
     BuiltScene as BuiltScene,
@@ -71,6 +76,16 @@ from ._simulate import (
 from ._state import State as State
 from ._sweep import SweepResult as SweepResult, sweep as sweep, sweep_grid as sweep_grid
 from ._statics import StaticSolution as StaticSolution, solve_statics as solve_statics
+from ._towing import (
+    COEFFICIENTS as COEFFICIENTS,
+    RIGS as RIGS,
+    AbstractTowingRig as AbstractTowingRig,
+    HorizontalTow as HorizontalTow,
+    SolverSettings as SolverSettings,
+    TowingRun as TowingRun,
+    VerticalTow as VerticalTow,
+    rig_from_conditions as rig_from_conditions,
+)
 from ._waves import (
     AbstractWave as AbstractWave,
     Airy as Airy,

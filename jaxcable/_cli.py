@@ -3,13 +3,18 @@
     jaxcable run INPUT [--duration S] [--motion FILE] [--out FILE] [--dt-out S]
                        [--plot FILE.png] [--solver NAME] [--segments N] [--channels ...]
     jaxcable info INPUT [--segments N] [--duration S]
+    jaxcable calibrate RECORD.csv [RECORD.csv ...] --fit NAME=START [NAME=START ...]
+                       [--optimizer lbfgs|adam] [--max-steps N] [--plot FILE.png]
+                       [--out FILE.json]
     jaxcable examples
 
 INPUT is a jaxcable scene (`.toml`), a MoorDyn v2 input file (any other suffix), or the
-name of a bundled example scene (see `jaxcable examples`).
+name of a bundled example scene (see `jaxcable examples`). A RECORD is a towing record
+(CSV, see `jaxcable.read_record`) whose header names its rig.
 """
 
 import argparse
+import json
 import os
 import sys
 import warnings
@@ -19,11 +24,14 @@ import numpy as np
 
 from . import _output as output
 from ._advice import advise
+from ._calibrate import calibrate
 from ._motion import Harmonic, Sampled
 from ._motion_file import read_motion_file
+from ._records import read_records
 from ._run import load_scene, run_scene
 from ._scene import Scene, SceneError
 from ._simulate import SOLVERS
+from ._towing import SolverSettings
 from .examples import scene_path, scene_names
 
 
@@ -71,6 +79,21 @@ def _parser() -> argparse.ArgumentParser:
     info.add_argument("--segments", type=int, help="divide every line into this many segments")
     info.add_argument("--duration", type=float, help="simulated time (s) the advice assumes")
     info.set_defaults(handler=_info)
+
+    calibrate = commands.add_parser("calibrate", help="fit drag coefficients to towing records")
+    calibrate.add_argument("records", nargs="+", type=Path, help="towing records (CSV) whose headers name their rigs")
+    calibrate.add_argument("--fit", nargs="+", required=True, metavar="NAME=START",
+                           help="coefficients to fit, with starting values: normal_drag (K_n), tangential_drag "
+                                "(K_τ), specific_drag (k₀, s²/m²)")
+    calibrate.add_argument("--optimizer", choices=("lbfgs", "adam"), default="lbfgs", help="optax optimizer")
+    calibrate.add_argument("--max-steps", type=int, default=50, help="most optimizer iterations (default 50)")
+    calibrate.add_argument("--learning-rate", type=float, default=0.05, help="Adam's step in log coefficients")
+    calibrate.add_argument("--rtol", type=float, default=1e-6, help="solver relative tolerance")
+    calibrate.add_argument("--atol", type=float, default=1e-6, help="solver absolute tolerance")
+    calibrate.add_argument("--plot", type=Path, help="save the data against the fit, and the loss, to this image")
+    calibrate.add_argument("--out", type=Path, help="write the fitted values and uncertainties to this JSON file")
+    calibrate.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
+    calibrate.set_defaults(handler=_calibrate)
 
     examples = commands.add_parser("examples", help="list the bundled example scenes")
     examples.set_defaults(handler=_examples)
@@ -205,6 +228,56 @@ def _describe_motion(motion) -> str:
     if isinstance(motion, Sampled):
         return f"table of {motion.times.size} samples from {float(motion.times[0]):g} to {float(motion.times[-1]):g} s"
     return type(motion).__name__
+
+
+def _calibrate(args) -> int:
+    start = {}
+    for item in args.fit:
+        name, _, value = item.partition("=")
+        try:
+            start[name.strip()] = float(value)
+        except ValueError:
+            raise SceneError(f"--fit {item!r}: give NAME=START, e.g. normal_drag=1.2") from None
+    try:
+        records = read_records(args.records)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the summary prints the warnings itself
+            result = calibrate(
+                records,
+                start,
+                optimizer=args.optimizer,
+                max_steps=args.max_steps,
+                learning_rate=args.learning_rate,
+                settings=SolverSettings(rtol=args.rtol, atol=args.atol),
+                progress=not args.no_progress,
+            )
+    except ValueError as error:  # a malformed record, an unknown rig or coefficient
+        raise SceneError(str(error)) from None
+    print(result.summary())
+    if args.out is not None:
+        summary = {
+            "values": result.values,
+            "uncertainty": result.uncertainty,
+            "relative_uncertainty": result.relative_uncertainty,
+            "correlation": result.correlation.tolist(),
+            "sensitivity": result.sensitivity,
+            "start": result.start,
+            "loss": result.loss.tolist(),
+            "iterations": result.iterations,
+            "converged": result.converged,
+            "noise": [{"record": r, "observable": o, "sigma": s} for (r, o), s in result.noise.items()],
+            "records": [r.name for r in result.records],
+            "success": result.success,
+            "warnings": result.warnings,
+        }
+        args.out.write_text(json.dumps(summary, indent=2) + "\n")
+        print(f"wrote {args.out}")
+    if args.plot is not None:
+        from ._plots import plot_calibration
+
+        plot_calibration(result, args.plot)
+        print(f"wrote {args.plot}")
+    return 0
 
 
 def _examples(args) -> int:

@@ -1,4 +1,5 @@
-"""Figures of a run: tension histories and the shape of the lines (matplotlib)."""
+"""Figures: a run's tension histories and line shapes, and a calibration's fit
+(matplotlib)."""
 
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -6,6 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from ._calibrate import CalibrationResult
     from ._run import SceneRun
 
 
@@ -73,4 +75,72 @@ def plot_run(run: "SceneRun", path: str | Path, channels: tuple[str, ...] = (), 
     figure.suptitle(f"{scene.title} ({Path(scene.source).name})" if scene.title else Path(scene.source).name)
     figure.savefig(path, dpi=120)
     plt.close(figure)
+    return figure
+
+
+# Axis labels of the towing observables, with the unit each is plotted in and its
+# factor from SI.
+_OBSERVABLES = {
+    "speed": ("speed (m/s)", 1.0),
+    "tension": ("tension (kN)", 1e-3),
+    "depth": ("depth (m)", 1.0),
+    "layback": ("layback (m)", 1.0),
+}
+
+
+def plot_calibration(result: "CalibrationResult", path: str | Path | None = None):
+    """A figure of a calibration: for each record (a row) and observable (a column),
+    the measured samples against the fitted model; and, in the last row, the loss at
+    each iteration and the fitted coefficients with their one-standard-deviation
+    uncertainty relative to the start.
+
+    **Arguments:**
+
+    - `result`: a [`jaxcable.CalibrationResult`][].
+    - `path`: where to save it (any format matplotlib writes); not saved if `None`.
+
+    **Returns:**
+
+    The matplotlib figure.
+    """
+    plt = _pyplot()
+    names = [k for k in _OBSERVABLES if any(k in p for p in result.predictions)]
+    rows, columns = len(result.records) + 1, max(len(names), 2)
+    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 2.6 * rows), layout="constrained",
+                                squeeze=False)
+    for row, (record, predicted) in enumerate(zip(result.records, result.predictions)):
+        for column in range(columns):
+            ax = axes[row, column]
+            if column >= len(names) or names[column] not in predicted:
+                ax.axis("off")
+                continue
+            label, factor = _OBSERVABLES[names[column]]
+            ax.plot(record.times, record.columns[names[column]] * factor, ".", markersize=2.5, color="0.55",
+                    label="measured")
+            ax.plot(record.times, predicted[names[column]] * factor, color="tab:red", linewidth=1.2, label="fitted")
+            ax.set_ylabel(label)
+            ax.set_title(record.name or f"record {row}", fontsize="small")
+            ax.grid(True, alpha=0.3)
+            if row == rows - 2:
+                ax.set_xlabel("time t (s)")
+    axes[0, 0].legend(fontsize="small")
+    loss, coefficients = axes[-1, 0], axes[-1, 1]
+    loss.semilogy(np.arange(result.loss.size), result.loss, marker="o", markersize=3)
+    loss.set_xlabel("iteration")
+    loss.set_ylabel("loss")
+    loss.set_title("Loss", fontsize="small")
+    loss.grid(True, alpha=0.3)
+    fitted = list(result.values)
+    ratio = [result.values[n] / result.start[n] for n in fitted]
+    spread = [result.uncertainty[n] / result.start[n] for n in fitted]
+    coefficients.errorbar(np.arange(len(fitted)), ratio, yerr=spread, fmt="o", capsize=4)
+    coefficients.set_xticks(np.arange(len(fitted)), fitted, fontsize="small")
+    coefficients.set_ylabel("fitted / start (±1σ)")
+    coefficients.set_title("Coefficients", fontsize="small")
+    coefficients.grid(True, alpha=0.3)
+    for ax in axes[-1, 2:]:
+        ax.axis("off")
+    if path is not None:
+        figure.savefig(path, dpi=120)
+        plt.close(figure)
     return figure

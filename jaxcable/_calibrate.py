@@ -1,0 +1,550 @@
+"""Calibration: fit drag coefficients to towing records by gradients through the
+simulation.
+
+The fit minimises the mean squared residual between the records' observables and the
+rigs' simulations of them, each observable scaled by its root-mean-square value so that
+tensions (N) and depths (m) weigh alike. The coefficients are fitted in logs, which
+keeps them positive and makes a step a relative change. Records on rigs of the same
+structure are padded to one length and simulated as one `vmap`ped batch.
+
+After the fit, each residual's noise level is estimated from what is left, and the
+Gauss–Newton approximation of the Fisher information, `Jᵀ W J` with the residuals'
+Jacobian `J` (taken in forward mode), gives the coefficients' covariance. A coefficient
+whose uncertainty is large, or that is strongly correlated with another, is flagged:
+the records do not pin it down.
+"""
+
+import dataclasses
+import functools
+import math
+import warnings
+from collections.abc import Mapping, Sequence
+from typing import NamedTuple
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import optax
+
+from ._records import TowingRecord
+from ._towing import COEFFICIENTS, AbstractTowingRig, SolverSettings, rig_from_conditions
+
+OPTIMIZERS = ("lbfgs", "adam")
+GRADIENTS = ("forward", "reverse")
+
+# Flag a coefficient whose one-standard-deviation relative uncertainty exceeds this:
+# the records then leave it free to wander by more than the 5-10 % an engineer would
+# accept from a calibration.
+UNCERTAIN = 0.05
+# Flag a pair of coefficients more correlated than this: the records pin a combination
+# of them, not each one.
+CORRELATED = 0.95
+# Padded samples sit this far (s) apart past a record's end, so that padded times stay
+# strictly increasing (a tow speed's knots must) while simulating no further, to
+# within microseconds.
+_PAD_STEP = 1e-6
+
+
+class CalibrationResult(NamedTuple):
+    """What a calibration found.
+
+    **Attributes:**
+
+    - `values`: the fitted coefficients by name (SI: K_n and K_τ –, k₀ s²/m²).
+    - `start`: where the fit started.
+    - `uncertainty`: one standard deviation of each fitted value, from the Gauss–Newton
+        approximation of the Fisher information (same units as `values`).
+    - `relative_uncertainty`: `uncertainty / values`, the standard deviation of the
+        coefficient's log.
+    - `correlation`: the coefficients' correlation matrix, in the order of `values`.
+    - `sensitivity`: by name, how far a 10 % change of the coefficient moves the
+        observables, as the root mean square over all samples in units of their
+        estimated noise. Below about 0.1 the records hardly see the coefficient.
+    - `noise`: the estimated noise standard deviation (SI) of each record's
+        observables, from its residuals, by `(record name, observable)`. The
+        uncertainties weigh each residual by it.
+    - `loss`: the loss at each iteration, from the start.
+    - `iterations`: optimizer iterations taken.
+    - `converged`: whether the loss stopped changing (relative change below the
+        tolerance) before the iteration limit.
+    - `records`: the records fitted, in order.
+    - `predictions`: for each record, the fitted model's observables at the record's
+        times (SI), by name.
+    - `residuals`: for each record, measured minus predicted, by name.
+    - `success`: for each record, whether its final simulation reached the end.
+    - `warnings`: the identifiability warnings, as sentences; also issued as
+        `UserWarning`s.
+    """
+
+    values: dict[str, float]
+    start: dict[str, float]
+    uncertainty: dict[str, float]
+    relative_uncertainty: dict[str, float]
+    correlation: np.ndarray
+    sensitivity: dict[str, float]
+    noise: dict[tuple[str, str], float]
+    loss: np.ndarray
+    iterations: int
+    converged: bool
+    records: list[TowingRecord]
+    predictions: list[dict[str, np.ndarray]]
+    residuals: list[dict[str, np.ndarray]]
+    success: list[bool]
+    warnings: list[str]
+
+    def summary(self) -> str:
+        """A table of the fitted values with their uncertainties, then the warnings."""
+        lines = [f"{'coefficient':<16} {'start':>10} {'fitted':>12} {'± 1σ':>11} {'(%)':>7} {'10% moves':>10}"]
+        for name, value in self.values.items():
+            lines.append(
+                f"{name:<16} {self.start[name]:>10.4g} {value:>12.5g} {self.uncertainty[name]:>11.3g} "
+                f"{100 * self.relative_uncertainty[name]:>7.2f} {self.sensitivity[name]:>9.3g}σ"
+            )
+        state = "converged" if self.converged else "stopped at the iteration limit"
+        lines.append(f"{self.iterations} iterations ({state}); loss {self.loss[0]:.4g} -> {self.loss[-1]:.4g}")
+        failed = [r.name for r, ok in zip(self.records, self.success) if not ok]
+        if failed:
+            lines.append(f"simulations that failed: {', '.join(failed)}")
+        lines += [f"warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
+
+
+class _Group(NamedTuple):
+    """Records on rigs of one structure, padded to one length and stacked."""
+
+    indices: tuple[int, ...]  # into the list of records
+    lengths: tuple[int, ...]  # unpadded samples per record
+    names: tuple[str, ...]  # observables measured by at least one record
+    rigs: AbstractTowingRig  # leaves stacked over records
+    times: jax.Array  # (records, samples)
+    inputs: dict  # name -> (records, samples)
+    observed: dict  # name -> (records, samples)
+    mask: dict  # name -> (records, samples), 1 where measured
+    scale: dict  # name -> RMS of the measured values (SI)
+
+
+def synthetic_record(
+    rig: AbstractTowingRig,
+    times,
+    inputs: Mapping[str, np.ndarray] | None = None,
+    *,
+    noise: float = 0.02,
+    seed: int = 0,
+    observables: Sequence[str] | None = None,
+    name: str = "synthetic",
+    settings: SolverSettings = SolverSettings(),
+) -> TowingRecord:
+    """A towing record simulated on `rig`, with noise: for tests and examples.
+
+    The noise model: each observable gets independent Gaussian noise of standard
+    deviation `noise` × its root-mean-square value over the record, from
+    `numpy.random.default_rng(seed)`. The inputs (the tow speed) are exact: in a test
+    they are the controlled quantity.
+
+    **Arguments:**
+
+    - `rig`: the rig, with the true coefficients.
+    - `times`: sample times (s), shape `(samples,)`, strictly increasing.
+    - `inputs`: the rig's inputs at `times` (for [`jaxcable.HorizontalTow`][], the
+        tow speed `"speed"` in m/s).
+    - `noise`: the relative noise level; 0 for exact data.
+    - `seed`: the random seed.
+    - `observables`: which to record; all the rig's by default.
+    - `name`: the record's name.
+    - `settings`: how to solve.
+
+    **Returns:**
+
+    A [`jaxcable.TowingRecord`][] whose conditions describe the rig (`rig.conditions()`).
+
+    **Raises:**
+
+    `ValueError` for an unknown observable, a missing input, or a negative noise level;
+    `RuntimeError` if the simulation fails.
+    """
+    if not noise >= 0:
+        raise ValueError(f"synthetic_record: noise must be non-negative, got {noise}")
+    observables = tuple(rig.observables if observables is None else observables)
+    unknown = [o for o in observables if o not in rig.observables]
+    if unknown:
+        raise ValueError(f"synthetic_record: {type(rig).__name__} has no observable {unknown[0]!r}; it has {rig.observables}")
+    inputs = dict(inputs or {})
+    missing = [i for i in rig.inputs if i not in inputs]
+    if missing:
+        raise ValueError(f"synthetic_record: {type(rig).__name__} needs input {missing[0]!r}")
+    times = np.asarray(times, dtype=float)
+    run = _simulate_one(rig, jnp.asarray(times), {k: jnp.asarray(inputs[k], dtype=float) for k in rig.inputs}, settings)
+    if not bool(run.success):
+        raise RuntimeError(
+            f"synthetic_record: the simulation failed (starting equilibrium or run; diffrax: {run.simulation.result})"
+        )
+    clean = run.observables
+    rng = np.random.default_rng(seed)
+    columns = {k: np.asarray(inputs[k], dtype=float) for k in rig.inputs}
+    for key in observables:
+        values = np.asarray(clean[key])
+        columns[key] = values + noise * np.sqrt(np.mean(values**2)) * rng.standard_normal(values.shape)
+    return TowingRecord(times=times, columns=columns, conditions=rig.conditions(), name=name)
+
+
+@eqx.filter_jit
+def _simulate_one(rig, times, inputs, settings):
+    return rig.simulate(times, inputs, settings)
+
+
+def calibrate(
+    tests: Sequence[TowingRecord | tuple[AbstractTowingRig, TowingRecord]],
+    start: Mapping[str, float],
+    *,
+    optimizer: str = "lbfgs",
+    max_steps: int = 50,
+    learning_rate: float = 0.05,
+    tolerance: float = 1e-6,
+    gradient: str = "forward",
+    settings: SolverSettings = SolverSettings(),
+    progress: bool = True,
+) -> CalibrationResult:
+    """Fit drag coefficients to towing records.
+
+    **Arguments:**
+
+    - `tests`: the records, each either a [`jaxcable.TowingRecord`][] whose header names
+        its rig (see [`jaxcable.rig_from_conditions`][]), or a pair `(rig, record)`.
+        All are fitted jointly.
+    - `start`: the coefficients to fit, by name (`"normal_drag"` K_n,
+        `"tangential_drag"` K_τ, `"specific_drag"` k₀), with their starting values.
+        Every other coefficient stays as the rig has it.
+    - `optimizer`: `"lbfgs"` (optax's L-BFGS with a backtracking line search; the
+        default) or `"adam"` (optax's Adam, with `learning_rate` as the step in the log
+        of each coefficient).
+    - `max_steps`: the most optimizer iterations.
+    - `learning_rate`: Adam's step size.
+    - `tolerance`: stop when the loss falls by less than this, relative, over an
+        iteration.
+    - `gradient`: `"forward"` (the default: the residuals' Jacobian in forward mode,
+        `diffrax.ForwardMode`, one tangent per coefficient) or `"reverse"` (reverse
+        mode through `settings.adjoint`). With a few coefficients forward mode is the
+        cheaper, and it yields the Jacobian that the uncertainty needs anyway;
+        `benchmarks/calibration.py` measures both.
+    - `settings`: how each simulation is solved.
+    - `progress`: show a progress bar over iterations.
+
+    **Returns:**
+
+    A [`jaxcable.CalibrationResult`][].
+
+    **Raises:**
+
+    `ValueError` for an unknown coefficient, optimizer or gradient mode, a non-positive
+    start, a record that lacks its rig's inputs or has none of its observables, or a
+    coefficient that no record's rig depends on. `RuntimeError` if a simulation fails
+    at the starting values.
+    """
+    names = tuple(start)
+    for name in names:
+        if name not in COEFFICIENTS:
+            raise ValueError(f"calibrate: unknown coefficient {name!r}; known: {', '.join(COEFFICIENTS)}")
+        if not (math.isfinite(start[name]) and start[name] > 0):
+            raise ValueError(f"calibrate: start[{name!r}] must be positive and finite, got {start[name]}")
+    if not names:
+        raise ValueError("calibrate: start names no coefficient to fit")
+    if optimizer not in OPTIMIZERS:
+        raise ValueError(f"calibrate: optimizer must be one of {OPTIMIZERS}, got {optimizer!r}")
+    if gradient not in GRADIENTS:
+        raise ValueError(f"calibrate: gradient must be one of {GRADIENTS}, got {gradient!r}")
+    problem, pairs = _problem(tests, names, settings, gradient)
+    log_values = jnp.log(jnp.array([start[n] for n in names], dtype=float))
+    log_values, losses, converged, steps = _optimise(
+        problem, log_values, _optimizer(optimizer, learning_rate), max_steps, tolerance, progress
+    )
+    jacobian, (r, _) = _jacobian(log_values, problem)
+    return _report(problem, start, log_values, losses, steps, converged, pairs, np.asarray(r), np.asarray(jacobian))
+
+
+def _pair(test, index) -> tuple[AbstractTowingRig, TowingRecord]:
+    if isinstance(test, TowingRecord):
+        rig, record = rig_from_conditions(test.conditions, test.name or f"record {index}"), test
+    else:
+        rig, record = test
+    if not isinstance(rig, AbstractTowingRig):
+        raise ValueError(f"calibrate: tests[{index}] must pair a towing rig with a record, got {rig!r}")
+    if not isinstance(record, TowingRecord):
+        raise ValueError(f"calibrate: tests[{index}] must pair a rig with a TowingRecord, got {record!r}")
+    label = record.name or f"tests[{index}]"
+    missing = [k for k in rig.inputs if k not in record.columns]
+    if missing:
+        raise ValueError(f"calibrate: {label} has no {missing[0]!r} column, which {type(rig).__name__} needs as input")
+    if not any(k in record.columns for k in rig.observables):
+        raise ValueError(
+            f"calibrate: {label} measures none of {type(rig).__name__}'s observables {rig.observables}"
+        )
+    return rig, record
+
+
+def _groups(pairs) -> list[_Group]:
+    """Stack the records rig structure by rig structure, padding each group to its
+    longest record: repeated final values, at times `_PAD_STEP` apart."""
+    by_structure: dict = {}
+    for i, (rig, _) in enumerate(pairs):
+        by_structure.setdefault(jax.tree.structure(rig), []).append(i)
+    groups = []
+    for indices in by_structure.values():
+        rigs = [pairs[i][0] for i in indices]
+        records = [pairs[i][1] for i in indices]
+        lengths = tuple(len(r.times) for r in records)
+        size = max(lengths)
+        names = tuple(k for k in rigs[0].observables if any(k in r.columns for r in records))
+
+        def pad(values, n):
+            return np.concatenate([values, np.full(size - n, values[-1])])
+
+        times = np.stack([np.concatenate([r.times, r.times[-1] + _PAD_STEP * np.arange(1, size - len(r.times) + 1)])
+                          for r in records])
+        inputs = {k: np.stack([pad(r.columns[k], len(r.times)) for r in records]) for k in rigs[0].inputs}
+        observed, mask, scale = {}, {}, {}
+        for k in names:
+            observed[k] = np.stack([pad(r.columns[k], len(r.times)) if k in r.columns else np.zeros(size) for r in records])
+            mask[k] = np.stack([(np.arange(size) < len(r.times)) & (k in r.columns) for r in records]).astype(float)
+            measured = np.concatenate([r.columns[k] for r in records if k in r.columns])
+            scale[k] = jnp.asarray(max(float(np.sqrt(np.mean(measured**2))), 1e-12))
+        stacked = jax.tree.map(lambda *leaves: jnp.stack(leaves), *rigs)
+        groups.append(_Group(tuple(indices), lengths, names, stacked, jnp.asarray(times),
+                             {k: jnp.asarray(v) for k, v in inputs.items()},
+                             {k: jnp.asarray(v) for k, v in observed.items()},
+                             {k: jnp.asarray(v) for k, v in mask.items()}, scale))
+    return groups
+
+
+class _Problem(eqx.Module):
+    """A calibration's data and settings, as one argument for the compiled steps, so
+    that fits of the same structure reuse their compilation."""
+
+    names: tuple[str, ...] = eqx.field(static=True)
+    groups: tuple[_Group, ...]
+    samples: jax.Array  # measured samples in all, for the mean
+    settings: SolverSettings
+    forward: SolverSettings
+    gradient: str = eqx.field(static=True)
+
+    def residuals(self, log_values, settings=None):
+        """All scaled residuals, predicted minus measured over the RMS, masked, flat;
+        and whether every simulation succeeded. A failed simulation's residuals are
+        zeroed, not NaN, so that gradients stay finite; `loss` reports the failure as
+        infinite instead."""
+        parts, ok = [], jnp.array(True)
+        predicted = _predict(log_values, self.names, self.groups, self.settings if settings is None else settings)
+        for group, (observables, success) in zip(self.groups, predicted):
+            ok = ok & jnp.all(success)
+            for k in group.names:
+                scaled = (observables[k] - group.observed[k]) / group.scale[k]
+                parts.append(jnp.where(success[:, None] & (group.mask[k] > 0), scaled, 0.0).reshape(-1))
+        return jnp.concatenate(parts), ok
+
+    def loss(self, log_values, settings=None):
+        """Half the mean squared scaled residual; infinite if a simulation failed."""
+        r, ok = self.residuals(log_values, settings)
+        return jnp.where(ok, 0.5 * jnp.sum(r**2) / self.samples, jnp.inf)
+
+
+def _problem(tests, names, settings, gradient) -> tuple[_Problem, list]:
+    """Check the records against their rigs, and group, pad and stack them."""
+    pairs = [_pair(test, i) for i, test in enumerate(tests)]
+    if not pairs:
+        raise ValueError("calibrate: no records to fit")
+    for name in names:
+        if not any(name in rig.coefficients for rig, _ in pairs):
+            raise ValueError(f"calibrate: no record's rig depends on {name!r}, so no record can fit it")
+    groups = _groups(pairs)
+    problem = _Problem(
+        names=names,
+        groups=tuple(groups),
+        samples=jnp.asarray(sum(float(np.sum(m)) for g in groups for m in g.mask.values())),
+        settings=settings,
+        # The Jacobian needs forward mode whichever way the fit's gradient goes.
+        forward=dataclasses.replace(settings, adjoint=diffrax.ForwardMode()),
+        gradient=gradient,
+    )
+    return problem, pairs
+
+
+@eqx.filter_jit
+def _predict(log_values, names, groups, settings):
+    """Each group's observables, name -> (records, samples), and per-record success."""
+    values = dict(zip(names, jnp.exp(log_values)))
+    out = []
+    for group in groups:
+        def one(rig, times, inputs):
+            run = rig.with_coefficients(values).simulate(times, inputs, settings)
+            return run.observables, run.success
+
+        out.append(jax.vmap(one)(group.rigs, group.times, group.inputs))
+    return out
+
+
+@eqx.filter_jit
+def _jacobian(log_values, problem: _Problem):
+    """The residuals' Jacobian in the log coefficients, shape `(residuals, p)`, in
+    forward mode; and (residuals, success)."""
+
+    def residuals(p):
+        r, ok = problem.residuals(p, problem.forward)
+        return r, (r, ok)
+
+    return jax.jacfwd(residuals, has_aux=True)(log_values)
+
+
+def _value_and_grad(log_values, problem: _Problem):
+    if problem.gradient == "reverse":
+        return jax.value_and_grad(problem.loss)(log_values)
+    jacobian, (r, ok) = _jacobian(log_values, problem)
+    value = jnp.where(ok, 0.5 * jnp.sum(r**2) / problem.samples, jnp.inf)
+    return value, jacobian.T @ r / problem.samples
+
+
+@functools.cache
+def _optimizer(kind: str, learning_rate: float) -> optax.GradientTransformationExtraArgs:
+    """One optax transformation per setting, kept so that compiled steps are reused.
+
+    L-BFGS backtracks on the loss alone: optax's default zoom line search also needs
+    gradients at its trial points, which cost 1.7-2.8x a loss each (measured in
+    `benchmarks/calibration.py`)."""
+    if kind == "lbfgs":
+        return optax.lbfgs(linesearch=optax.scale_by_backtracking_linesearch(max_backtracking_steps=20))
+    return optax.adam(learning_rate)
+
+
+@eqx.filter_jit
+def _step(log_values, state, problem: _Problem, opt):
+    """One optimizer iteration; returns the new log values and state, and the loss and
+    gradient at the old values."""
+    value, grad = _value_and_grad(log_values, problem)
+    updates, state = opt.update(grad, state, log_values, value=value, grad=grad, value_fn=problem.loss)
+    return optax.apply_updates(log_values, updates), state, value, grad
+
+
+def _optimise(problem, log_values, opt, max_steps, tolerance, progress):
+    """Run optax from `log_values`; return the best log values, the loss at each
+    iterate, whether the loss settled, and the iterations taken."""
+    state = opt.init(log_values)
+    iterates, losses = [], []
+    bar = _bar(max_steps, progress)
+    converged, steps = False, 0
+    for steps in range(1, max_steps + 1):
+        new, state, value, _ = _step(log_values, state, problem, opt)
+        iterates.append(log_values)
+        losses.append(float(value))
+        if not math.isfinite(losses[0]):
+            raise RuntimeError("calibrate: a simulation failed at the starting values; check the rigs and records")
+        log_values = new
+        if bar is not None:
+            bar.update(1)
+            bar.set_postfix(loss=f"{losses[-1]:.4g}")
+        if len(losses) > 1 and math.isfinite(losses[-1]) and losses[-2] - losses[-1] <= tolerance * losses[-1]:
+            converged = True
+            break
+    if bar is not None:
+        bar.close()
+    if not converged:
+        iterates.append(log_values)
+        losses.append(float(eqx.filter_jit(problem.loss)(log_values)))
+    best = int(np.nanargmin(np.where(np.isfinite(losses), losses, np.nan)))
+    return iterates[best], np.array(losses[: best + 1]), converged, steps
+
+
+def _bar(total, progress):
+    if not progress:
+        return None
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, desc="calibrate", unit="it")
+
+
+def _report(problem, start, log_values, losses, steps, converged, pairs, r, jacobian):
+    """Unpad the predictions and residuals, estimate the noise, and form the
+    Gauss–Newton covariance and the warnings."""
+    names, groups = problem.names, problem.groups
+    p = len(names)
+    values = {n: float(v) for n, v in zip(names, np.exp(np.asarray(log_values)))}
+    observables = _predict(log_values, names, groups, problem.settings)
+    records = [record for _, record in pairs]
+    predictions: list[dict] = [{} for _ in pairs]
+    residuals: list[dict] = [{} for _ in pairs]
+    success = [True] * len(pairs)
+    noise: dict[tuple[str, str], float] = {}
+    weights = np.zeros_like(r)
+    valid = sum(int(np.sum(np.asarray(m))) for g in groups for m in g.mask.values())
+    offset = 0
+    for group, (predicted, ok) in zip(groups, observables):
+        size = group.times.shape[1]
+        for j, (i, n) in enumerate(zip(group.indices, group.lengths)):
+            success[i] = bool(ok[j])
+            for k in group.names:
+                if k in records[i].columns:
+                    predictions[i][k] = np.asarray(predicted[k][j, :n])
+                    residuals[i][k] = records[i].columns[k] - predictions[i][k]
+        for k in group.names:
+            for j, i in enumerate(group.indices):  # the residuals are laid out (records, samples)
+                block = slice(offset + j * size, offset + (j + 1) * size)
+                mask = np.asarray(group.mask[k][j]) > 0
+                if not mask.any():
+                    continue
+                # Each record's own noise level: tests differ in their instruments. The
+                # p fitted coefficients' share of the degrees of freedom is taken out in
+                # proportion to the record's samples.
+                dof = max(int(mask.sum()) * (1 - p / valid), 1.0)
+                sigma = max(float(np.sqrt(np.sum(r[block][mask] ** 2) / dof)), 1e-12)
+                weights[block] = mask / sigma
+                noise[(records[i].name, k)] = sigma * float(group.scale[k])
+            offset += len(group.indices) * size
+    weighted = jacobian * weights[:, None]
+    fisher = weighted.T @ weighted
+    covariance = np.linalg.pinv(fisher)
+    spread = np.sqrt(np.maximum(np.diag(covariance), 0.0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        correlation = covariance / np.outer(spread, spread)
+    rows = max(int(np.count_nonzero(weights)), 1)
+    sensitivity = np.sqrt(np.sum((weighted * math.log(1.1)) ** 2, axis=0) / rows)
+    messages = _warnings(names, values, spread, correlation, sensitivity, fisher)
+    for message in messages:
+        warnings.warn(message, UserWarning, stacklevel=3)
+    return CalibrationResult(
+        values=values,
+        start={n: float(start[n]) for n in names},
+        uncertainty={n: values[n] * float(s) for n, s in zip(names, spread)},
+        relative_uncertainty={n: float(s) for n, s in zip(names, spread)},
+        correlation=correlation,
+        sensitivity={n: float(s) for n, s in zip(names, sensitivity)},
+        noise=noise,
+        loss=losses,
+        iterations=steps,
+        converged=converged,
+        records=records,
+        predictions=predictions,
+        residuals=residuals,
+        success=success,
+        warnings=messages,
+    )
+
+
+def _warnings(names, values, spread, correlation, sensitivity, fisher) -> list[str]:
+    messages = []
+    for i, name in enumerate(names):
+        if not np.isfinite(spread[i]) or spread[i] > UNCERTAIN or fisher[i, i] == 0:
+            messages.append(
+                f"{name} ({COEFFICIENTS[name].split(',')[0]}) is poorly identified: the records pin it only to "
+                f"±{100 * spread[i]:.3g} % (1σ), and a 10 % change moves the observables by "
+                f"{sensitivity[i]:.3g} noise standard deviations (RMS). Its fitted value, "
+                f"{values[name]:.4g}, cannot be trusted; add records that load it"
+                + (" (a cable towed nearly along the flow)" if name == "tangential_drag" else "")
+                + ", or fix it."
+            )
+    for i in range(len(names)):
+        for j in range(i + 1, len(names)):
+            if abs(correlation[i, j]) > CORRELATED:
+                messages.append(
+                    f"{names[i]} and {names[j]} are correlated ({correlation[i, j]:+.3f}): the records pin a "
+                    "combination of them rather than each."
+                )
+    return messages

@@ -1,0 +1,231 @@
+"""Calibration against known truth: synthetic records with 2 % noise, fitted from a
+start 2x off, must give back the coefficients they were made with; the loss's gradient
+must match central finite differences; bad input must fail clearly.
+
+The fits are module fixtures, and the record sets share shapes, so that each compiled
+step serves several tests.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import jaxcable as jc
+
+TRUTH = {"normal_drag": 1.2, "tangential_drag": 0.01, "specific_drag": 0.5}
+START = {name: 2 * value for name, value in TRUTH.items()}
+TIMES = np.linspace(0.0, 30.0, 151)
+STEP_UP = np.interp(TIMES, [0.0, 10.0, 13.0, 30.0], [1.0, 1.0, 2.0, 2.0])  # seed 002's step, scaled
+STEP_DOWN = np.interp(TIMES, [0.0, 10.0, 13.0, 30.0], [1.5, 1.5, 1.0, 1.0])
+SMALL_TOW = dict(cable_length=100.0, segments=4, cable_axial_stiffness=2e6, cable_axial_damping=5e3)
+NEUTRAL = 1025.0 * math.pi * 0.0173**2 / 4  # kg/m: the default cable's displaced mass
+
+
+def depressor(**kw):
+    return jc.HorizontalTow(**SMALL_TOW, end_mass=100.0, end_volume=0.015, end_drag_area=0.1, **kw)
+
+
+def streamer():
+    # Nearly neutral, with a small drogue: the cable streams almost along the flow,
+    # so its tension is mostly tangential drag.
+    return jc.HorizontalTow(
+        **SMALL_TOW, cable_mass_per_length=1.05 * NEUTRAL, end_mass=2.0, end_volume=0.0015, end_drag_area=0.05
+    )
+
+
+def within(result, name, tolerance):
+    error = abs(result.values[name] / TRUTH[name] - 1)
+    assert error < tolerance, f"{name}: fitted {result.values[name]}, truth {TRUTH[name]} ({100 * error:.2f} % off)"
+
+
+@pytest.fixture(scope="module")
+def vertical_records():
+    return [
+        jc.synthetic_record(jc.VerticalTow(leader_lift=lift), np.linspace(0.0, 20.0, 101), seed=i, name=f"lift {lift} N")
+        for i, lift in enumerate([160.0, 220.0, 300.0])
+    ]
+
+
+@pytest.fixture(scope="module")
+def k0_fit(vertical_records):
+    return jc.calibrate(vertical_records, {"specific_drag": START["specific_drag"]}, progress=False)
+
+
+@pytest.fixture(scope="module")
+def axial_fit():
+    records = [
+        jc.synthetic_record(depressor(), TIMES, {"speed": STEP_UP}, seed=10, name="depressor"),
+        jc.synthetic_record(streamer(), TIMES, {"speed": STEP_UP}, seed=11, name="streamer"),
+    ]
+    start = {k: START[k] for k in ("normal_drag", "tangential_drag")}
+    return jc.calibrate(records, start, progress=False)
+
+
+@pytest.fixture(scope="module")
+def depressor_fit():
+    records = [
+        jc.synthetic_record(depressor(), TIMES, {"speed": STEP_UP}, seed=20, name="depressor up"),
+        jc.synthetic_record(depressor(end_added_mass=0.5), TIMES, {"speed": STEP_DOWN}, seed=21, name="depressor down"),
+    ]
+    start = {k: START[k] for k in ("normal_drag", "tangential_drag")}
+    with pytest.warns(UserWarning, match="tangential_drag .* is poorly identified"):
+        return jc.calibrate(records, start, progress=False)
+
+
+def test_recovers_specific_drag_from_vertical_tows(k0_fit):
+    within(k0_fit, "specific_drag", 0.05)
+    assert k0_fit.converged and not k0_fit.warnings
+    assert k0_fit.loss[-1] < 0.05 * k0_fit.loss[0]
+    # The error is consistent with the uncertainty the fit reports.
+    assert abs(k0_fit.values["specific_drag"] - TRUTH["specific_drag"]) < 4 * k0_fit.uncertainty["specific_drag"]
+
+
+def test_noise_estimate_matches_the_noise_put_in(k0_fit, vertical_records):
+    # synthetic_record's noise is 2 % of each series' RMS; the fit's estimate, from each
+    # record's residuals, should find it (101 samples: about 7 % sampling error).
+    for record in vertical_records:
+        for name in ("speed", "tension"):
+            put_in = 0.02 * np.sqrt(np.mean(record.columns[name] ** 2))
+            assert abs(k0_fit.noise[(record.name, name)] / put_in - 1) < 0.25
+    pooled = [k0_fit.residuals[i]["tension"] for i in range(3)]
+    assert all(r.shape == (101,) for r in pooled)
+
+
+def test_recovers_both_drag_coefficients_with_an_axial_flow_record(axial_fit):
+    within(axial_fit, "normal_drag", 0.05)
+    within(axial_fit, "tangential_drag", 0.10)
+    assert axial_fit.converged and not axial_fit.warnings
+    assert all(axial_fit.success)
+
+
+def test_without_axial_flow_tangential_drag_is_flagged(depressor_fit):
+    within(depressor_fit, "normal_drag", 0.05)
+    assert depressor_fit.relative_uncertainty["tangential_drag"] > 5 * depressor_fit.relative_uncertainty["normal_drag"]
+    assert any("tangential_drag" in w and "cannot be trusted" in w for w in depressor_fit.warnings)
+    assert "tangential_drag" in depressor_fit.summary() and "warning:" in depressor_fit.summary()
+
+
+def test_adam_also_recovers_specific_drag(vertical_records):
+    result = jc.calibrate(
+        vertical_records, {"specific_drag": 1.0}, optimizer="adam", learning_rate=0.05, max_steps=120, progress=False
+    )
+    within(result, "specific_drag", 0.05)
+
+
+def test_gradient_matches_central_differences():
+    # One joint problem over both rigs, so that every coefficient is loaded; tight
+    # tolerances, so that the finite differences see the same discretisation.
+    import dataclasses
+
+    import equinox as eqx
+
+    from jaxcable import _calibrate
+
+    times = np.linspace(0.0, 10.0, 41)
+    speed = np.interp(times, [0.0, 4.0, 6.0, 10.0], [1.0, 1.0, 2.0, 2.0])
+    records = [
+        jc.synthetic_record(depressor(), times, {"speed": speed}, seed=0, name="h"),
+        jc.synthetic_record(jc.VerticalTow(leader_lift=200.0), times, seed=1, name="v"),
+    ]
+    settings = jc.SolverSettings(rtol=1e-10, atol=1e-10)
+    names = ("normal_drag", "tangential_drag", "specific_drag")
+    problem, _ = _calibrate._problem(records, names, settings, "forward")
+    log_values = np.log(np.array([1.5, 0.015, 0.7]))
+    loss = eqx.filter_jit(problem.loss)
+    step = 1e-4
+    central = np.array(
+        [(loss(log_values + step * e) - loss(log_values - step * e)) / (2 * step) for e in np.eye(3)]
+    )
+    value_and_grad = eqx.filter_jit(_calibrate._value_and_grad)
+    for mode in ("forward", "reverse"):
+        _, grad = value_and_grad(log_values, dataclasses.replace(problem, gradient=mode))
+        np.testing.assert_allclose(np.asarray(grad), central, rtol=1e-4, atol=1e-4 * np.max(np.abs(central)),
+                                   err_msg=mode)
+
+
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        (dict(start={"drag": 1.0}), r"unknown coefficient 'drag'; known: normal_drag, tangential_drag, specific_drag"),
+        (dict(start={"specific_drag": -1.0}), r"start\['specific_drag'\] must be positive and finite, got -1.0"),
+        (dict(start={}), r"start names no coefficient to fit"),
+        (dict(start={"normal_drag": 1.0}), r"no record's rig depends on 'normal_drag'"),
+        (dict(optimizer="sgd"), r"optimizer must be one of \('lbfgs', 'adam'\), got 'sgd'"),
+        (dict(gradient="sideways"), r"gradient must be one of \('forward', 'reverse'\), got 'sideways'"),
+        (dict(tests=[]), r"no records to fit"),
+    ],
+)
+def test_calibrate_rejects_bad_arguments(change, message):
+    record = jc.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, conditions={"rig": "vertical_tow"})
+    arguments = dict(tests=[record], start={"specific_drag": 1.0})
+    arguments.update(change)
+    with pytest.raises(ValueError, match=message):
+        jc.calibrate(arguments.pop("tests"), arguments.pop("start"), progress=False, **arguments)
+
+
+def test_calibrate_rejects_records_that_do_not_fit_their_rig():
+    no_speed = jc.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, name="tow.csv")
+    with pytest.raises(ValueError, match=r"tow.csv has no 'speed' column, which HorizontalTow needs as input"):
+        jc.calibrate([(depressor(), no_speed)], {"normal_drag": 1.0}, progress=False)
+    speed_only = jc.TowingRecord(times=[0.0, 1.0], columns={"speed": [1.0, 1.0]}, name="tow.csv")
+    with pytest.raises(ValueError, match=r"tow.csv measures none of HorizontalTow's observables"):
+        jc.calibrate([(depressor(), speed_only)], {"normal_drag": 1.0}, progress=False)
+    headless = jc.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, name="tow.csv")
+    with pytest.raises(ValueError, match=r"tow.csv: no 'rig' in the header"):
+        jc.calibrate([headless], {"specific_drag": 1.0}, progress=False)
+    with pytest.raises(ValueError, match=r"tests\[0\] must pair a towing rig with a record"):
+        jc.calibrate([("rig", speed_only)], {"normal_drag": 1.0}, progress=False)
+
+
+def test_synthetic_noise_follows_its_stated_model():
+    rig = jc.VerticalTow(leader_lift=250.0)
+    times = np.linspace(0.0, 10.0, 2001)
+    clean = jc.synthetic_record(rig, times, noise=0.0)
+    noisy = jc.synthetic_record(rig, times, noise=0.02, seed=3)
+    again = jc.synthetic_record(rig, times, noise=0.02, seed=3)
+    for name in rig.observables:
+        rms = np.sqrt(np.mean(clean.columns[name] ** 2))
+        deviation = noisy.columns[name] - clean.columns[name]
+        assert abs(np.std(deviation) / (0.02 * rms) - 1) < 0.05  # 2,001 samples: ~1.6 % sampling error
+        assert abs(np.mean(deviation)) < 4 * 0.02 * rms / math.sqrt(times.size)
+        np.testing.assert_array_equal(noisy.columns[name], again.columns[name])
+    assert clean.conditions == rig.conditions()
+    with pytest.raises(ValueError, match=r"VerticalTow has no observable 'depth'"):
+        jc.synthetic_record(rig, times, observables=["depth"])
+    with pytest.raises(ValueError, match=r"HorizontalTow needs input 'speed'"):
+        jc.synthetic_record(depressor(), times)
+    with pytest.raises(ValueError, match=r"noise must be non-negative, got -0.1"):
+        jc.synthetic_record(rig, times, noise=-0.1)
+
+
+def test_command_line_calibrate(vertical_records, tmp_path, capsys):
+    import json
+
+    from jaxcable._cli import main
+
+    paths = []
+    for k, record in enumerate(vertical_records):
+        paths.append(tmp_path / f"tow{k}.csv")
+        jc.write_record(paths[-1], record, units={"tension": "kN"})
+    out, plot = tmp_path / "fit.json", tmp_path / "fit.png"
+    status = main(["calibrate", *map(str, paths), "--fit", "specific_drag=1.0", "--no-progress",
+                   "--out", str(out), "--plot", str(plot)])
+    assert status == 0
+    printed = capsys.readouterr().out
+    assert "specific_drag" in printed and "converged" in printed
+    saved = json.loads(out.read_text())
+    assert abs(saved["values"]["specific_drag"] / TRUTH["specific_drag"] - 1) < 0.05
+    assert saved["records"] == ["tow0.csv", "tow1.csv", "tow2.csv"] and saved["warnings"] == []
+    assert plot.stat().st_size > 10_000
+
+
+def test_command_line_calibrate_errors(tmp_path, capsys):
+    from jaxcable._cli import main
+
+    bad = tmp_path / "bad.csv"
+    bad.write_text("# rig = vertical_tow\ntime [s], tension [kN]\n0, 1\n1, nan\n")
+    assert main(["calibrate", str(bad), "--fit", "specific_drag=1.0", "--no-progress"]) == 2
+    assert "bad.csv, line 4: column 'tension' is NaN" in capsys.readouterr().err
+    assert main(["calibrate", str(bad), "--fit", "specific_drag", "--no-progress"]) == 2
+    assert "--fit 'specific_drag': give NAME=START" in capsys.readouterr().err
