@@ -90,9 +90,10 @@ _OBSERVABLES = {
 
 def plot_calibration(result: "CalibrationResult", path: str | Path | None = None):
     """A figure of a calibration: for each record (a row) and observable (a column),
-    the measured samples against the fitted model; and, in the last row, the loss at
-    each iteration and the fitted coefficients with their one-standard-deviation
-    uncertainty relative to the start.
+    the measured samples against the fitted model, and the inputs (a horizontal tow's
+    speed) that drove it; and, in the last row, the loss at each iteration and the
+    fitted coefficients with their one-standard-deviation uncertainty relative to the
+    start.
 
     **Arguments:**
 
@@ -111,6 +112,15 @@ def plot_calibration(result: "CalibrationResult", path: str | Path | None = None
     for row, (record, predicted) in enumerate(zip(result.records, result.predictions)):
         for column in range(columns):
             ax = axes[row, column]
+            if column < len(names) and names[column] in record.columns and names[column] not in predicted:
+                # An input, such as a horizontal tow's speed: what drove the test.
+                label, factor = _OBSERVABLES[names[column]]
+                ax.plot(record.times, record.columns[names[column]] * factor, color="0.3", linewidth=1.2,
+                        label="input")
+                ax.set_ylabel(f"tow {label}")
+                ax.set_title(record.name or f"record {row}", fontsize="small")
+                ax.grid(True, alpha=0.3)
+                continue
             if column >= len(names) or names[column] not in predicted:
                 ax.axis("off")
                 continue
@@ -123,7 +133,7 @@ def plot_calibration(result: "CalibrationResult", path: str | Path | None = None
             ax.grid(True, alpha=0.3)
             if row == rows - 2:
                 ax.set_xlabel("time t (s)")
-    axes[0, 0].legend(fontsize="small")
+    next(ax for ax in axes.flat if len(ax.lines) > 1).legend(fontsize="small")
     loss, coefficients = axes[-1, 0], axes[-1, 1]
     loss.semilogy(np.arange(result.loss.size), result.loss, marker="o", markersize=3)
     loss.set_xlabel("iteration")
