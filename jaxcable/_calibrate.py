@@ -65,13 +65,13 @@ class CalibrationResult(NamedTuple):
     - `noise`: the estimated noise standard deviation (SI) of each record's
         observables, from its residuals, by `(record name, observable)`. The
         uncertainties weigh each residual by it.
-    - `loss`: the loss at each iteration, from the start.
-    - `iterations`: optimizer iterations taken.
+    - `loss`: the loss at each iterate, from the start to the best (the fitted values).
+    - `iterations`: iterates evaluated.
     - `converged`: whether the loss stopped changing (relative change below the
         tolerance) before the iteration limit.
     - `records`: the records fitted, in order.
     - `predictions`: for each record, the fitted model's observables at the record's
-        times (SI), by name.
+        times (SI), by name; NaN for a record whose simulation failed.
     - `residuals`: for each record, measured minus predicted, by name.
     - `success`: for each record, whether its final simulation reached the end.
     - `warnings`: the identifiability warnings, as sentences; also issued as
@@ -256,11 +256,10 @@ def calibrate(
         raise ValueError(f"calibrate: gradient must be one of {GRADIENTS}, got {gradient!r}")
     problem, pairs = _problem(tests, names, settings, gradient)
     log_values = jnp.log(jnp.array([start[n] for n in names], dtype=float))
-    log_values, losses, converged, steps = _optimise(
+    log_values, losses, converged, steps, (jacobian, r, successes) = _optimise(
         problem, log_values, _optimizer(optimizer, learning_rate), max_steps, tolerance, progress
     )
-    jacobian, (r, _) = _jacobian(log_values, problem)
-    return _report(problem, start, log_values, losses, steps, converged, pairs, np.asarray(r), np.asarray(jacobian))
+    return _report(problem, start, log_values, losses, steps, converged, pairs, r, jacobian, successes)
 
 
 def _pair(test, index) -> tuple[AbstractTowingRig, TowingRecord]:
@@ -330,22 +329,25 @@ class _Problem(eqx.Module):
 
     def residuals(self, log_values, settings=None):
         """All scaled residuals, predicted minus measured over the RMS, masked, flat;
-        and whether every simulation succeeded. A failed simulation's residuals are
+        and each group's per-record success. A failed simulation's residuals are
         zeroed, not NaN, so that gradients stay finite; `loss` reports the failure as
         infinite instead."""
-        parts, ok = [], jnp.array(True)
+        parts, successes = [], []
         predicted = _predict(log_values, self.names, self.groups, self.settings if settings is None else settings)
         for group, (observables, success) in zip(self.groups, predicted):
-            ok = ok & jnp.all(success)
+            successes.append(success)
             for k in group.names:
                 scaled = (observables[k] - group.observed[k]) / group.scale[k]
                 parts.append(jnp.where(success[:, None] & (group.mask[k] > 0), scaled, 0.0).reshape(-1))
-        return jnp.concatenate(parts), ok
+        return jnp.concatenate(parts), tuple(successes)
+
+    def loss_of(self, r, successes):
+        """Half the mean squared scaled residual; infinite if a simulation failed."""
+        ok = jnp.all(jnp.concatenate(successes))
+        return jnp.where(ok, 0.5 * jnp.sum(r**2) / self.samples, jnp.inf)
 
     def loss(self, log_values, settings=None):
-        """Half the mean squared scaled residual; infinite if a simulation failed."""
-        r, ok = self.residuals(log_values, settings)
-        return jnp.where(ok, 0.5 * jnp.sum(r**2) / self.samples, jnp.inf)
+        return self.loss_of(*self.residuals(log_values, settings))
 
 
 def _problem(tests, names, settings, gradient) -> tuple[_Problem, list]:
@@ -369,7 +371,6 @@ def _problem(tests, names, settings, gradient) -> tuple[_Problem, list]:
     return problem, pairs
 
 
-@eqx.filter_jit
 def _predict(log_values, names, groups, settings):
     """Each group's observables, name -> (records, samples), and per-record success."""
     values = dict(zip(names, jnp.exp(log_values)))
@@ -386,21 +387,31 @@ def _predict(log_values, names, groups, settings):
 @eqx.filter_jit
 def _jacobian(log_values, problem: _Problem):
     """The residuals' Jacobian in the log coefficients, shape `(residuals, p)`, in
-    forward mode; and (residuals, success)."""
+    forward mode; and (residuals, successes)."""
 
     def residuals(p):
-        r, ok = problem.residuals(p, problem.forward)
-        return r, (r, ok)
+        r, successes = problem.residuals(p, problem.forward)
+        return r, (r, successes)
 
     return jax.jacfwd(residuals, has_aux=True)(log_values)
 
 
-def _value_and_grad(log_values, problem: _Problem):
+@eqx.filter_jit
+def _reverse(log_values, problem: _Problem):
+    return jax.value_and_grad(problem.loss)(log_values)
+
+
+def _evaluate(log_values, problem: _Problem):
+    """The loss and its gradient at `log_values`, and, in forward mode, what the
+    report needs there: the Jacobian, residuals and successes. Each mode runs one
+    compiled program, which the report reuses rather than compiling its own (every
+    compiled program maps thousands of memory regions, and a process may hold only
+    about 65,000: measured, 3,500 for a vertical-tow fit)."""
     if problem.gradient == "reverse":
-        return jax.value_and_grad(problem.loss)(log_values)
-    jacobian, (r, ok) = _jacobian(log_values, problem)
-    value = jnp.where(ok, 0.5 * jnp.sum(r**2) / problem.samples, jnp.inf)
-    return value, jacobian.T @ r / problem.samples
+        value, grad = _reverse(log_values, problem)
+        return value, grad, None
+    jacobian, (r, successes) = _jacobian(log_values, problem)
+    return problem.loss_of(r, successes), jacobian.T @ r / problem.samples, (jacobian, r, successes)
 
 
 @functools.cache
@@ -408,7 +419,7 @@ def _optimizer(kind: str, learning_rate: float) -> optax.GradientTransformationE
     """One optax transformation per setting, kept so that compiled steps are reused.
 
     L-BFGS backtracks on the loss alone: optax's default zoom line search also needs
-    gradients at its trial points, which cost 1.7-2.8x a loss each (measured in
+    gradients at its trial points, which cost 3.6-5.9x a loss each (measured in
     `benchmarks/calibration.py`)."""
     if kind == "lbfgs":
         return optax.lbfgs(linesearch=optax.scale_by_backtracking_linesearch(max_backtracking_steps=20))
@@ -416,41 +427,45 @@ def _optimizer(kind: str, learning_rate: float) -> optax.GradientTransformationE
 
 
 @eqx.filter_jit
-def _step(log_values, state, problem: _Problem, opt):
-    """One optimizer iteration; returns the new log values and state, and the loss and
-    gradient at the old values."""
-    value, grad = _value_and_grad(log_values, problem)
+def _update(log_values, state, value, grad, problem: _Problem, opt):
+    """One optimizer update from the loss and gradient at `log_values`."""
     updates, state = opt.update(grad, state, log_values, value=value, grad=grad, value_fn=problem.loss)
-    return optax.apply_updates(log_values, updates), state, value, grad
+    return optax.apply_updates(log_values, updates), state
 
 
 def _optimise(problem, log_values, opt, max_steps, tolerance, progress):
-    """Run optax from `log_values`; return the best log values, the loss at each
-    iterate, whether the loss settled, and the iterations taken."""
+    """Run optax from `log_values`. Returns the best iterate's log values, the losses
+    up to it, whether the loss settled, the iterations taken, and the best iterate's
+    Jacobian, residuals and successes."""
     state = opt.init(log_values)
-    iterates, losses = [], []
+    evaluated = []  # (log values, loss, report data)
     bar = _bar(max_steps, progress)
     converged, steps = False, 0
     for steps in range(1, max_steps + 1):
-        new, state, value, _ = _step(log_values, state, problem, opt)
-        iterates.append(log_values)
-        losses.append(float(value))
-        if not math.isfinite(losses[0]):
+        value, grad, data = _evaluate(log_values, problem)
+        evaluated.append((log_values, float(value), data))
+        if not math.isfinite(evaluated[0][1]):
             raise RuntimeError("calibrate: a simulation failed at the starting values; check the rigs and records")
-        log_values = new
         if bar is not None:
             bar.update(1)
-            bar.set_postfix(loss=f"{losses[-1]:.4g}")
-        if len(losses) > 1 and math.isfinite(losses[-1]) and losses[-2] - losses[-1] <= tolerance * losses[-1]:
-            converged = True
-            break
+            bar.set_postfix(loss=f"{float(value):.4g}")
+        if len(evaluated) > 1:
+            previous, latest = evaluated[-2][1], evaluated[-1][1]
+            if math.isfinite(latest) and previous - latest <= tolerance * latest:
+                converged = True
+                break
+        if steps < max_steps:
+            log_values, state = _update(log_values, state, value, grad, problem, opt)
     if bar is not None:
         bar.close()
-    if not converged:
-        iterates.append(log_values)
-        losses.append(float(eqx.filter_jit(problem.loss)(log_values)))
+    losses = np.array([e[1] for e in evaluated])
     best = int(np.nanargmin(np.where(np.isfinite(losses), losses, np.nan)))
-    return iterates[best], np.array(losses[: best + 1]), converged, steps
+    log_values, _, data = evaluated[best]
+    if data is None:
+        jacobian, (r, successes) = _jacobian(log_values, problem)
+    else:
+        jacobian, r, successes = data
+    return log_values, losses[: best + 1], converged, steps, (np.asarray(jacobian), np.asarray(r), successes)
 
 
 def _bar(total, progress):
@@ -461,13 +476,12 @@ def _bar(total, progress):
     return tqdm(total=total, desc="calibrate", unit="it")
 
 
-def _report(problem, start, log_values, losses, steps, converged, pairs, r, jacobian):
+def _report(problem, start, log_values, losses, steps, converged, pairs, r, jacobian, successes):
     """Unpad the predictions and residuals, estimate the noise, and form the
     Gauss–Newton covariance and the warnings."""
     names, groups = problem.names, problem.groups
     p = len(names)
     values = {n: float(v) for n, v in zip(names, np.exp(np.asarray(log_values)))}
-    observables = _predict(log_values, names, groups, problem.settings)
     records = [record for _, record in pairs]
     predictions: list[dict] = [{} for _ in pairs]
     residuals: list[dict] = [{} for _ in pairs]
@@ -476,26 +490,26 @@ def _report(problem, start, log_values, losses, steps, converged, pairs, r, jaco
     weights = np.zeros_like(r)
     valid = sum(int(np.sum(np.asarray(m))) for g in groups for m in g.mask.values())
     offset = 0
-    for group, (predicted, ok) in zip(groups, observables):
+    for group, ok in zip(groups, successes):
         size = group.times.shape[1]
-        for j, (i, n) in enumerate(zip(group.indices, group.lengths)):
-            success[i] = bool(ok[j])
-            for k in group.names:
-                if k in records[i].columns:
-                    predictions[i][k] = np.asarray(predicted[k][j, :n])
-                    residuals[i][k] = records[i].columns[k] - predictions[i][k]
         for k in group.names:
-            for j, i in enumerate(group.indices):  # the residuals are laid out (records, samples)
+            for j, (i, n) in enumerate(zip(group.indices, group.lengths)):  # laid out (records, samples)
                 block = slice(offset + j * size, offset + (j + 1) * size)
-                mask = np.asarray(group.mask[k][j]) > 0
-                if not mask.any():
+                success[i] = bool(ok[j])
+                if k not in records[i].columns:
+                    continue
+                # r = (predicted − measured) / scale, so the predictions come back from it.
+                scaled = r[block][:n] if success[i] else np.full(n, np.nan)
+                predictions[i][k] = records[i].columns[k] + scaled * float(group.scale[k])
+                residuals[i][k] = -scaled * float(group.scale[k])
+                if not success[i]:
                     continue
                 # Each record's own noise level: tests differ in their instruments. The
                 # p fitted coefficients' share of the degrees of freedom is taken out in
                 # proportion to the record's samples.
-                dof = max(int(mask.sum()) * (1 - p / valid), 1.0)
-                sigma = max(float(np.sqrt(np.sum(r[block][mask] ** 2) / dof)), 1e-12)
-                weights[block] = mask / sigma
+                dof = max(n * (1 - p / valid), 1.0)
+                sigma = max(float(np.sqrt(np.sum(r[block][:n] ** 2) / dof)), 1e-12)
+                weights[block][:n] = 1 / sigma
                 noise[(records[i].name, k)] = sigma * float(group.scale[k])
             offset += len(group.indices) * size
     weighted = jacobian * weights[:, None]
