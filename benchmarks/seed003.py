@@ -16,18 +16,15 @@ Results are appended to benchmarks/results/seed003.json;
 
 import argparse
 import json
-import os
-import platform
-import time
 from pathlib import Path
 
 import diffrax
-import jax
 import numpy as np
 
 import jaxcable as jc
 from jaxcable.examples import seed003_line
 
+from _results import append_session
 from _timing import timed
 
 SOLVERS = {
@@ -104,20 +101,7 @@ def main():
             records.append(record)
             print(json.dumps(record), flush=True)
 
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    history = json.loads(out.read_text()) if out.exists() else []
-    history.append(
-        {
-            "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-            "machine": f"{platform.node()} {platform.machine()} ({os.cpu_count()} cores)",
-            "devices": [str(d) for d in jax.devices()],
-            "jax": jax.__version__,
-            "diffrax": diffrax.__version__,
-            "records": records,
-        }
-    )
-    out.write_text(json.dumps(history, indent=1))
+    append_session(args.out, records=records)
 
 
 def report(path: Path) -> None:

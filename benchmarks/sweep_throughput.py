@@ -29,10 +29,9 @@ Results are appended to benchmarks/results/sweep_throughput.json;
 import argparse
 import json
 import os
-import platform
-import time
 from pathlib import Path
 
+from _results import append_session
 from _timing import timed
 
 PARAMETERS = ("amplitude", "quadratic_ratio")
@@ -71,7 +70,6 @@ def main():
             os.environ.get("XLA_FLAGS", "") + f" --xla_force_host_platform_device_count={args.host_devices}"
         )
 
-    import diffrax
     import equinox as eqx
     import jax
     import numpy as np
@@ -154,23 +152,7 @@ def main():
         steps = [int(r.stats["num_steps"]) for r in results]
         record("loop", args.loop_cases, compile_time, run_time, steps, [bool(r.success) for r in results])
 
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    history = json.loads(out.read_text()) if out.exists() else []
-    history.append(
-        {
-            "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-            "machine": f"{platform.node()} {platform.machine()} ({os.cpu_count()} cores)",
-            "platform": platform.platform(),
-            "python": platform.python_version(),
-            "cpu_count": os.cpu_count(),
-            "devices": [str(d) for d in jax.devices()],
-            "jax": jax.__version__,
-            "diffrax": diffrax.__version__,
-            "records": records,
-        }
-    )
-    out.write_text(json.dumps(history, indent=1))
+    history = append_session(args.out, records=records)
     print()
     print_table(history[-1:])
 

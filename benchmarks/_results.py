@@ -1,0 +1,38 @@
+"""Results shared by the benchmarks: sessions appended to a JSON list, each stamped with
+when and where it ran."""
+
+import json
+import os
+import platform
+import time
+from pathlib import Path
+
+
+def append_session(path: str | Path, **fields) -> list[dict]:
+    """Append one session to the JSON list at `path` (created if absent) and return the
+    whole list.
+
+    The session holds `fields` after a stamp: the local time, the machine and its core
+    count, the platform, Python, JAX's devices and the jax and diffrax versions.
+    """
+    import diffrax
+    import jax
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    history = json.loads(path.read_text()) if path.exists() else []
+    history.append(
+        {
+            "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+            "machine": f"{platform.node()} {platform.machine()} ({os.cpu_count()} cores)",
+            "platform": platform.platform(),
+            "python": platform.python_version(),
+            "cpu_count": os.cpu_count(),
+            "devices": [str(d) for d in jax.devices()],
+            "jax": jax.__version__,
+            "diffrax": diffrax.__version__,
+            **fields,
+        }
+    )
+    path.write_text(json.dumps(history, indent=1))
+    return history
