@@ -4,6 +4,7 @@ when and where it ran."""
 import json
 import os
 import platform
+import subprocess
 import time
 from pathlib import Path
 
@@ -12,8 +13,9 @@ def append_session(path: str | Path, **fields) -> list[dict]:
     """Append one session to the JSON list at `path` (created if absent) and return the
     whole list.
 
-    The session holds `fields` after a stamp: the local time, the machine and its core
-    count, the platform, Python, JAX's devices and the jax and diffrax versions.
+    The session holds `fields` after a stamp: the local time, the code's git commit
+    (with `+` if the tree had changes), the machine and its core count, the platform,
+    Python, JAX's devices and the jax and diffrax versions.
     """
     import diffrax
     import jax
@@ -24,6 +26,7 @@ def append_session(path: str | Path, **fields) -> list[dict]:
     history.append(
         {
             "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+            "commit": _commit(),
             "machine": f"{platform.node()} {platform.machine()} ({os.cpu_count()} cores)",
             "platform": platform.platform(),
             "python": platform.python_version(),
@@ -36,3 +39,14 @@ def append_session(path: str | Path, **fields) -> list[dict]:
     )
     path.write_text(json.dumps(history, indent=1))
     return history
+
+
+def _commit() -> str | None:
+    def git(*args):
+        return subprocess.run(["git", *args], capture_output=True, text=True, cwd=Path(__file__).parent).stdout
+
+    try:
+        head = git("rev-parse", "--short", "HEAD").strip()
+        return head + ("+" if git("status", "--porcelain", "--untracked-files=no").strip() else "") or None
+    except OSError:
+        return None
