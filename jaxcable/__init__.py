@@ -40,6 +40,7 @@ from ._moordyn import read_moordyn as read_moordyn
 from ._motion_file import read_motion_file as read_motion_file
 from ._network import Body as Body, Branch as Branch, CableNetwork as CableNetwork, LineType as LineType
 from ._output import write as write_output
+from ._picard import PicardTrapezoid as PicardTrapezoid
 from ._records import (
     COLUMNS as COLUMNS,
     UNITS as UNITS,

@@ -13,6 +13,7 @@ from jaxtyping import Array, ArrayLike, Float
 from . import _checks as checks, _lagrangian as lag
 from ._environment import Environment
 from ._network import CableNetwork
+from ._picard import PicardTrapezoid
 from ._state import State
 
 
@@ -48,10 +49,13 @@ SOLVERS = {
     "tsit5": diffrax.Tsit5,
     "dopri8": diffrax.Dopri8,
     "kvaerno5": stiff_solver,
+    "picard": PicardTrapezoid,
 }
 """Solvers by the names scene files and the command line use: explicit Runge–Kutta
-`dopri5` (the default), `tsit5` and `dopri8`, and implicit `kvaerno5`
-([`jaxcable.stiff_solver`][]). Each entry makes a fresh diffrax solver."""
+`dopri5` (the default), `tsit5` and `dopri8`, implicit `kvaerno5`
+([`jaxcable.stiff_solver`][]), and `picard`, seed 001's Picard–trapezoid iteration
+([`jaxcable.PicardTrapezoid`][]), the historical baseline. Each entry makes a fresh
+diffrax solver."""
 
 
 class SimulationResult(eqx.Module):
