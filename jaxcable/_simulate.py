@@ -111,6 +111,7 @@ def simulate(
     rtol: float = 1e-6,
     atol: float = 1e-6,
     dt0: float | None = None,
+    stepsize_controller: diffrax.AbstractStepSizeController | None = None,
     max_steps: int = 1_000_000,
     adjoint: diffrax.AbstractAdjoint | None = None,
     progress: bool = False,
@@ -134,8 +135,13 @@ def simulate(
         or [`jaxcable.stiff_solver`][] (Kvaerno5 with Newton) where stiffness, not
         accuracy, limits the step.
     - `rtol`, `atol`: step-size controller tolerances, on positions (m) and velocities
-        (m/s).
-    - `dt0`: first step (s); chosen by diffrax by default.
+        (m/s). A new tolerance reuses the compiled solve.
+    - `dt0`: first step (s); chosen by diffrax by default. With a fixed step, the step.
+    - `stepsize_controller`: any diffrax step-size controller;
+        `diffrax.PIDController(rtol, atol)` by default. `diffrax.ConstantStepSize()`
+        with `dt0` gives fixed steps (as MoorDyn takes); `rtol` and `atol` are then
+        unused, except by an implicit solver's root finder, which needs its own
+        tolerances.
     - `max_steps`: the most steps before the solve is declared failed.
     - `adjoint`: diffrax's adjoint for reverse-mode gradients;
         `RecursiveCheckpointAdjoint` by default.
@@ -177,9 +183,8 @@ def simulate(
         jnp.asarray(t1, dtype=float),
         ts,
         default_solver() if solver is None else solver,
-        rtol,
-        atol,
-        dt0,
+        step_controller(rtol, atol, stepsize_controller),
+        None if dt0 is None else jnp.asarray(dt0, dtype=float),
         max_steps,
         diffrax.RecursiveCheckpointAdjoint() if adjoint is None else adjoint,
         diffrax.TqdmProgressMeter() if progress else diffrax.NoProgressMeter(),
@@ -187,8 +192,22 @@ def simulate(
     )
 
 
+def step_controller(
+    rtol: float, atol: float, stepsize_controller: diffrax.AbstractStepSizeController | None
+) -> diffrax.AbstractStepSizeController:
+    """`stepsize_controller`, or by default `diffrax.PIDController(rtol, atol)` with the
+    tolerances as arrays: a work-precision study then compiles once, not once per
+    tolerance."""
+    if stepsize_controller is not None:
+        return stepsize_controller
+    for name, value in (("rtol", rtol), ("atol", atol)):
+        if checks.is_concrete(value) and not float(value) > 0:
+            raise ValueError(f"{name} must be positive, got {value}")
+    return diffrax.PIDController(rtol=jnp.asarray(rtol, dtype=float), atol=jnp.asarray(atol, dtype=float))
+
+
 @eqx.filter_jit
-def _simulate(model, env, initial, t0, t1, ts, solver, rtol, atol, dt0, max_steps, adjoint, meter, throw):
+def _simulate(model, env, initial, t0, t1, ts, solver, controller, dt0, max_steps, adjoint, meter, throw):
     free = model.free_nodes
     y0 = (initial[0][free], initial[1][free])
     solution = diffrax.diffeqsolve(
@@ -200,7 +219,7 @@ def _simulate(model, env, initial, t0, t1, ts, solver, rtol, atol, dt0, max_step
         y0,
         args=(model, env),
         saveat=diffrax.SaveAt(ts=ts),
-        stepsize_controller=diffrax.PIDController(rtol=rtol, atol=atol),
+        stepsize_controller=controller,
         max_steps=max_steps,
         adjoint=adjoint,
         progress_meter=meter,

@@ -34,7 +34,7 @@ from jaxtyping import Array, ArrayLike, Bool, Float
 from . import _checks as checks
 from ._environment import Environment
 from ._network import CableNetwork
-from ._simulate import SimulationResult, _simulate, default_solver
+from ._simulate import SimulationResult, _simulate, default_solver, step_controller
 from ._state import State
 from ._statics import StaticSolution, solve_statics
 
@@ -167,6 +167,7 @@ def sweep(
     rtol: float = 1e-6,
     atol: float = 1e-6,
     dt0: float | None = None,
+    stepsize_controller: diffrax.AbstractStepSizeController | None = None,
     max_steps: int = 1_000_000,
     devices: Sequence[jax.Device] | None = None,
 ) -> SweepResult:
@@ -227,7 +228,8 @@ def sweep(
         fallback, so start from taut shapes. `"rest"`: `model.node_positions` at rest.
         A [`jaxcable.State`][]: positions and velocities of shape `(nodes, 3)` shared by
         all cases, or `(cases, nodes, 3)`, one per case.
-    - `solver`, `rtol`, `atol`, `dt0`, `max_steps`: as for [`jaxcable.simulate`][];
+    - `solver`, `rtol`, `atol`, `dt0`, `stepsize_controller`, `max_steps`: as for
+        [`jaxcable.simulate`][];
         `max_steps` counts each case's own steps.
     - `devices`: the JAX devices to split the cases across; `jax.devices()` by
         default.
@@ -273,6 +275,8 @@ def sweep(
         "t1": np.asarray(t1, dtype=float),
         "ts": ts,
         "solver": default_solver() if solver is None else solver,
+        "controller": step_controller(rtol, atol, stepsize_controller),
+        "dt0": None if dt0 is None else np.asarray(dt0, dtype=float),
     }
     mode = initial if isinstance(initial, str) else "state"
     if isinstance(initial, State):
@@ -301,7 +305,7 @@ def sweep(
         per_case = _place(per_case, NamedSharding(mesh, PartitionSpec(_CASES)))
         shared = _place(shared, NamedSharding(mesh, PartitionSpec()))
 
-    simulation, statics, success = _run(per_case, shared, mode, rtol, atol, dt0, max_steps, mesh)
+    simulation, statics, success = _run(per_case, shared, mode, max_steps, mesh)
     if padding:
         simulation, statics, success = jax.tree.map(lambda x: x[:n_cases], (simulation, statics, success))
     return SweepResult(
@@ -314,7 +318,7 @@ def sweep(
 
 
 @eqx.filter_jit
-def _run(per_case, shared, mode, rtol, atol, dt0, max_steps, mesh):
+def _run(per_case, shared, mode, max_steps, mesh):
     """The compiled batch: `vmap` over cases, split across the devices of `mesh` (if
     given) by the sharding of the inputs. Returns the batched `SimulationResult`,
     `StaticSolution` (or `None`) and success flags.
@@ -345,7 +349,7 @@ def _run(per_case, shared, mode, rtol, atol, dt0, max_steps, mesh):
         else:
             start = case["initial"] if "initial" in case else shared["initial"]
         simulation = _simulate(
-            model, env, start, t0, t1, ts, shared["solver"], rtol, atol, dt0, max_steps,
+            model, env, start, t0, t1, ts, shared["solver"], shared["controller"], shared["dt0"], max_steps,
             diffrax.RecursiveCheckpointAdjoint(), diffrax.NoProgressMeter(), False,
         )
         if statics is not None:
