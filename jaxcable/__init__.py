@@ -15,6 +15,7 @@ from ._calibrate import (
     synthetic_record as synthetic_record,
 )
 from ._cnoidal import Cnoidal as Cnoidal, cnoidal_coefficients as cnoidal_coefficients
+from ._jacobian import NetworkJacobian as NetworkJacobian
 from ._environment import CurrentProfile as CurrentProfile, Environment as Environment, Seabed as Seabed
 from ._lagrangian import (
     generalised_forces as generalised_forces,

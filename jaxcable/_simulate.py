@@ -12,6 +12,7 @@ from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks, _lagrangian as lag
 from ._environment import Environment
+from ._jacobian import with_network_jacobian
 from ._network import CableNetwork
 from ._picard import PicardTrapezoid
 from ._state import State
@@ -40,6 +41,10 @@ def stiff_solver() -> diffrax.AbstractSolver:
     Jacobian across iterations; as segments slacken and re-tension that Jacobian goes
     stale and steps are rejected. On seed 003's line (10 segments, 10 s) it took 8,277
     steps where Newton took 3,952, though each was cheaper.
+
+    With lumped mass, [`jaxcable.simulate`][] gives the root finder
+    [`jaxcable.NetworkJacobian`][], so that each Newton iteration costs O(N), not the
+    O(N³) of a dense LU.
     """
     return diffrax.Kvaerno5(root_finder=diffrax.with_stepsize_controller_tols(optx.Newton)())
 
@@ -49,11 +54,13 @@ SOLVERS = {
     "tsit5": diffrax.Tsit5,
     "dopri8": diffrax.Dopri8,
     "kvaerno5": stiff_solver,
+    "kencarp4": diffrax.KenCarp4,
     "picard": PicardTrapezoid,
 }
 """Solvers by the names scene files and the command line use: explicit Runge–Kutta
 `dopri5` (the default), `tsit5` and `dopri8`, implicit `kvaerno5`
-([`jaxcable.stiff_solver`][]), and `picard`, seed 001's Picard–trapezoid iteration
+([`jaxcable.stiff_solver`][]), implicit–explicit `kencarp4` (the line's axial forces
+implicit, the rest explicit), and `picard`, seed 001's Picard–trapezoid iteration
 ([`jaxcable.PicardTrapezoid`][]), the historical baseline. Each entry makes a fresh
 diffrax solver."""
 
@@ -99,6 +106,37 @@ def vector_field(t, y, args):
     return free_velocities, a_free
 
 
+def stiff_field(t, y, args):
+    """The implicit part of an implicit–explicit split: `(v_f, M⁻¹ Q_internal)`, the
+    line's axial forces, whose stiffness ω_n = 2 (N/L) √(EA/m) limits explicit steps."""
+    model, env = args
+    free_positions, free_velocities = y
+    a_free, *_ = lag.free_accelerations(model, env, t, free_positions, free_velocities, part="internal")
+    return free_velocities, a_free
+
+
+def nonstiff_field(t, y, args):
+    """The explicit part: `(0, M⁻¹ (Q − Q_internal − M_fc a_c))`, weight, buoyancy,
+    drag, fluid inertia, bodies and the seabed."""
+    model, env = args
+    free_positions, free_velocities = y
+    a_free, *_ = lag.free_accelerations(model, env, t, free_positions, free_velocities, part="external")
+    return jnp.zeros_like(free_velocities), a_free
+
+
+IMEX_SOLVERS = (diffrax.KenCarp3, diffrax.KenCarp4, diffrax.KenCarp5, diffrax.Sil3)
+"""Implicit–explicit solvers, which [`jaxcable.simulate`][] gives the split
+`MultiTerm(nonstiff_field, stiff_field)` rather than the whole vector field."""
+
+
+def terms_for(solver: diffrax.AbstractSolver) -> diffrax.AbstractTerm:
+    """The diffrax terms `solver` integrates: split for an implicit–explicit solver,
+    whole otherwise."""
+    if isinstance(solver, IMEX_SOLVERS):
+        return diffrax.MultiTerm(diffrax.ODETerm(nonstiff_field), diffrax.ODETerm(stiff_field))
+    return diffrax.ODETerm(vector_field)
+
+
 def simulate(
     model: CableNetwork,
     env: Environment,
@@ -112,6 +150,7 @@ def simulate(
     atol: float = 1e-6,
     dt0: float | None = None,
     stepsize_controller: diffrax.AbstractStepSizeController | None = None,
+    jacobian: str = "auto",
     max_steps: int = 1_000_000,
     adjoint: diffrax.AbstractAdjoint | None = None,
     progress: bool = False,
@@ -133,7 +172,8 @@ def simulate(
         default. Use `solve_statics(...).state` to start from equilibrium.
     - `solver`: any diffrax solver; [`jaxcable.default_solver`][] (Dopri5) by default,
         or [`jaxcable.stiff_solver`][] (Kvaerno5 with Newton) where stiffness, not
-        accuracy, limits the step.
+        accuracy, limits the step. Implicit–explicit solvers (`KenCarp3/4/5`,
+        `Sil3`) get the line's axial forces implicitly and the rest explicitly.
     - `rtol`, `atol`: step-size controller tolerances, on positions (m) and velocities
         (m/s). A new tolerance reuses the compiled solve.
     - `dt0`: first step (s); chosen by diffrax by default. With a fixed step, the step.
@@ -142,6 +182,12 @@ def simulate(
         with `dt0` gives fixed steps (as MoorDyn takes); `rtol` and `atol` are then
         unused, except by an implicit solver's root finder, which needs its own
         tolerances.
+    - `jacobian`: how an implicit solver's root finder solves its linear systems.
+        `"auto"` (default): with [`jaxcable.NetworkJacobian`][] (coloured JVPs and a
+        block-tridiagonal factorisation along the network, O(N) a step) for a
+        lumped-mass model whose solver leaves the linear solver to lineax; otherwise
+        as the solver says. `"structured"`: always, or a `ValueError` saying why it
+        cannot. `"dense"`: never (diffrax's dense Jacobian and LU, O(N³)).
     - `max_steps`: the most steps before the solve is declared failed.
     - `adjoint`: diffrax's adjoint for reverse-mode gradients;
         `RecursiveCheckpointAdjoint` by default.
@@ -156,7 +202,9 @@ def simulate(
     **Raises:**
 
     With `throw=True`, an error carrying diffrax's message when the solve fails (too
-    many steps, step size collapse). Non-finite states are rejected steps, not output.
+    many steps, step size collapse). Non-finite states are rejected steps, not output;
+    with a fixed step, which cannot reject, a state that goes non-finite fails the
+    solve (`diffrax.RESULTS.nonfinite`).
     """
     if checks.is_concrete(t0) and checks.is_concrete(t1) and not t1 > t0:
         raise ValueError(f"simulate: t1 must be greater than t0, got t0={t0}, t1={t1}")
@@ -182,7 +230,7 @@ def simulate(
         jnp.asarray(t0, dtype=float),
         jnp.asarray(t1, dtype=float),
         ts,
-        default_solver() if solver is None else solver,
+        with_network_jacobian(default_solver() if solver is None else solver, model, jacobian),
         step_controller(rtol, atol, stepsize_controller),
         None if dt0 is None else jnp.asarray(dt0, dtype=float),
         max_steps,
@@ -211,7 +259,7 @@ def _simulate(model, env, initial, t0, t1, ts, solver, controller, dt0, max_step
     free = model.free_nodes
     y0 = (initial[0][free], initial[1][free])
     solution = diffrax.diffeqsolve(
-        diffrax.ODETerm(vector_field),
+        terms_for(solver),
         solver,
         t0,
         t1,
@@ -240,5 +288,15 @@ def _simulate(model, env, initial, t0, t1, ts, solver, controller, dt0, max_step
         )
 
     positions, velocities, strain, tension, reactions = jax.vmap(outputs)(solution.ts, *solution.ys)
+    # An adaptive controller rejects non-finite steps, but a fixed step (beyond the
+    # method's stability limit) carries them to the end as a "successful" solve.
+    finite = jnp.all(jnp.isfinite(positions)) & jnp.all(jnp.isfinite(velocities))
+    result = diffrax.RESULTS.where(finite | (solution.result != diffrax.RESULTS.successful), solution.result, diffrax.RESULTS.nonfinite)
+    if throw:
+        tension = eqx.error_if(
+            tension,
+            result == diffrax.RESULTS.nonfinite,
+            "simulate: the state became non-finite (with a fixed step, the step is beyond the method's stability limit)",
+        )
     stats = {k: solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
-    return SimulationResult(solution.ts, positions, velocities, strain, tension, reactions, stats, solution.result)
+    return SimulationResult(solution.ts, positions, velocities, strain, tension, reactions, stats, result)

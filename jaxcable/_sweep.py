@@ -33,6 +33,7 @@ from jaxtyping import Array, ArrayLike, Bool, Float
 
 from . import _checks as checks
 from ._environment import Environment
+from ._jacobian import with_network_jacobian
 from ._network import CableNetwork
 from ._simulate import SimulationResult, _simulate, default_solver, step_controller
 from ._state import State
@@ -168,6 +169,7 @@ def sweep(
     atol: float = 1e-6,
     dt0: float | None = None,
     stepsize_controller: diffrax.AbstractStepSizeController | None = None,
+    jacobian: str = "auto",
     max_steps: int = 1_000_000,
     devices: Sequence[jax.Device] | None = None,
 ) -> SweepResult:
@@ -228,8 +230,8 @@ def sweep(
         fallback, so start from taut shapes. `"rest"`: `model.node_positions` at rest.
         A [`jaxcable.State`][]: positions and velocities of shape `(nodes, 3)` shared by
         all cases, or `(cases, nodes, 3)`, one per case.
-    - `solver`, `rtol`, `atol`, `dt0`, `stepsize_controller`, `max_steps`: as for
-        [`jaxcable.simulate`][];
+    - `solver`, `rtol`, `atol`, `dt0`, `stepsize_controller`, `jacobian`, `max_steps`:
+        as for [`jaxcable.simulate`][];
         `max_steps` counts each case's own steps.
     - `devices`: the JAX devices to split the cases across; `jax.devices()` by
         default.
@@ -274,7 +276,7 @@ def sweep(
         "t0": np.asarray(t0, dtype=float),
         "t1": np.asarray(t1, dtype=float),
         "ts": ts,
-        "solver": default_solver() if solver is None else solver,
+        "solver": with_network_jacobian(default_solver() if solver is None else solver, reference[0], jacobian),
         "controller": step_controller(rtol, atol, stepsize_controller),
         "dt0": None if dt0 is None else np.asarray(dt0, dtype=float),
     }

@@ -1,0 +1,167 @@
+"""The structured implicit Jacobian against dense linear algebra.
+
+References: `jax.jacfwd` materialises each stage Jacobian densely and
+`numpy.linalg.solve` solves with it; the distance-2 property of the colouring is
+checked on the graphs themselves; a structured implicit run is compared with diffrax's
+own dense one.
+"""
+
+import diffrax
+import jax
+import jax.numpy as jnp
+import lineax as lx
+import numpy as np
+import pytest
+import scipy.sparse as sparse
+
+import jaxcable as jc
+from jaxcable._jacobian import NetworkJacobian, _distance2_colouring, _free_edges
+from jaxcable._simulate import vector_field
+from jaxcable.examples import scene_path, seed003_line
+
+
+def _scene(name):
+    built = jc.load_scene(scene_path(name)).build()
+    return built.model, built.environment
+
+
+@pytest.fixture(scope="module")
+def models():
+    line = seed003_line(8, mass_matrix="lumped")
+    return {"line": line, "y_branch": _scene("y_branch"), "buoy_net": _scene("buoy_net")}
+
+
+def _stage(model, env, step):
+    """An implicit stage's function `k ↦ h f(y + h k) − k` about a moving state, as
+    diffrax's ESDIRK stages have it (γ folded into h), and its zero point."""
+    free = model.free_nodes
+    rng = np.random.default_rng(1)
+    y = (model.node_positions[free] + 0.01 * rng.normal(size=(free.size, 3)), jnp.asarray(0.1 * rng.normal(size=(free.size, 3))))
+
+    def fn(k, args):
+        moved = jax.tree.map(lambda a, b: a + step * b, y, k)
+        return jax.tree.map(lambda f, b: step * f - b, vector_field(0.3, moved, (model, env)), k)
+
+    return fn, jax.tree.map(jnp.zeros_like, y)
+
+
+def _dense(fn, k):
+    """The stage Jacobian as a dense `(6n, 6n)` matrix, unknowns node by node."""
+    flat = lambda tree: jnp.concatenate([a for a in tree], axis=1).reshape(-1)
+    n = k[0].shape[0]
+    unflat = lambda v: (v.reshape(n, 6)[:, :3], v.reshape(n, 6)[:, 3:])
+    return np.asarray(jax.jacfwd(lambda v: flat(fn(unflat(v), None)))(flat(k))), flat, unflat
+
+
+@pytest.mark.parametrize("name", ["line", "y_branch", "buoy_net"])
+def test_solve_matches_dense_jacobian(models, name):
+    """Solves and transposed solves agree with `numpy.linalg.solve` on the `jacfwd`
+    Jacobian, on a line, a branched system and a net with loops, at a step long enough
+    for the stiff terms to dominate the identity."""
+    model, env = models[name]
+    fn, k = _stage(model, env, 0.05)
+    dense, flat, unflat = _dense(fn, k)
+    solver = NetworkJacobian(model)
+    operator = lx.JacobianLinearOperator(fn, k, None)
+    rhs = unflat(jnp.asarray(np.random.default_rng(2).normal(size=dense.shape[0])))
+    state = solver.init(operator, {})
+    solution, result, _ = solver.compute(state, rhs, {})
+    assert result == lx.RESULTS.successful
+    expected = np.linalg.solve(dense, np.asarray(flat(rhs)))
+    np.testing.assert_allclose(flat(solution), expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
+    transposed, _ = solver.transpose(state, {})
+    solution_t, _, _ = solver.compute(transposed, rhs, {})
+    expected_t = np.linalg.solve(dense.T, np.asarray(flat(rhs)))
+    np.testing.assert_allclose(flat(solution_t), expected_t, rtol=1e-9, atol=1e-9 * np.abs(expected_t).max())
+
+
+def test_jacobian_is_as_sparse_as_the_graph(models):
+    """The dense Jacobian's nonzero blocks lie on the graph's pairs, the structure the
+    colouring relies on: no node's force depends on a node two segments away."""
+    model, env = models["buoy_net"]
+    fn, k = _stage(model, env, 0.05)
+    dense, _, _ = _dense(fn, k)
+    n = k[0].shape[0]
+    blocks = np.abs(dense.reshape(n, 6, n, 6)).max(axis=(1, 3)) > 0
+    pattern = np.zeros((n, n), bool)
+    pattern[tuple(np.asarray(NetworkJacobian(model).pairs).T)] = True
+    assert not np.any(blocks & ~pattern)
+    # Every neighbour pair couples (the colouring is not larger than it must be).
+    assert np.all(blocks[pattern])
+
+
+@pytest.mark.parametrize(
+    "edges, n",
+    [
+        (np.stack([np.arange(9), np.arange(1, 10)], 1), 10),  # a line
+        (np.array([[0, 1], [1, 2], [1, 3], [3, 4], [3, 5], [5, 6]]), 7),  # a tree
+        # A 4 × 4 grid: loops.
+        (np.array([[i * 4 + j, i * 4 + j + 1] for i in range(4) for j in range(3)]
+                  + [[i * 4 + j, (i + 1) * 4 + j] for i in range(3) for j in range(4)]), 16),
+    ],
+)
+def test_colouring_separates_nodes_within_two_edges(edges, n):
+    graph = sparse.coo_matrix((np.ones(2 * len(edges)), (*np.concatenate([edges, edges[:, ::-1]]).T,)), shape=(n, n)).tocsr()
+    colours = _distance2_colouring(graph)
+    reach = (graph + graph @ graph).toarray() > 0
+    i, j = np.nonzero(reach)
+    off = i != j
+    assert np.all(colours[i[off]] != colours[j[off]])
+    # A line needs 3 colours; the greedy colouring should find that.
+    if n == 10:
+        assert colours.max() + 1 == 3
+
+
+def test_free_edges_drop_constrained_nodes():
+    # Nodes 0 and 4 are constrained; free nodes 1, 2, 3 renumber to 0, 1, 2.
+    segments = np.array([[0, 1], [1, 2], [2, 3], [3, 4], [2, 1]])
+    np.testing.assert_array_equal(_free_edges(segments, np.array([1, 2, 3]), 5), [[0, 1], [1, 2]])
+
+
+@pytest.fixture(scope="module")
+def implicit_runs():
+    model, env = seed003_line(6, mass_matrix="lumped")
+    static = jc.solve_statics(model, env)
+    ts = np.linspace(0.0, 2.0, 21)
+    runs = {
+        jacobian: jc.simulate(model, env, 2.0, ts=ts, initial=static.state, solver=diffrax.Kvaerno5(), rtol=1e-8, atol=1e-8, jacobian=jacobian)
+        for jacobian in ("structured", "dense")
+    }
+    return runs
+
+
+def test_structured_run_matches_dense_run(implicit_runs):
+    """Kvaerno5 (VeryChord) with the structured Jacobian follows diffrax's dense one:
+    the same steps to rounding, the same tensions to the root finder's tolerance."""
+    structured, dense = implicit_runs["structured"], implicit_runs["dense"]
+    assert bool(structured.success) and bool(dense.success)
+    peak = float(jnp.max(dense.tension))
+    assert float(jnp.max(jnp.abs(structured.tension - dense.tension))) < 1e-6 * peak
+    assert abs(int(structured.stats["num_steps"]) - int(dense.stats["num_steps"])) <= 2
+
+
+def test_auto_applies_only_where_it_holds(models):
+    model, env = models["line"]
+    consistent, _ = seed003_line(4)
+    from jaxcable._jacobian import with_network_jacobian
+
+    stiff = jc.stiff_solver()
+    chosen = with_network_jacobian(stiff, model, "auto")
+    assert isinstance(chosen.root_finder.linear_solver, NetworkJacobian)
+    # Consistent mass, explicit solvers and a user's own linear solver are left alone.
+    assert with_network_jacobian(stiff, consistent, "auto") is stiff
+    assert with_network_jacobian(diffrax.Dopri5(), model, "auto") is not None
+    own = diffrax.Kvaerno5(root_finder=diffrax.VeryChord(rtol=1e-6, atol=1e-6, linear_solver=lx.LU()))
+    assert with_network_jacobian(own, model, "auto") is own
+    assert with_network_jacobian(stiff, model, "dense") is stiff
+
+
+def test_structured_refuses_what_it_cannot_do(models):
+    model, env = models["line"]
+    consistent, consistent_env = seed003_line(4)
+    with pytest.raises(ValueError, match="mass_matrix='lumped', got 'consistent'"):
+        jc.simulate(consistent, consistent_env, 0.1, solver=jc.stiff_solver(), jacobian="structured")
+    with pytest.raises(ValueError, match="needs an implicit solver.*Dopri5"):
+        jc.simulate(model, env, 0.1, jacobian="structured")
+    with pytest.raises(ValueError, match="jacobian.*'sparse'"):
+        jc.simulate(model, env, 0.1, jacobian="sparse")
