@@ -244,6 +244,16 @@ def seabed_forces(model: CableNetwork, env: Environment, positions, velocities) 
     return friction.at[:, 2].add(damping)
 
 
+def internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "nodes 3"]:
+    """The line's own axial forces (N), `T(ε, ε̇) τ` pulling each segment's ends
+    together, on every node, shape `(nodes, 3)`: the stiff part of `Q`, which an
+    implicit–explicit solver treats implicitly. Equal to the elastic part of
+    `−∂Π/∂x` plus the viscous pull in `nonconservative_forces`."""
+    _, tangent, _ = segment_geometry(model, positions)
+    pull = tension(model, positions, velocities)[:, None] * tangent
+    return _scatter(model, pull, -pull)
+
+
 def generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
     """All generalised forces Q (N) on every node, shape `(nodes, 3)`."""
     conservative = -jax.grad(potential_energy, argnums=2)(model, env, positions)
@@ -272,17 +282,33 @@ def _inverse_3x3(blocks: Float[Array, "n 3 3"]) -> Float[Array, "n 3 3"]:
     return jnp.swapaxes(cofactor, -1, -2) / determinant[..., None, None]
 
 
-def free_accelerations(model: CableNetwork, env: Environment, t, free_positions, free_velocities):
+FORCE_PARTS = ("all", "internal", "external")
+
+
+def free_accelerations(model: CableNetwork, env: Environment, t, free_positions, free_velocities, part: str = "all"):
     """Solve `M_ff a_f = Q_f − M_fc a_c` for the free nodes' accelerations (m/s²).
 
+    `part` splits the right-hand side for implicit–explicit solvers: `"internal"`
+    keeps the line's axial forces alone ([`internal_forces`]), `"external"` the rest,
+    `M_fc a_c` included; the two parts' accelerations sum to `"all"`'s.
+
     Returns `(a_f, positions, velocities, a)`: the free accelerations, shape
-    `(free, 3)`, and the full node positions, velocities and accelerations.
+    `(free, 3)`, and the full node positions, velocities and accelerations (of the
+    part asked for).
     """
     positions, velocities = full_state(model, t, free_positions, free_velocities)
     _, _, constrained_acc = constrained_motion(model, t)
     free, constrained = model.free_nodes, model.constrained_nodes
-    known = jnp.zeros_like(positions).at[constrained].set(constrained_acc)
-    rhs = (generalised_forces(model, env, t, positions, velocities) - inertial_forces(model, env, positions, known))[free]
+    known = jnp.zeros_like(positions)
+    if part != "internal":
+        known = known.at[constrained].set(constrained_acc)
+    if part == "internal":
+        forces = internal_forces(model, positions, velocities)
+    else:
+        forces = generalised_forces(model, env, t, positions, velocities) - inertial_forces(model, env, positions, known)
+        if part == "external":
+            forces = forces - internal_forces(model, positions, velocities)
+    rhs = forces[free]
 
     # The lumped matrix is block-diagonal: one 3 × 3 solve per node, and M_fc = 0.
     inverse = _inverse_3x3(lumped_blocks(model, env, positions)[free])
