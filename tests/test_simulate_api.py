@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
+from jaxcable.examples import seed003_line
 
 
 @pytest.fixture(scope="module")
@@ -74,3 +75,18 @@ def test_statics_state_is_at_rest(scene):
     result = jc.simulate(frozen, still, 2.0, initial=static.state, ts=np.linspace(0, 2.0, 5), rtol=1e-10, atol=1e-10)
     np.testing.assert_allclose(result.tension, np.broadcast_to(static.tension, result.tension.shape), rtol=1e-6)
     np.testing.assert_allclose(result.velocities, 0.0, atol=1e-6)
+
+
+def test_fixed_step_blow_up_is_a_failure_not_output():
+    """Heun at 20× its stable step on seed 003's line goes non-finite; the result says
+    so (and raises with `throw=True`) rather than passing the NaNs on as a success."""
+    model, env = seed003_line(6, mass_matrix="lumped")
+    static = jc.solve_statics(model, env)
+    fixed = dict(solver=diffrax.Heun(), stepsize_controller=diffrax.ConstantStepSize(), dt0=0.05, initial=static.state)
+    run = jc.simulate(model, env, 5.0, throw=False, **fixed)
+    assert not bool(run.success)
+    assert run.result == diffrax.RESULTS.nonfinite
+    with pytest.raises(Exception, match="non-finite"):
+        jc.simulate(model, env, 5.0, **fixed)
+    stable = jc.simulate(model, env, 0.5, throw=False, **{**fixed, "dt0": 1e-3})
+    assert bool(stable.success)
