@@ -80,8 +80,10 @@ BREAKING_STEEPNESS = 0.142  # H/λ in deep water, Miche (1944): times tanh(2π d
 DRAG_DOMINATES, INERTIA_DOMINATES = 0.5, 2.0
 # A segment is slack when its tension is below this fraction of the largest at rest.
 SLACK_FRACTION = 0.01
-# Explicit Runge–Kutta methods of order 4–5 are stable for |λ Δt| up to about 3.
-STABLE_STEP = 3.0
+# The largest stable |λ Δt| of Dopri5 and Tsit5 measured on seed 003's line
+# (`benchmarks/stability.py`): 1.68–1.92 where the axial mode is fast (ω_n ≥ 300 rad/s),
+# 3–4 only where drag damps it (ω_n ≤ 235 rad/s). The lower figure is the safe one.
+STABLE_STEP = 1.7
 DEFAULT_TOLERANCE = 0.01  # of each line's length
 
 
@@ -288,7 +290,7 @@ class Advice:
     - `omega`, `eigenvalue`, `segment`: [`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode].
     - `seabed_eigenvalue`, `seabed_limit`: [`seabed_mode`][jaxcable._advice.seabed_mode]
         on the segments that touch the bed at rest (0 and `""` if none).
-    - `explicit_step`: 3/|λ| (s), the longest stable step of an explicit solver, |λ|
+    - `explicit_step`: 1.7/|λ| (s), the longest stable step of an explicit solver, |λ|
         the larger of the axial and the seabed's.
     - `duration`: (s) or `None`; `steps`: the explicit steps it needs at least.
     - `waves`: a [`WaveFit`][jaxcable._advice.WaveFit] per wave.
@@ -418,7 +420,7 @@ class Advice:
             f", so {self.duration:g} s needs at least ~{self.steps:,} steps" if self.duration is not None else ""
         )
         text.append(
-            f"an explicit solver (dopri5, tsit5) is stable for steps up to about 3/|λ| = {self.explicit_step:.3g} s"
+            f"an explicit solver (dopri5, tsit5) is stable for steps up to about {STABLE_STEP:g}/|λ| = {self.explicit_step:.3g} s"
             + steps
         )
         if self.explicit_step < 1e-3:

@@ -14,6 +14,7 @@ from scipy.optimize import brentq
 import jaxcable as jc
 from jaxcable import _lagrangian as lag
 from jaxcable._advice import (
+    STABLE_STEP,
     advice,
     advise,
     polyline_curvature,
@@ -71,7 +72,7 @@ def test_advice_counts_steps_from_the_bound():
     np.testing.assert_allclose(omega, 2 * np.sqrt(4e6 / m) / 5.0, rtol=1e-12)
     assert magnitude == omega
     text = " ".join(advice(built, 10.0))
-    assert f"~{int(np.ceil(10.0 / (3.0 / magnitude))):,} steps" in text
+    assert f"~{int(np.ceil(10.0 / (STABLE_STEP / magnitude))):,} steps" in text
 
 
 # --------------------------------------------------------------------------------------
