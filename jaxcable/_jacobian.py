@@ -12,12 +12,14 @@ segment with, so A is block-sparse along the network's graph: one 6 × 6 block
 [`jaxcable.NetworkJacobian`][] exploits this twice:
 
 - **Coloured JVPs.** Nodes that share no neighbour (distance-2 colouring) get the same
-  colour, and one JVP per colour and component recovers every block: 18 JVPs for a
-  line (3 colours), 24 at a three-way junction, whatever N.
+  colour, and one JVP per colour and component recovers every block, whatever N: 18
+  JVPs for a line (3 colours), 30 for the bundled Y-branch and 36 for the buoy net
+  (5 and 6 colours by the greedy colouring).
 - **A block-tridiagonal factorisation.** Nodes are renumbered by reverse Cuthill–McKee
   and grouped in runs of the resulting bandwidth b (1 for a line, a few for a branched
   system, a net's width for a net), which makes A block-tridiagonal in groups of 6b
-  unknowns. It is factored by block elimination in one `lax.scan`: O(N b²) flops.
+  unknowns (the bundled Y-branch has b = 2, the 3 × 3 buoy net b = 6). It is factored
+  by block elimination in one `lax.scan`: O(N b²) flops.
 
 With consistent mass, A is dense (the mass matrix's inverse couples every node), and
 the dense solve stays.
