@@ -1,0 +1,108 @@
+"""Where a step's time goes: the force evaluation against diffrax's step loop.
+
+On seed 003's line (lumped mass, from statics), per segment count N:
+
+- *field*: one evaluation of the vector field (forces, mass solve), timed as 200
+  evaluations inside one compiled `fori_loop`, so no dispatch is counted;
+- *Euler step*: a fixed-step `diffrax.Euler` run (one evaluation a step), per step:
+  the field plus diffrax's loop;
+- *Dopri5 step*: the default solver at rtol = atol = 1e-6 (six evaluations a
+  step, FSAL), per step, with 1 output time and with 20 Hz output.
+
+The differences say what diffrax's bookkeeping costs against the physics. Times are
+medians of warm repeats.
+
+    python benchmarks/step_cost.py --segments 20 100
+    python benchmarks/step_cost.py --report
+
+Results are appended to benchmarks/results/step_cost.json.
+"""
+
+import argparse
+import json
+from pathlib import Path
+
+import diffrax
+import jax
+import numpy as np
+
+import jaxcable as jc
+from jaxcable._simulate import vector_field
+from jaxcable.examples import seed003_line
+
+from _results import append_session
+from _timing import timed
+
+RESULTS = Path(__file__).parent / "results"
+EVALUATIONS = 200
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--segments", type=int, nargs="+", default=[20, 100])
+    parser.add_argument("--duration", type=float, default=3.0, help="simulated time (s) of the Dopri5 runs")
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--out", default=str(RESULTS / "step_cost.json"))
+    parser.add_argument("--report", action="store_true")
+    args = parser.parse_args()
+    if args.report:
+        report(Path(args.out))
+        return
+    rows = []
+    for n in args.segments:
+        model, env = seed003_line(n, mass_matrix="lumped")
+        state = jc.solve_statics(model, env).state
+        y = (state.positions[model.free_nodes], state.velocities[model.free_nodes])
+
+        @jax.jit
+        def fields(y):
+            def body(i, y):
+                velocity, acceleration = vector_field(1e-3 * i, y, (model, env))
+                # A negligible update keeps each evaluation dependent on the last.
+                return (y[0] + 1e-12 * velocity, y[1] + 1e-12 * acceleration)
+
+            return jax.lax.fori_loop(0, EVALUATIONS, body, y)
+
+        _, _, field = timed(lambda: fields(y), args.repeats)
+
+        def run(solver, t1, ts, **options):
+            return lambda: jc.simulate(model, env, t1, ts=ts, initial=state, solver=solver, throw=False, **options)
+
+        euler_t1 = 2000 * 1e-5
+        euler, _, euler_time = timed(
+            run(diffrax.Euler(), euler_t1, [euler_t1], stepsize_controller=diffrax.ConstantStepSize(), dt0=1e-5),
+            args.repeats,
+        )
+        one, _, one_time = timed(run(diffrax.Dopri5(), args.duration, [args.duration]), args.repeats)
+        many_ts = np.linspace(0.0, args.duration, int(args.duration * 20) + 1)
+        many, _, many_time = timed(run(diffrax.Dopri5(), args.duration, many_ts), args.repeats)
+        row = {
+            "segments": n,
+            "field_us": 1e6 * field / EVALUATIONS,
+            "euler_step_us": 1e6 * euler_time / int(euler.stats["num_steps"]),
+            "dopri5_step_us_1_output": 1e6 * one_time / int(one.stats["num_steps"]),
+            "dopri5_step_us_20hz": 1e6 * many_time / int(many.stats["num_steps"]),
+            "dopri5_steps": int(one.stats["num_steps"]),
+        }
+        print(json.dumps(row), flush=True)
+        rows.append(row)
+        jax.clear_caches()
+    append_session(args.out, repeats=args.repeats, duration=args.duration, rows=rows)
+    report(Path(args.out))
+
+
+def report(path: Path):
+    sessions = json.loads(path.read_text())
+    print("| N | field (µs) | Euler step (µs) | Euler step − field | Dopri5 step, 1 output (µs) | Dopri5 step, 20 Hz (µs) | Dopri5 step − 6 fields | session |")
+    print("|---|---|---|---|---|---|---|---|")
+    for session in sessions:
+        for r in session["rows"]:
+            print(
+                f"| {r['segments']} | {r['field_us']:.1f} | {r['euler_step_us']:.1f} | {r['euler_step_us'] - r['field_us']:.1f} | "
+                f"{r['dopri5_step_us_1_output']:.1f} | {r['dopri5_step_us_20hz']:.1f} | "
+                f"{r['dopri5_step_us_1_output'] - 6 * r['field_us']:.1f} | {session['time'][:16]} |"
+            )
+
+
+if __name__ == "__main__":
+    main()
