@@ -25,6 +25,7 @@ With consistent mass, A is dense (the mass matrix's inverse couples every node),
 the dense solve stays.
 """
 
+import itertools
 from typing import Any
 
 import diffrax
@@ -33,8 +34,6 @@ import jax
 import jax.numpy as jnp
 import lineax as lx
 import numpy as np
-import scipy.sparse as sparse
-from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 from . import _checks as checks
 from ._network import CableNetwork
@@ -84,11 +83,11 @@ class NetworkJacobian(lx.AbstractLinearSolver):
             raise ValueError("NetworkJacobian needs the model's topology as concrete arrays, not traced ones")
         edges = _free_edges(np.asarray(model.segment_nodes), np.asarray(model.free_nodes), model.n_nodes)
         n = int(model.free_nodes.shape[0])
-        graph = sparse.coo_matrix((np.ones(2 * len(edges)), (*np.concatenate([edges, edges[:, ::-1]]).T,)), shape=(n, n)).tocsr()
+        neighbours = _neighbours(n, edges)
         self.nodes = n
-        self.colours = tuple(int(c) for c in _distance2_colouring(graph))
+        self.colours = tuple(int(c) for c in _distance2_colouring(neighbours))
         self.pairs = tuple((int(i), int(j)) for i, j in np.concatenate([np.stack([np.arange(n)] * 2, 1), edges, edges[:, ::-1]]))
-        order = reverse_cuthill_mckee(graph, symmetric_mode=True) if n else np.zeros(0, int)
+        order = _reverse_cuthill_mckee(neighbours)
         position = np.argsort(order)
         bandwidth = int(np.max(np.abs(position[edges[:, 0]] - position[edges[:, 1]]))) if len(edges) else 1
         self.order = tuple(int(i) for i in order)
@@ -260,16 +259,47 @@ def _free_edges(segment_nodes: np.ndarray, free_nodes: np.ndarray, n_nodes: int)
     return np.unique(np.sort(edges, axis=1), axis=0).reshape(-1, 2)
 
 
-def _distance2_colouring(graph: sparse.csr_matrix) -> np.ndarray:
+def _neighbours(n: int, edges: np.ndarray) -> list[list[int]]:
+    """Each node's neighbours, from the graph's `(edges, 2)` node pairs."""
+    neighbours = [[] for _ in range(n)]
+    for i, j in edges:
+        neighbours[i].append(int(j))
+        neighbours[j].append(int(i))
+    return neighbours
+
+
+def _distance2_colouring(neighbours: list[list[int]]) -> np.ndarray:
     """A greedy colouring in which no two nodes within two edges share a colour, so
     that the JVP seeded on one colour never sums two columns into one row."""
-    n = graph.shape[0]
-    reach = (graph + graph @ graph).tolil()
-    colours = np.full(n, -1)
-    for i in range(n):
-        taken = {colours[j] for j in reach.rows[i] if j != i}
-        colours[i] = next(c for c in range(n) if c not in taken)
+    colours = np.full(len(neighbours), -1)
+    for i, near in enumerate(neighbours):
+        reach = set(near).union(*(neighbours[j] for j in near)) - {i}
+        taken = {colours[j] for j in reach}
+        colours[i] = next(c for c in itertools.count() if c not in taken)
     return colours
+
+
+def _reverse_cuthill_mckee(neighbours: list[list[int]]) -> np.ndarray:
+    """A node order of small bandwidth: breadth first from a least-connected node of
+    each component, neighbours by increasing degree, reversed (Cuthill–McKee). A line
+    comes out in order, bandwidth 1."""
+    n = len(neighbours)
+    degree = [len(near) for near in neighbours]
+    seen = np.zeros(n, bool)
+    order: list[int] = []
+    for start in sorted(range(n), key=degree.__getitem__):
+        if seen[start]:
+            continue
+        seen[start] = True
+        head = len(order)
+        order.append(start)
+        while head < len(order):
+            for j in sorted(neighbours[order[head]], key=degree.__getitem__):
+                if not seen[j]:
+                    seen[j] = True
+                    order.append(j)
+            head += 1
+    return np.asarray(order[::-1], dtype=int)
 
 
 def with_network_jacobian(solver: diffrax.AbstractSolver, model: CableNetwork, jacobian: str) -> diffrax.AbstractSolver:

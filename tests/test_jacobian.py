@@ -13,9 +13,10 @@ import lineax as lx
 import numpy as np
 import pytest
 import scipy.sparse as sparse
+from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 import jaxcable as jc
-from jaxcable._jacobian import NetworkJacobian, _distance2_colouring, _free_edges
+from jaxcable._jacobian import NetworkJacobian, _distance2_colouring, _free_edges, _neighbours, _reverse_cuthill_mckee
 from jaxcable._simulate import vector_field
 from jaxcable.examples import scene_path, seed003_line
 
@@ -102,14 +103,22 @@ def test_jacobian_is_as_sparse_as_the_graph(models):
 )
 def test_colouring_separates_nodes_within_two_edges(edges, n):
     graph = sparse.coo_matrix((np.ones(2 * len(edges)), (*np.concatenate([edges, edges[:, ::-1]]).T,)), shape=(n, n)).tocsr()
-    colours = _distance2_colouring(graph)
+    colours = _distance2_colouring(_neighbours(n, edges))
     reach = (graph + graph @ graph).toarray() > 0
     i, j = np.nonzero(reach)
     off = i != j
     assert np.all(colours[i[off]] != colours[j[off]])
-    # A line needs 3 colours; the greedy colouring should find that.
+    # The ordering is a permutation, and its bandwidth matches scipy's reverse
+    # Cuthill–McKee's on the same graph.
+    order = _reverse_cuthill_mckee(_neighbours(n, edges))
+    assert sorted(order) == list(range(n))
+    width = lambda order: int(np.max(np.abs(np.argsort(order)[edges[:, 0]] - np.argsort(order)[edges[:, 1]])))
+    assert width(order) <= width(reverse_cuthill_mckee(graph, symmetric_mode=True))
+    # A line needs 3 colours and has bandwidth 1; the greedy colouring and the
+    # ordering should find that.
     if n == 10:
         assert colours.max() + 1 == 3
+        assert width(order) == 1
 
 
 def test_free_edges_drop_constrained_nodes():
