@@ -199,6 +199,18 @@ class Airy(AbstractWave):
     def crest(self) -> Float[Array, ""]:
         return 0.5 * self.height
 
+    def stokes_drift(self, z: ArrayLike) -> Float[Array, "*z"]:
+        """The Stokes drift (m/s) along the heading at mean depth `z` (m, ≤ 0): the mean
+        speed of a water particle, to second order in the steepness,
+
+            u_s = a² ω k cosh 2k(z+d) / (2 sinh² kd),   a = H/2,
+
+        which is `a² ω k e^{2kz}` in deep water (Phillips, *The dynamics of the upper
+        ocean*, 1977, §3.3)."""
+        k, d = self.wavenumber, self.depth
+        a = 0.5 * self.height
+        return a**2 * self.angular_frequency * k * jnp.cosh(2 * k * (jnp.asarray(z) + d)) / (2 * jnp.sinh(k * d) ** 2)
+
     def _theta(self, x, y, t):
         return self.wavenumber * self._along(x, y) - self.angular_frequency * t + self.phase
 
