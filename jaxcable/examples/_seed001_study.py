@@ -402,6 +402,7 @@ def verdict_markdown(free: FreeStudy, tethered: TetheredStudy, cage: TetheredStu
     heaviest = int(np.argmax(free.inertia_number))
     drift_error = abs(free.drift_ratio[closest] - 1)
     share = back_slope_share(tethered)
+    rho = tethered.weight_characteristic
     impulsive = tethered.slack_fraction() > 0
     taut_from = never_slack_from(tethered)
     fits = impulse_fits(tethered)
@@ -444,10 +445,12 @@ def verdict_markdown(free: FreeStudy, tethered: TetheredStudy, cage: TetheredStu
         (
             "The tether force comes as impulses, only on the wave's back slope (water moving down)",
             f"{100 * share[impulsive].min():.0f}–{100 * share[impulsive].max():.0f} % of ∫T dt on the back "
-            f"slope where the tether goes slack (ρ ≤ {tethered.weight_characteristic[impulsive].max():g})",
-            "yes" if share[impulsive].min() > 0.7 else "partly",
-            "the lighter the element, the more of its impulse falls on the back slope; snap loads "
-            "open each impulse where the element has inertia",
+            f"slope where the tether goes slack (ρ ≤ {rho[impulsive].max():g}); at least 90 % for ρ ≤ "
+            f"{rho[impulsive & (share >= 0.9)].max() if (impulsive & (share >= 0.9)).any() else float('nan'):g}",
+            "yes" if share[impulsive].min() >= 0.9 else "partly",
+            "the lighter the element, the more of its impulse falls on the back slope; a heavier one is "
+            "slack only briefly and pulls on both slopes. Snap loads open each impulse where the element "
+            "has inertia",
         ),
         (
             "At high weight characteristic ρ there are regions where the tether never goes slack",

@@ -1,0 +1,113 @@
+"""Seed 001 reproduced in full: Zhukov's growing element free and tethered in a wave.
+
+The studies of `jaxcable.examples._seed001_study` at the `FULL` size (60 wave periods of
+4 s, 20 of them settling, output at 144 samples a period):
+
+1. the free element over k₀ = 0.5 … 5000 s²/m² (St = 1.2 … 1.2e-4): its drift against
+   the Stokes drift at its mean depth;
+2. the tethered element over the weight characteristic ρ = 0.05 … 2 at k₀ = 5 s²/m²,
+   and the scallop cage (k₀ = 0.5 s²/m²) at ρ = 0.5, 2 and 10: slack time, the share
+   of the impulse on the back slope, peak tension, the shadow map over the wave's phase,
+   and the impulses' fits by part of a sine and a parabola.
+
+    python benchmarks/seed001_reproduction.py            # about 1 min on 2 cores
+    python benchmarks/seed001_reproduction.py --report   # reprint the last record
+
+Results are appended to benchmarks/results/seed001_reproduction.json; figures go to
+benchmarks/results/seed001_reproduction_*.png. Each study's time includes its compile.
+"""
+
+import argparse
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from jaxcable.examples import _seed001_study as s1  # noqa: E402
+from jaxcable.examples._seed001 import SPECIFIC_DRAG  # noqa: E402
+
+from _results import append_session  # noqa: E402
+
+RESULTS = Path(__file__).parent / "results"
+CAGE_WEIGHTS = (0.5, 2.0, 10.0)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--out", default=str(RESULTS / "seed001_reproduction.json"))
+    parser.add_argument("--report", action="store_true")
+    args = parser.parse_args()
+    if args.report:
+        print(json.loads(Path(args.out).read_text())[-1]["verdict"])
+        return
+
+    free = s1.free_study(**s1.FULL)
+    print(f"free: {free.run_s:.1f} s; drift / Stokes {np.round(free.drift_ratio, 4)} at St {np.round(free.inertia_number, 5)}", flush=True)
+    tethered = s1.tethered_study(**s1.FULL)
+    cage = s1.tethered_study(CAGE_WEIGHTS, specific_drag=SPECIFIC_DRAG, **s1.FULL)
+    print(f"tethered: {tethered.run_s:.1f} s, the cage: {cage.run_s:.1f} s", flush=True)
+    verdict = s1.verdict_markdown(free, tethered, cage)
+    print(verdict)
+
+    def tethered_record(study):
+        fits = s1.impulse_fits(study)
+        return {
+            "specific_drag": study.specific_drag,
+            "inertia_number": float(s1.inertia_number(study.specific_drag)),
+            "run_s": study.run_s,
+            "success": study.success.tolist(),
+            "weight_characteristic": study.weight_characteristic.tolist(),
+            "weight_N": study.weight.tolist(),
+            "slack_fraction": study.slack_fraction().tolist(),
+            "back_slope_share": s1.back_slope_share(study).tolist(),
+            "peak_tension_N": study.tension.max(axis=1).tolist(),
+            "peak_eta": study.eta.max(axis=1).tolist(),
+            "lift_m": (study.positions[:, :, 2].mean(axis=1) - study.static_depth).tolist(),
+            "never_slack_from": s1.never_slack_from(study),
+            "impulse_fits": {
+                str(rho): {"duration_s": float(f.times[-1] - f.times[0]), "sine": f.sine, "sine_rms": f.sine_rms,
+                           "parabola": f.parabola, "parabola_rms": f.parabola_rms, "rectangle_rms": f.rectangle_rms}
+                for rho, f in fits.items()
+            },
+        }
+
+    append_session(
+        args.out,
+        config=s1.FULL,
+        free={
+            "specific_drag": free.specific_drag.tolist(),
+            "inertia_number": free.inertia_number.tolist(),
+            "drift_m_s": free.drift.tolist(),
+            "mean_depth_m": free.mean_depth.tolist(),
+            "stokes_drift_m_s": free.stokes_drift.tolist(),
+            "drift_ratio": free.drift_ratio.tolist(),
+            "success": free.success.tolist(),
+            "run_s": free.run_s,
+        },
+        tethered=tethered_record(tethered),
+        cage=tethered_record(cage),
+        verdict=verdict,
+    )
+
+    s1.plot_free(free)
+    plt.tight_layout()
+    plt.savefig(RESULTS / "seed001_reproduction_free.png", dpi=110)
+    cases = [int(np.argmin(np.abs(tethered.weight_characteristic - r))) for r in (0.2, 0.5, 1.0, 2.0)]
+    s1.plot_tethered(tethered, cases)
+    plt.tight_layout()
+    plt.savefig(RESULTS / "seed001_reproduction_tethered.png", dpi=110)
+    s1.plot_shadow_map(tethered)
+    plt.tight_layout()
+    plt.savefig(RESULTS / "seed001_reproduction_shadow.png", dpi=110)
+    fits = s1.impulse_fits(tethered)
+    s1.plot_impulse(fits[max(fits)])
+    plt.tight_layout()
+    plt.savefig(RESULTS / "seed001_reproduction_impulse.png", dpi=110)
+
+
+if __name__ == "__main__":
+    main()
