@@ -10,8 +10,9 @@ Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0
   matrix M(x) carries `μ = m I + ρ F (...)` per length. When C_a ≠ C_aτ, M depends on the
   segments' directions and `½ vᵀMv + Π` is not conserved: it changes at the rate
   `½ vᵀ Ṁ v` (tested). With isotropic added mass it is conserved exactly.
-- Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M − ρV) g z`, plus the
-  seabed's penalty energy `Σ ½ k δ² A` where nodes press into it. The conservative
+- Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M − ρV) g z − Σ F·x`
+  (bodies' constant forces F), plus the seabed's penalty energy `Σ ½ k δ² A` where
+  nodes press into it. The conservative
   forces are `−∂Π/∂x`, by `jax.grad`. With `Environment.free_surface`, buoyancy, drag,
   fluid inertia and added mass act on the part of each segment below z = 0 only.
 - Non-conservative loads enter by their virtual work `Q = Σ ∫ f · ∂R/∂x |∂R/∂l| dl`:
@@ -98,7 +99,8 @@ def tension(model: CableNetwork, positions, velocities) -> Float[Array, " segmen
 
 
 def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[Array, ""]:
-    """Π (J): elastic energy plus gravity minus buoyancy."""
+    """Π (J): elastic energy, gravity minus buoyancy, and the potential −F·x of the
+    bodies' constant forces."""
     line, body = model.line, model.body
     _, _, strain = segment_geometry(model, positions)
     elastic = jnp.sum(model.segment_length * line.tension_law.elastic_energy_density(strain))
@@ -115,7 +117,12 @@ def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[
     else:
         submerged_depth = mid_depth
     body_weight = (body.mass - env.water_density * body.volume) * env.gravity
-    energy = elastic + jnp.sum(weight * mid_depth - displaced * submerged_depth) + jnp.sum(body_weight * z)
+    energy = (
+        elastic
+        + jnp.sum(weight * mid_depth - displaced * submerged_depth)
+        + jnp.sum(body_weight * z)
+        - jnp.sum(body.force * positions)
+    )
     if env.seabed is not None:
         penetration = jnp.maximum(-env.depth - z, 0.0)
         energy = energy + 0.5 * env.seabed.stiffness * jnp.sum(contact_area(model) * penetration**2)

@@ -96,9 +96,10 @@ class LineType(eqx.Module):
 class Body(eqx.Module):
     """A point body at a node: a buoy, a clump weight, a diverter, a cage.
 
-    Every field is a scalar or an array with one entry per node. Its drag is
-    `(½ ρ C_D A + k₀ m_o g) |u| u` on the relative velocity u: form drag, Zhukov's
-    specific-weight law `R = k₀ u² m_o g` (seed 001, eq. 3), or both.
+    Every field is a scalar or an array with one entry per node (`force`: a 3-vector, or
+    one per node). Its drag is `(½ ρ C_D A + k₀ m_o g) |u| u` on the relative velocity
+    u: form drag, Zhukov's specific-weight law `R = k₀ u² m_o g` (seed 001, eq. 3), or
+    both.
 
     **Arguments:**
 
@@ -108,6 +109,9 @@ class Body(eqx.Module):
     - `specific_drag`: k₀ (s²/m²), the specific-weight drag coefficient.
     - `organism_mass`: m_o (kg), the mass that k₀ refers to; `mass` by default.
     - `added_mass`: C_a (–), added mass `C_a ρ V`, MoorDyn's `Ca`.
+    - `force`: a constant force (N) in the fixed frame, shape `(3,)`: a trawl
+        diverter's spreading force (seed 002's F₀), a thruster, a load not otherwise
+        modelled. Zero by default.
     """
 
     mass: Float[Array, "*nodes"]
@@ -116,6 +120,7 @@ class Body(eqx.Module):
     specific_drag: Float[Array, "*nodes"]
     organism_mass: Float[Array, "*nodes"]
     added_mass: Float[Array, "*nodes"]
+    force: Float[Array, "*nodes 3"]
 
     def __init__(
         self,
@@ -125,6 +130,7 @@ class Body(eqx.Module):
         specific_drag: ArrayLike = 0.0,
         organism_mass: ArrayLike | None = None,
         added_mass: ArrayLike = 0.0,
+        force: ArrayLike = (0.0, 0.0, 0.0),
     ):
         self.mass = checks.float_array("Body.mass", mass)
         self.volume = checks.float_array("Body.volume", volume)
@@ -136,6 +142,9 @@ class Body(eqx.Module):
         self.added_mass = checks.float_array("Body.added_mass", added_mass)
         for name in ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass"):
             checks.positive(f"Body.{name}", getattr(self, name), allow_zero=True)
+        self.force = checks.float_array("Body.force", force)
+        if self.force.shape[-1:] != (3,):
+            raise ValueError(f"Body.force must be a 3-vector (N), got shape {self.force.shape}")
 
 
 class Branch(NamedTuple):
@@ -404,10 +413,10 @@ def _stack_lines(lines: Sequence[LineType]) -> LineType:
 def _scatter_bodies(bodies: Mapping[int, Body], n_nodes: int) -> Body:
     zero = Body()
     if not bodies:
-        return jax.tree.map(lambda x: jnp.zeros(n_nodes), zero)
+        return jax.tree.map(lambda x: jnp.zeros((n_nodes, *x.shape)), zero)
     nodes = jnp.asarray(sorted(bodies), dtype=jnp.int32)
     stacked = jax.tree.map(lambda *xs: jnp.stack(xs), *[bodies[k] for k in sorted(bodies)])
-    return jax.tree.map(lambda x: jnp.zeros(n_nodes).at[nodes].set(x), stacked)
+    return jax.tree.map(lambda x: jnp.zeros((n_nodes, *x.shape[1:])).at[nodes].set(x), stacked)
 
 
 def check_held(model: CableNetwork) -> None:

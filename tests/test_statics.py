@@ -33,6 +33,7 @@ import jaxcable as jc
 
 RHO, G = 1025.0, 9.81
 solve = eqx.filter_jit(jc.solve_statics)
+RHO_ENV = jc.Environment(water_density=RHO, gravity=G)
 
 
 # ---------------------------------------------------------------------------------------
@@ -378,6 +379,37 @@ def test_current_drag_on_taut_vertical_line():
     offset = np.asarray(static.state.positions)[1]
     np.testing.assert_allclose(offset[0], q * length**2 / (2 * buoyancy), rtol=5e-3)
     assert offset[0] / length < 0.01  # nearly straight, as the closed form assumes
+
+
+def test_body_force_tilts_a_hanging_weight():
+    """A weight W on a weightless line (neutrally buoyant, m = ρ F), pushed sideways by a
+    constant body force F: the line takes the resultant's direction, so the weight
+    hangs at (sin θ, 0, −cos θ) L (1 + T/EA) with tan θ = |F|/W and T = √(F² + W²),
+    and the support reacts with −(F, 0, −W)."""
+    length, ea, mass, push = 10.0, 1.0e6, 100.0, np.array([300.0, 0.0, 0.0])
+    weight = mass * G
+    area = 1e-4
+    line = jc.LineType(RHO * area, 0.01, jc.LinearElastic(ea), area=area)
+    model = jc.CableNetwork.from_branches(
+        np.array([[0.0, 0.0, 0.0], [1.0, 0.0, -length]]),
+        [jc.Branch(0, 1, line, length, 4)],
+        constraints={0: jc.Fixed()},
+        bodies={1: jc.Body(mass=mass, force=push)},
+    )
+    static = solve(model, RHO_ENV)
+    tension = np.hypot(push[0], weight)
+    theta = np.arctan2(push[0], weight)
+    expected = length * (1 + tension / ea) * np.array([np.sin(theta), 0.0, -np.cos(theta)])
+    np.testing.assert_allclose(np.asarray(static.state.positions)[1], expected, atol=1e-7 * length)
+    np.testing.assert_allclose(np.asarray(static.tension), tension, rtol=1e-9)
+    np.testing.assert_allclose(np.asarray(static.reactions)[0], [-push[0], 0.0, weight], atol=1e-6 * weight)
+
+
+def test_body_force_must_be_a_vector():
+    with pytest.raises(ValueError, match=r"Body.force must be a 3-vector \(N\), got shape \(2,\)"):
+        jc.Body(mass=1.0, force=(1.0, 2.0))
+    with pytest.raises(ValueError, match="Body.force"):
+        jc.Body(mass=1.0, force=(1.0, np.nan, 0.0))
 
 
 # ---------------------------------------------------------------------------------------

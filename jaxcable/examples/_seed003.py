@@ -17,7 +17,7 @@ at the design angle.
 import numpy as np
 
 from .._environment import Environment
-from .._materials import NonlinearElastic
+from .._materials import AbstractTensionLaw, NonlinearElastic
 from .._motion import Fixed, Harmonic
 from .._network import Branch, CableNetwork, LineType
 from .._waves import seed003_amplitude
@@ -30,6 +30,25 @@ TANGENTIAL_DRAG = 0.78  # C_τ (kg/m²)
 ADDED_MASS = 0.4  # m_a (kg/m), on the whole relative acceleration (seed 003, eq. 4)
 AXIAL_STIFFNESS = 3.0e7  # C_E (N): our choice, see the module docstring
 WAVE_PERIOD = 5.6  # T_w (s)
+
+
+def seed003_line_type(tension_law: AbstractTensionLaw, water_density: float = 1025.0) -> LineType:
+    """Seed 003's cable (m = 3 kg/m, F = 0.0003 m², C_n = 15.6 and C_τ = 0.78 kg/m²,
+    C_a = 0.4 kg/m on the whole relative acceleration) with the given tension law; seed
+    002 uses the same cable. The drag coefficients are converted to K_n, K_τ on the
+    diameter of a circle of area F."""
+    rho = water_density
+    diameter = float(np.sqrt(4 * AREA / np.pi))
+    return LineType(
+        mass_per_length=MASS_PER_LENGTH,
+        diameter=diameter,
+        area=AREA,
+        tension_law=tension_law,
+        normal_drag=NORMAL_DRAG / (0.5 * rho * diameter),
+        tangential_drag=TANGENTIAL_DRAG / (0.5 * rho * np.pi * diameter),
+        normal_added_mass=ADDED_MASS / (rho * AREA),
+        tangential_added_mass=ADDED_MASS / (rho * AREA),
+    )
 
 
 def seed003_line(
@@ -57,20 +76,11 @@ def seed003_line(
     1, is the fairlead at (H cot α, 0, 0).
     """
     env = Environment(water_density=1025.0, gravity=9.81)
-    rho = float(env.water_density)
-    diameter = float(np.sqrt(4 * AREA / np.pi))
     alpha = np.radians(angle_degrees)
     anchor = np.array([0.0, 0.0, -DEPTH])
     fairlead = np.array([DEPTH / np.tan(alpha), 0.0, 0.0])
-    line = LineType(
-        mass_per_length=MASS_PER_LENGTH,
-        diameter=diameter,
-        area=AREA,
-        tension_law=NonlinearElastic(AXIAL_STIFFNESS, quadratic_ratio * AXIAL_STIFFNESS, slack_width),
-        normal_drag=NORMAL_DRAG / (0.5 * rho * diameter),
-        tangential_drag=TANGENTIAL_DRAG / (0.5 * rho * np.pi * diameter),
-        normal_added_mass=ADDED_MASS / (rho * AREA),
-        tangential_added_mass=ADDED_MASS / (rho * AREA),
+    line = seed003_line_type(
+        NonlinearElastic(AXIAL_STIFFNESS, quadratic_ratio * AXIAL_STIFFNESS, slack_width), float(env.water_density)
     )
     model = CableNetwork.from_branches(
         junctions=np.stack([anchor, fairlead]),

@@ -1,0 +1,134 @@
+"""Seed 002's towed trawl: a branched cable system towed at a speed that steps.
+
+Bezverkhyy & Korniienko's example B (seed 002, §3; `seed-002-branched-cables.md`): a
+200 m tow cable from the towing vessel to a branch point, two 100 m sweep branches from
+there to diverters, which a constant force F₀ spreads to either side, and a 100 m branch
+to a 100 kg support buoy. The cable is seed 003's (m = 3 kg/m, F = 0.0003 m², C_n = 15.6,
+C_τ = 0.78 kg/m², C_a = 0.4 kg/m), viscoelastic with C_v = 0.02 C_E (a retardation time of
+0.02 s). The towing speed steps at t = 300 s.
+
+Junctions, which keep their indices as nodes: 0 the tow point, 1 the branch point,
+2 and 3 the diverters (to +y and −y), 4 the buoy. x points along the tow, z up.
+
+The paper's numbers for F₀, C_E, the bodies and the waves are lost or never given; this
+module's choices, stated here and in the constants below:
+
+- C_E = 3 × 10⁷ N, seed 003's steel cable (`_seed003.py` says why).
+- F₀ = 5 kN on each diverter, along ±y (perpendicular to the tow, fixed in direction).
+- Diverters: 300 kg, 0.1 m³, C_D A = 2 m². A branch-point vehicle (the paper's
+  "underwater apparatus"): 5000 kg, 1 m³, C_D A = 2 m², heavy enough to hold the branch
+  point deep at 4 m/s, so that the buoy stays submerged: jaxcable's point bodies are
+  always fully submerged, and cannot float at the surface as the paper's buoy does.
+- The buoy: 100 kg (the paper's), 0.5 m³, C_D A = 0.5 m² (1 m² frontal area, K = 0.5).
+- Waves: Airy, T = 5.6 s, H = 2 A with seed 003's amplitude law (A = 1.57 m), running
+  against the tow (the paper's Ox₁ points against the waves), in 1000 m of water.
+"""
+
+import equinox as eqx
+import jax.numpy as jnp
+import numpy as np
+
+from .._environment import Environment
+from .._materials import KelvinVoigt
+from .._motion import Towing
+from .._network import Body, Branch, CableNetwork
+from .._state import State
+from .._statics import StaticSolution, solve_statics
+from .._waves import Airy, seed003_amplitude
+from ._seed003 import AXIAL_STIFFNESS, WAVE_PERIOD, seed003_line_type
+
+TOW_LENGTH = 200.0  # m
+BRANCH_LENGTH = 100.0  # m, each of the three branches
+VISCOUS_RATIO = 0.02  # s, C_v / C_E
+STEP_TIME = 300.0  # s
+STEP_DURATION = 0.5  # s, over which the tow's speed changes linearly
+DIVERTER_FORCE = 5.0e3  # N, F₀
+DIVERTER = dict(mass=300.0, volume=0.1, drag_area=2.0, added_mass=1.0)
+VEHICLE = dict(mass=5000.0, volume=1.0, drag_area=2.0, added_mass=1.0)
+BUOY = dict(mass=100.0, volume=0.5, drag_area=0.5, added_mass=0.5)
+WATER_DEPTH = 1000.0  # m
+
+
+def _guess() -> np.ndarray:
+    """First guesses for the junctions (m): each branch straight and stretched by 0.1 %,
+    so that statics starts taut, along the directions of the steady tow at 1 m/s, where
+    the vehicle hangs 197 m down."""
+    def unit(v):
+        return np.asarray(v) / np.linalg.norm(v)
+
+    stretch = 1.001
+    branch_point = TOW_LENGTH * stretch * unit([-35.0, 0.0, -197.0])
+    diverter = BRANCH_LENGTH * stretch * unit([-28.0, 80.0, -52.0])
+    buoy = BRANCH_LENGTH * stretch * unit([-39.0, 0.0, 89.0])
+    mirror = np.array([1.0, -1.0, 1.0])
+    return np.stack(
+        [np.zeros(3), branch_point, branch_point + diverter, branch_point + mirror * diverter, branch_point + buoy]
+    )
+
+
+def towed_trawl(
+    speeds: tuple[float, float] = (1.0, 3.0),
+    *,
+    viscous: bool = True,
+    waves: bool = False,
+    start: float = STEP_TIME - 20.0,
+    segments: tuple[int, int] = (20, 10),
+    mass_matrix: str = "lumped",
+) -> tuple[CableNetwork, Environment]:
+    """The towed trawl, `(model, env)`, its tow point moving along +x at `speeds[0]`
+    (m/s) until `STEP_TIME` and at `speeds[1]` from `STEP_TIME + STEP_DURATION`.
+
+    **Arguments:**
+
+    - `speeds`: the towing speed before and after the step (m/s): (1, 3), (1, 4) or
+        (1, 2) in the paper; a decrease is allowed.
+    - `viscous`: the cable's viscous term C_v = 0.02 C_E (default), or none.
+    - `waves`: seed 003's 5.6 s Airy wave against the tow, or calm water (default).
+    - `start`: the time (s) at which the tow point is at the origin: start the run
+        there, from [`steady_tow`][].
+    - `segments`: segments in the tow cable and in each 100 m branch.
+    - `mass_matrix`: as for [`jaxcable.CableNetwork`][].
+    """
+    before, after = speeds
+    law = KelvinVoigt(AXIAL_STIFFNESS, 0.0, VISCOUS_RATIO * AXIAL_STIFFNESS if viscous else 0.0)
+    env_waves = ()
+    if waves:
+        env_waves = Airy(2 * seed003_amplitude(WAVE_PERIOD), WAVE_PERIOD, WATER_DEPTH, heading=180.0)
+    env = Environment(water_density=1025.0, gravity=9.81, depth=WATER_DEPTH, waves=env_waves)
+    line = seed003_line_type(law, float(env.water_density))
+    tow, branch = segments
+    model = CableNetwork.from_branches(
+        _guess(),
+        [
+            Branch(0, 1, line, TOW_LENGTH, tow),
+            Branch(1, 2, line, BRANCH_LENGTH, branch),
+            Branch(1, 3, line, BRANCH_LENGTH, branch),
+            Branch(1, 4, line, BRANCH_LENGTH, branch),
+        ],
+        constraints={0: Towing([start, STEP_TIME, STEP_TIME + STEP_DURATION], [before, before, after])},
+        bodies={
+            1: Body(**VEHICLE),
+            2: Body(**DIVERTER, force=(0.0, DIVERTER_FORCE, 0.0)),
+            3: Body(**DIVERTER, force=(0.0, -DIVERTER_FORCE, 0.0)),
+            4: Body(**BUOY),
+        },
+        mass_matrix=mass_matrix,
+    )
+    return model, env
+
+
+def steady_tow(model: CableNetwork, env: Environment, speed: float, t: float) -> tuple[State, StaticSolution]:
+    """The trawl in steady tow at `speed` (m/s) along +x at time `t`, as the initial
+    state of a run from `t`: `(state, statics)`.
+
+    Seen from the tow point, steady towing is statics in a uniform current −speed: every
+    node then moves at `speed` along +x. Solved with the waves off, which a run then
+    meets all at once.
+    """
+    towed = eqx.tree_at(lambda e: (e.current, e.waves), env, (jnp.array([-speed, 0.0, 0.0]), ()))
+    # The drag bends the branches far from their straight first guess, and
+    # Levenberg–Marquardt then needs more than its default 500 iterations.
+    statics = solve_statics(model, towed, t=t, max_steps=3000)
+    positions = statics.state.positions
+    velocities = jnp.zeros_like(positions).at[:, 0].set(speed)
+    return State(positions, velocities), statics
