@@ -142,7 +142,8 @@ class Environment(eqx.Module):
         z = 0: buoyancy, drag, fluid inertia and added mass act on the submerged part of
         each segment. If `False` (default), every segment is treated as submerged, which
         is exact for lines that stay below the surface and costs nothing to evaluate.
-        Point bodies are always treated as submerged. Buoyancy is hydrostatic to z = 0
+        Bodies are treated as submerged unless they have a `height` (see
+        [`jaxcable.Body`][]), whatever this switch. Buoyancy is hydrostatic to z = 0
         either way; the waves' dynamic pressure enters through the Froude–Krylov force.
 
     **Raises:**

@@ -10,9 +10,10 @@ Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0
   matrix M(x) carries `μ = m I + ρ F (...)` per length. When C_a ≠ C_aτ, M depends on the
   segments' directions and `½ vᵀMv + Π` is not conserved: it changes at the rate
   `½ vᵀ Ṁ v` (tested). With isotropic added mass it is conserved exactly.
-- Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M − ρV) g z − Σ F·x`
+- Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M g z + ρ g V Φ(z)) − Σ F·x`
   (bodies' constant forces F), plus the seabed's penalty energy `Σ ½ k δ² A` where
-  nodes press into it. The conservative
+  nodes press into it. Φ = −z for a submerged body; a body with a height that pierces
+  the surface has the buoyancy of its submerged part only. The conservative
   forces are `−∂Π/∂x`, by `jax.grad`. With `Environment.free_surface`, buoyancy, drag,
   fluid inertia and added mass act on the part of each segment below z = 0 only.
 - Non-conservative loads enter by their virtual work `Q = Σ ∫ f · ∂R/∂x |∂R/∂l| dl`:
@@ -116,11 +117,11 @@ def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[
         submerged_depth = (b - a) * (z_start + (z_end - z_start) * 0.5 * (a + b))
     else:
         submerged_depth = mid_depth
-    body_weight = (body.mass - env.water_density * body.volume) * env.gravity
+    body_buoyancy = env.water_density * body.volume * env.gravity
     energy = (
         elastic
         + jnp.sum(weight * mid_depth - displaced * submerged_depth)
-        + jnp.sum(body_weight * z)
+        + jnp.sum(body.mass * env.gravity * z + body_buoyancy * column_buoyancy_potential(z, body.height))
         - jnp.sum(body.force * positions)
     )
     if env.seabed is not None:
@@ -155,9 +156,28 @@ def mass_per_length(model: CableNetwork, env: Environment, positions) -> Float[A
     )
 
 
-def _body_mass(model: CableNetwork, env: Environment) -> Float[Array, " nodes"]:
+def column_submerged_fraction(z: Array, height: Array) -> Array:
+    """The fraction below z = 0 of a vertical column of `height` h (m) centred at `z`
+    (m): 1 for a point body (h = 0) wherever it is."""
+    safe = jnp.where(height > 0, height, 1.0)
+    return jnp.where(height > 0, jnp.clip((0.5 * safe - z) / safe, 0.0, 1.0), 1.0)
+
+
+def column_buoyancy_potential(z: Array, height: Array) -> Array:
+    """Φ(z) (m) with Φ' = −(submerged fraction): a column's buoyancy potential is
+    ρ g V Φ(z). Φ = −z while the column is under water, is quadratic while it pierces
+    the surface, and 0 once it is clear of it; a point body's Φ is −z everywhere."""
+    safe = jnp.where(height > 0, height, 1.0)
+    low, high = -0.5 * safe, 0.5 * safe
+    w = jnp.clip(z, low, high)
+    piercing = (high * w - 0.5 * w**2 - high * low + 0.5 * low**2) / safe
+    return jnp.where(height > 0, -jnp.minimum(z, low) - piercing, -z)
+
+
+def _body_mass(model: CableNetwork, env: Environment, positions) -> Float[Array, " nodes"]:
     body = model.body
-    return body.mass + body.added_mass * env.water_density * body.volume
+    wet = column_submerged_fraction(positions[:, 2], body.height)
+    return body.mass + body.added_mass * env.water_density * body.volume * wet
 
 
 def _segment_blocks(model: CableNetwork, env: Environment, positions, weights) -> Float[Array, "segments 2 2 3 3"]:
@@ -171,14 +191,14 @@ def inertial_forces(model: CableNetwork, env: Environment, positions, accelerati
     `(nodes, 3)`."""
     blocks = _segment_blocks(model, env, positions, _SHAPE_WEIGHTS[model.mass_matrix])
     per_end = jnp.einsum("sabij,sbj->sai", blocks, accelerations[model.segment_nodes])
-    return _scatter(model, per_end[:, 0], per_end[:, 1]) + _body_mass(model, env)[:, None] * accelerations
+    return _scatter(model, per_end[:, 0], per_end[:, 1]) + _body_mass(model, env, positions)[:, None] * accelerations
 
 
 def lumped_blocks(model: CableNetwork, env: Environment, positions) -> Float[Array, "nodes 3 3"]:
     """The 3 × 3 blocks of the lumped mass matrix (kg), shape `(nodes, 3, 3)`, whichever
     matrix the model uses: they are also the consistent solve's preconditioner."""
     blocks = _segment_blocks(model, env, positions, _SHAPE_WEIGHTS["lumped"])
-    return _scatter(model, blocks[:, 0, 0], blocks[:, 1, 1]) + _body_mass(model, env)[:, None, None] * jnp.eye(3)
+    return _scatter(model, blocks[:, 0, 0], blocks[:, 1, 1]) + _body_mass(model, env, positions)[:, None, None] * jnp.eye(3)
 
 
 def kinetic_energy(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, ""]:
@@ -227,10 +247,11 @@ def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, 
     pull = viscous[:, None] * tangent
     forces = _scatter(model, drag_start + pull, drag_end - pull)
 
-    coefficient = 0.5 * rho * body.drag_area + body.specific_drag * body.organism_mass * env.gravity
+    wet = column_submerged_fraction(positions[:, 2], body.height)
+    coefficient = (0.5 * rho * body.drag_area + body.specific_drag * body.organism_mass * env.gravity) * wet
     forces = forces + body_drag(env.water_velocity(positions, t) - velocities, coefficient)
     if env.has_fluid_acceleration:
-        forces = forces + (rho * body.volume * (1 + body.added_mass))[..., None] * env.water_acceleration(positions, t)
+        forces = forces + (rho * body.volume * (1 + body.added_mass) * wet)[..., None] * env.water_acceleration(positions, t)
     if env.seabed is not None:
         forces = forces + seabed_forces(model, env, positions, velocities)
     return forces

@@ -112,6 +112,10 @@ class Body(eqx.Module):
     - `force`: a constant force (N) in the fixed frame, shape `(3,)`: a trawl
         diverter's spreading force (seed 002's F₀), a thruster, a load not otherwise
         modelled. Zero by default.
+    - `height`: h (m). 0 (default): a point body, always fully submerged. Positive: a
+        vertical column of height h and cross-section V/h centred on its node, which
+        can float: its buoyancy, added mass, drag and fluid inertia act on the part
+        below the still-water level z = 0 (a surface buoy, a float).
     """
 
     mass: Float[Array, "*nodes"]
@@ -121,6 +125,7 @@ class Body(eqx.Module):
     organism_mass: Float[Array, "*nodes"]
     added_mass: Float[Array, "*nodes"]
     force: Float[Array, "*nodes 3"]
+    height: Float[Array, "*nodes"]
 
     def __init__(
         self,
@@ -131,6 +136,7 @@ class Body(eqx.Module):
         organism_mass: ArrayLike | None = None,
         added_mass: ArrayLike = 0.0,
         force: ArrayLike = (0.0, 0.0, 0.0),
+        height: ArrayLike = 0.0,
     ):
         self.mass = checks.float_array("Body.mass", mass)
         self.volume = checks.float_array("Body.volume", volume)
@@ -140,7 +146,8 @@ class Body(eqx.Module):
             self.mass if organism_mass is None else checks.float_array("Body.organism_mass", organism_mass)
         )
         self.added_mass = checks.float_array("Body.added_mass", added_mass)
-        for name in ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass"):
+        self.height = checks.float_array("Body.height", height)
+        for name in ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height"):
             checks.positive(f"Body.{name}", getattr(self, name), allow_zero=True)
         self.force = checks.float_array("Body.force", force)
         if self.force.shape[-1:] != (3,):
