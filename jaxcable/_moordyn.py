@@ -21,7 +21,7 @@ v_s = N / FricDamp, which depends on each node's bed reaction N, so the reader s
 
 Features jaxcable does not model raise a [`jaxcable.SceneError`][] where leaving them
 out would change the system (rods, 6-DOF bodies, nonlinear or viscoelastic stiffness
-tables, VIV, constant point forces) and are listed in `Scene.notes` where the model is
+tables, VIV, constant forces on fixed or coupled points) and are listed in `Scene.notes` where the model is
 still meaningful without them (bending stiffness of a long line, bathymetry files,
 static-to-dynamic friction ratios, MoorDyn's wave and current input, its time-step
 and initial-condition options). Notes on physics left out (bending, bathymetry,
@@ -276,12 +276,14 @@ def _point(source: str, line: int, fields: list[str], index: int) -> PointSpec:
         raise SceneError(f"{where}, column Type: unknown point type {values['Type']!r}; expected one of {known}")
     number = {c: _number(source, line, c, values[c]) for c in columns[2:]}
     forces = [number.get(c, 0.0) for c in ("FX", "FY", "FZ")]
-    if any(forces):
-        raise SceneError(f"{where}, columns FX FY FZ: constant point forces {forces} are not supported")
+    if any(forces) and kinds[0] != "free":
+        raise SceneError(f"{where}, columns FX FY FZ: constant forces {forces} on a {kinds[0]} point act on nothing that moves")
     body = None
-    if any(number[c] for c in ("Mass", "Volume", "CdA", "Ca")):
+    if any(number[c] for c in ("Mass", "Volume", "CdA", "Ca")) or any(forces):
         with located(where):
-            body = Body(mass=number["Mass"], volume=number["Volume"], drag_area=number["CdA"], added_mass=number["Ca"])
+            body = Body(
+                mass=number["Mass"], volume=number["Volume"], drag_area=number["CdA"], added_mass=number["Ca"], force=forces
+            )
     position = (number["X"], number["Y"], number["Z"])
     return PointSpec(str(index + 1), kinds[0], position, body, None, where)
 

@@ -61,7 +61,8 @@ A scene file names its points and line types and lists its lines::
 
     [points.buoy]                # a free point may carry a body:
     type = "free"                # mass, volume, drag_area, specific_drag,
-    position = [...]             # organism_mass, added_mass
+    position = [...]             # organism_mass, added_mass, height (m, to float),
+                                 # force = [fx, fy, fz] (N, constant)
 
     [[lines]]
     type = "rope"
@@ -117,7 +118,8 @@ _LINE_TYPE_OPTIONAL = (
     "quadratic_stiffness", "axial_damping", "axial_damping_ratio", "normal_drag", "tangential_drag",
     "normal_added_mass", "tangential_added_mass", "area", "slack_width",
 )
-_BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass")
+_BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height")
+_BODY_VECTORS = ("force",)
 _HARMONIC = ("type", "amplitude", "period", "direction", "phase", "ramp")
 _LINE = ("name", "type", "from", "to", "length", "segments")
 
@@ -181,15 +183,17 @@ def read_scene(path: str | Path) -> Scene:
     for name in point_tables:
         keys = ("points", name)
         table = reader.table(point_tables, keys, required=True)
-        reader.keys(table, keys, ("type", "position", "motion") + _BODY)
+        reader.keys(table, keys, ("type", "position", "motion") + _BODY + _BODY_VECTORS)
         kind = reader.string(table, (*keys, "type"))
         if kind not in POINT_KINDS:
             raise SceneError(f"{reader.where((*keys, 'type'))}: unknown point type {kind!r}; expected one of {POINT_KINDS}")
         position = reader.vector(table, (*keys, "position"))
         body = None
-        if any(k in table for k in _BODY):
+        if any(k in table for k in _BODY + _BODY_VECTORS):
+            numbers = {k: reader.number(table, (*keys, k)) for k in _BODY if k in table}
+            vectors = {k: reader.vector(table, (*keys, k)) for k in _BODY_VECTORS if k in table}
             with located(reader.where(keys)):
-                body = Body(**{k: reader.number(table, (*keys, k)) for k in _BODY if k in table})
+                body = Body(**numbers, **vectors)
         motion = None
         if "motion" in table:
             if kind != "coupled":

@@ -466,19 +466,21 @@ def test_moordyn_viv_column_is_rejected_unless_zero(tmp_path):
     assert scene.line_types[0].tangential_added_mass == 0.0
 
 
-def test_moordyn_point_forces_are_rejected_unless_zero(tmp_path):
-    # 12 columns: ID Type X Y Z Mass Volume FX FY FZ CdA Ca.
-    row = "3    Free   100.0   0.0   -50.0   10   0.5   0   0   -2000   1.5   0.7"
+def test_moordyn_point_forces_on_free_points_are_body_forces(tmp_path):
+    # 12 columns: ID Type X Y Z Mass Volume FX FY FZ CdA Ca; CdA and Ca come from
+    # columns 11 and 12.
+    row = "3    Free   100.0   0.0   -50.0   10   0.5   0   300   -2000   1.5   0.7"
     lines = (LINES[0], "2    chain     1        3        120.0     6        -")
-    path = write_moordyn(tmp_path, points=(*POINTS, row), lines=lines)
-    with pytest.raises(jc.SceneError) as error:
-        jc.read_moordyn(path)
-    assert_located(error, path, row, "FX FY FZ", "forces")
-    # With zero forces the row reads, and CdA and Ca come from columns 11 and 12.
-    row = "3    Free   100.0   0.0   -50.0   10   0.5   0   0   0   1.5   0.7"
-    scene = jc.read_moordyn(write_moordyn(tmp_path, "no_force.txt", points=(*POINTS, row), lines=lines))
+    scene = jc.read_moordyn(write_moordyn(tmp_path, points=(*POINTS, row), lines=lines))
     body = scene.points[2].body
     assert (float(body.mass), float(body.volume), float(body.drag_area), float(body.added_mass)) == (10, 0.5, 1.5, 0.7)
+    np.testing.assert_array_equal(body.force, [0.0, 300.0, -2000.0])
+    # On a fixed point a force acts on nothing that moves.
+    row = "3    Fixed   100.0   0.0   -50.0   10   0.5   0   0   -2000   1.5   0.7"
+    path = write_moordyn(tmp_path, "fixed_force.txt", points=(*POINTS, row), lines=lines)
+    with pytest.raises(jc.SceneError) as error:
+        jc.read_moordyn(path)
+    assert_located(error, path, row, "FX FY FZ", "fixed point")
 
 
 # --------------------------------------------------------------------------------------
@@ -713,6 +715,21 @@ def test_toml_minimal_scene(tmp_path):
     assert (scene.run.duration, scene.run.dt_out, scene.run.mass_matrix) == (10.0, 0.5, "consistent")
     built = scene.build()
     np.testing.assert_allclose(segment_damping(built, 0), 0.2 * 19.0 * np.sqrt(3.0e7 * 3.0), rtol=1e-12)
+
+
+def test_toml_body_height_and_force(tmp_path):
+    text = edited(
+        '[points.float]\ntype = "coupled"\nposition = [150.0, 0.0, 0.0]\n',
+        '[points.float]\ntype = "coupled"\nposition = [150.0, 0.0, 0.0]\n\n'
+        '[points.buoy]\ntype = "free"\nposition = [100.0, 0.0, -1.0]\nmass = 100.0\nvolume = 1.0\n'
+        'height = 2.0\nforce = [0.0, 500.0, 0.0]\n',
+    )
+    scene = jc.read_scene(write_scene(tmp_path, text))
+    body = scene.points[2].body
+    assert (float(body.mass), float(body.volume), float(body.height)) == (100.0, 1.0, 2.0)
+    np.testing.assert_array_equal(body.force, [0.0, 500.0, 0.0])
+    error, path = read_scene_error(tmp_path, edited("force = [0.0, 500.0, 0.0]", "force = [0.0, 500.0]", text))
+    assert "force" in str(error.value)
 
 
 def test_toml_line_numbers_are_counted_from_the_text(tmp_path):
