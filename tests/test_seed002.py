@@ -59,21 +59,25 @@ def test_trawl_nodes_balance_by_hand(trawl):
     np.add.at(force, ends[:, 0], tension[:, None] * tau + per_end)
     np.add.at(force, ends[:, 1], -tension[:, None] * tau + per_end)
     for node, body, push in ((1, VEHICLE, 0.0), (2, DIVERTER, DIVERTER_FORCE), (3, DIVERTER, -DIVERTER_FORCE), (4, BUOY, 0.0)):
-        force[node, 2] -= (body["mass"] - rho * body["volume"]) * g
-        force[node] += 0.5 * rho * body["drag_area"] * np.linalg.norm(u) * u
+        # The floating buoy's buoyancy, drag and added mass act on its part below z = 0.
+        height = body.get("height", 0.0)
+        wet = np.clip((height / 2 - positions[node, 2]) / height, 0.0, 1.0) if height else 1.0
+        force[node, 2] -= (body["mass"] - rho * body["volume"] * wet) * g
+        force[node] += 0.5 * rho * body["drag_area"] * wet * np.linalg.norm(u) * u
         force[node, 1] += push
     free = np.asarray(model.free_nodes)
     scale = np.max(np.abs(tension))
     assert np.max(np.abs(force[free])) < 1e-7 * scale
 
 
-def test_trawl_is_symmetric_and_deep(trawl):
+def test_trawl_is_symmetric_and_floats(trawl):
     # The diverters' opposite forces spread the sweep branches symmetrically about the
-    # tow's vertical plane, and the vehicle holds the branch point deep enough for the
-    # buoy, 100 m above it, to stay submerged (jaxcable's bodies cannot float).
+    # tow's vertical plane, and the buoy floats, piercing the surface, with the branch
+    # point hanging nearly a branch's length below it.
     _, _, state, statics = trawl
     p = np.asarray(statics.state.positions)
     np.testing.assert_allclose(p[2] * [1, -1, 1], p[3], atol=1e-6)
     assert p[2, 1] > 50.0
-    assert p[4, 2] < -50.0 and p[1, 2] < -150.0
+    assert -BUOY["height"] / 2 < p[4, 2] < BUOY["height"] / 2
+    assert p[1, 2] < -90.0
     np.testing.assert_allclose(np.asarray(state.velocities)[:, 0], SPEED)

@@ -16,10 +16,11 @@ module's choices, stated here and in the constants below:
 - C_E = 3 × 10⁷ N, seed 003's steel cable (`_seed003.py` says why).
 - F₀ = 5 kN on each diverter, along ±y (perpendicular to the tow, fixed in direction).
 - Diverters: 300 kg, 0.1 m³, C_D A = 2 m². A branch-point vehicle (the paper's
-  "underwater apparatus"): 5000 kg, 1 m³, C_D A = 2 m², heavy enough to hold the branch
-  point deep at 4 m/s, so that the buoy stays submerged: jaxcable's point bodies are
-  always fully submerged, and cannot float at the surface as the paper's buoy does.
-- The buoy: 100 kg (the paper's), 0.5 m³, C_D A = 0.5 m² (1 m² frontal area, K = 0.5).
+  "underwater apparatus"): 500 kg, 0.1 m³, C_D A = 1 m².
+- The buoy floats at the surface, as the paper's does: 100 kg (the paper's), a column
+  1.5 m tall of 2.5 m³ (`Body.height`), C_D A = 0.5 m² (1 m² frontal area, K = 0.5).
+  It holds the branch point about 100 m down at 1 m/s, not the 200 m the paper gives
+  for its vehicle, which a 100 m support branch cannot reach (the notes flag this).
 - Waves: Airy, T = 5.6 s, H = 2 A with seed 003's amplitude law (A = 1.57 m), running
   against the tow (the paper's Ox₁ points against the waves), in 1000 m of water.
 """
@@ -44,22 +45,21 @@ STEP_TIME = 300.0  # s
 STEP_DURATION = 0.5  # s, over which the tow's speed changes linearly
 DIVERTER_FORCE = 5.0e3  # N, F₀
 DIVERTER = dict(mass=300.0, volume=0.1, drag_area=2.0, added_mass=1.0)
-VEHICLE = dict(mass=5000.0, volume=1.0, drag_area=2.0, added_mass=1.0)
-BUOY = dict(mass=100.0, volume=0.5, drag_area=0.5, added_mass=0.5)
+VEHICLE = dict(mass=500.0, volume=0.1, drag_area=1.0, added_mass=1.0)
+BUOY = dict(mass=100.0, volume=2.5, drag_area=0.5, added_mass=0.5, height=1.5)
 WATER_DEPTH = 1000.0  # m
 
 
 def _guess() -> np.ndarray:
     """First guesses for the junctions (m): each branch straight and stretched by 0.1 %,
-    so that statics starts taut, along the directions of the steady tow at 1 m/s, where
-    the vehicle hangs 197 m down."""
+    so that statics starts taut, along the directions of the steady tow at 1 m/s."""
     def unit(v):
         return np.asarray(v) / np.linalg.norm(v)
 
     stretch = 1.001
-    branch_point = TOW_LENGTH * stretch * unit([-35.0, 0.0, -197.0])
-    diverter = BRANCH_LENGTH * stretch * unit([-28.0, 80.0, -52.0])
-    buoy = BRANCH_LENGTH * stretch * unit([-39.0, 0.0, 89.0])
+    branch_point = TOW_LENGTH * stretch * unit([-170.0, 0.0, -100.0])
+    diverter = BRANCH_LENGTH * stretch * unit([-40.0, 80.0, -40.0])
+    buoy = BRANCH_LENGTH * stretch * unit([-20.0, 0.0, 100.0])
     mirror = np.array([1.0, -1.0, 1.0])
     return np.stack(
         [np.zeros(3), branch_point, branch_point + diverter, branch_point + mirror * diverter, branch_point + buoy]
