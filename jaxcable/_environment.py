@@ -132,6 +132,9 @@ class Environment(eqx.Module):
     - `wave_ramp`: the time (s) over which the waves are switched on, by the same
         smoothstep as [`jaxcable.Harmonic`][]'s ramp, so that a run can start from
         still-water equilibrium without a jolt; 0 (default) for none.
+    - `wave_start`: the time (s) at which that ramp begins, for a run that starts
+        later than t = 0 (from a steady tow at t = 280 s, say); 0 by default. Before
+        it the water has no waves; with no ramp it has no effect.
     - `seabed`: a [`jaxcable.Seabed`][] at z = −d; `None` (default) for none.
     - `fluid_inertia`: with waves, whether the water's acceleration loads the lines and
         bodies (Froude–Krylov plus added mass, Morison's inertia term). `True` by
@@ -159,6 +162,7 @@ class Environment(eqx.Module):
     depth: Float[Array, ""] | None
     waves: tuple[AbstractWave, ...]
     wave_ramp: Float[Array, ""]
+    wave_start: Float[Array, ""]
     seabed: Seabed | None
     fluid_inertia: bool = eqx.field(static=True)
     free_surface: bool = eqx.field(static=True)
@@ -173,6 +177,7 @@ class Environment(eqx.Module):
         depth: ArrayLike | None = None,
         waves=(),
         wave_ramp: ArrayLike = 0.0,
+        wave_start: ArrayLike = 0.0,
         seabed: Seabed | None = None,
         fluid_inertia: bool = True,
     ):
@@ -212,6 +217,7 @@ class Environment(eqx.Module):
         self.waves = waves
         self.wave_ramp = checks.float_array("Environment.wave_ramp", wave_ramp, ())
         checks.positive("Environment.wave_ramp", self.wave_ramp, allow_zero=True)
+        self.wave_start = checks.float_array("Environment.wave_start", wave_start, ())
         if seabed is not None and not isinstance(seabed, Seabed):
             raise ValueError(f"Environment.seabed must be a Seabed or None, got {type(seabed).__name__}")
         if seabed is not None and self.depth is None:
@@ -236,7 +242,7 @@ class Environment(eqx.Module):
             velocity = jnp.broadcast_to(self.current, jnp.shape(position))
         if not self.waves:
             return velocity
-        return velocity + ramp_factor(t, self.wave_ramp) * self._wave_velocity(position, t)
+        return velocity + ramp_factor(t - self.wave_start, self.wave_ramp) * self._wave_velocity(position, t)
 
     def _wave_velocity(self, position, t):
         velocity = jnp.zeros(jnp.shape(position))
@@ -251,7 +257,7 @@ class Environment(eqx.Module):
         for wave in self.waves:
             acceleration = acceleration + wave.acceleration(position, t)
         t = jnp.asarray(t, dtype=float)
-        ramp, rate = jax.jvp(lambda s: ramp_factor(s, self.wave_ramp), (t,), (jnp.ones_like(t),))
+        ramp, rate = jax.jvp(lambda s: ramp_factor(s - self.wave_start, self.wave_ramp), (t,), (jnp.ones_like(t),))
         return ramp * acceleration + rate * self._wave_velocity(position, t)
 
     def surface_elevation(self, x: Float[Array, "*batch"], y: Float[Array, "*batch"], t) -> Float[Array, "*batch"]:
@@ -260,4 +266,4 @@ class Environment(eqx.Module):
         eta = jnp.zeros(jnp.broadcast_shapes(jnp.shape(x), jnp.shape(y)))
         for wave in self.waves:
             eta = eta + wave.elevation(x, y, t)
-        return ramp_factor(t, self.wave_ramp) * eta
+        return ramp_factor(t - self.wave_start, self.wave_ramp) * eta

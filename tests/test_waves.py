@@ -248,12 +248,13 @@ def test_absent_terms_are_not_compiled():
     )
 
 
-def test_wave_ramp_scales_the_waves_and_their_acceleration():
+@pytest.mark.parametrize("start", [0.0, 280.0])
+def test_wave_ramp_scales_the_waves_and_their_acceleration(start):
     wave = jc.Airy(1.5, 9.0, 40.0)
-    env = jc.Environment(depth=40.0, waves=wave, wave_ramp=18.0, current=(0.2, 0.0, 0.0))
+    env = jc.Environment(depth=40.0, waves=wave, wave_ramp=18.0, wave_start=start, current=(0.2, 0.0, 0.0))
     p = jnp.array([[3.0, 1.0, -6.0]])
-    for t in (0.0, 4.0, 11.0, 18.0, 25.0):
-        u = min(t / 18.0, 1.0)
+    for t in start + np.array([-5.0, 0.0, 4.0, 11.0, 18.0, 25.0]):
+        u = min(max((t - start) / 18.0, 0.0), 1.0)
         f = u**3 * (6 * u**2 - 15 * u + 10)
         np.testing.assert_allclose(env.water_velocity(p, t), f * wave.velocity(p, t) + np.array([0.2, 0.0, 0.0]), atol=1e-14)
         h = 1e-5

@@ -94,7 +94,15 @@ def towed_trawl(
     env_waves = ()
     if waves:
         env_waves = Airy(2 * seed003_amplitude(WAVE_PERIOD), WAVE_PERIOD, WATER_DEPTH, heading=180.0)
-    env = Environment(water_density=1025.0, gravity=9.81, depth=WATER_DEPTH, waves=env_waves)
+    # The waves ramp in over two periods from the run's start, out of the steady tow.
+    env = Environment(
+        water_density=1025.0,
+        gravity=9.81,
+        depth=WATER_DEPTH,
+        waves=env_waves,
+        wave_ramp=2 * WAVE_PERIOD,
+        wave_start=start,
+    )
     line = seed003_line_type(law, float(env.water_density))
     tow, branch = segments
     model = CableNetwork.from_branches(
@@ -122,8 +130,8 @@ def steady_tow(model: CableNetwork, env: Environment, speed: float, t: float) ->
     state of a run from `t`: `(state, statics)`.
 
     Seen from the tow point, steady towing is statics in a uniform current −speed: every
-    node then moves at `speed` along +x. Solved with the waves off, which a run then
-    meets all at once.
+    node then moves at `speed` along +x. Solved with the waves off; a run from `t`
+    meets them ramped in over two periods.
     """
     towed = eqx.tree_at(lambda e: (e.current, e.waves), env, (jnp.array([-speed, 0.0, 0.0]), ()))
     # The drag bends the branches far from their straight first guess, and
