@@ -37,8 +37,8 @@ FREE_SPECIFIC_DRAGS = (0.5, 5.0, 50.0, 500.0, 5000.0)  # s²/m²
 # is run beside it.
 TETHERED_SPECIFIC_DRAG = 5.0  # s²/m²
 WEIGHT_CHARACTERISTICS = (0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 1.0, 1.25, 1.5, 2.0)
-# A tether is slack where its tension is below this fraction of the element's weight in
-# water at ρ = 1: the slack switch is smoothed over a strain of 1e-5, i.e. 1 N of EF.
+# A tether counts as slack where its tension is below this fraction of its element's
+# weight in water (the tension law's slack switch is smoothed, so it is never exactly 0).
 SLACK_FRACTION = 1e-3
 
 
