@@ -42,7 +42,10 @@ TOW_LENGTH = 200.0  # m
 BRANCH_LENGTH = 100.0  # m, each of the three branches
 VISCOUS_RATIO = 0.02  # s, C_v / C_E
 STEP_TIME = 300.0  # s
-STEP_DURATION = 0.5  # s, over which the tow's speed changes linearly
+# The paper's step is instantaneous. This one takes 0.02 s: well inside the 0.13 s an
+# axial wave takes down the tow cable and back, so the tension's stages stay sharp, but
+# a few of the cable's fastest periods, so the front is resolved, not a shock.
+STEP_DURATION = 0.02  # s, over which the tow's speed changes linearly
 DIVERTER_FORCE = 5.0e3  # N, F₀
 DIVERTER = dict(mass=300.0, volume=0.1, drag_area=2.0, added_mass=1.0)
 VEHICLE = dict(mass=500.0, volume=0.1, drag_area=1.0, added_mass=1.0)
@@ -72,11 +75,12 @@ def towed_trawl(
     viscous: bool = True,
     waves: bool = False,
     start: float = STEP_TIME - 20.0,
+    step_duration: float = STEP_DURATION,
     segments: tuple[int, int] = (20, 10),
     mass_matrix: str = "lumped",
 ) -> tuple[CableNetwork, Environment]:
     """The towed trawl, `(model, env)`, its tow point moving along +x at `speeds[0]`
-    (m/s) until `STEP_TIME` and at `speeds[1]` from `STEP_TIME + STEP_DURATION`.
+    (m/s) until `STEP_TIME` and at `speeds[1]` from `STEP_TIME + step_duration`.
 
     **Arguments:**
 
@@ -86,6 +90,7 @@ def towed_trawl(
     - `waves`: seed 003's 5.6 s Airy wave against the tow, or calm water (default).
     - `start`: the time (s) at which the tow point is at the origin: start the run
         there, from [`steady_tow`][].
+    - `step_duration`: the time (s) over which the speed changes linearly.
     - `segments`: segments in the tow cable and in each 100 m branch.
     - `mass_matrix`: as for [`jaxcable.CableNetwork`][].
     """
@@ -113,7 +118,7 @@ def towed_trawl(
             Branch(1, 3, line, BRANCH_LENGTH, branch),
             Branch(1, 4, line, BRANCH_LENGTH, branch),
         ],
-        constraints={0: Towing([start, STEP_TIME, STEP_TIME + STEP_DURATION], [before, before, after])},
+        constraints={0: Towing([start, STEP_TIME, STEP_TIME + step_duration], [before, before, after])},
         bodies={
             1: Body(**VEHICLE),
             2: Body(**DIVERTER, force=(0.0, DIVERTER_FORCE, 0.0)),
@@ -125,18 +130,62 @@ def towed_trawl(
     return model, env
 
 
-def steady_tow(model: CableNetwork, env: Environment, speed: float, t: float) -> tuple[State, StaticSolution]:
+def steady_tow(
+    model: CableNetwork, env: Environment, speed: float, t: float, *, initial: State | None = None
+) -> tuple[State, StaticSolution]:
     """The trawl in steady tow at `speed` (m/s) along +x at time `t`, as the initial
     state of a run from `t`: `(state, statics)`.
 
     Seen from the tow point, steady towing is statics in a uniform current −speed: every
     node then moves at `speed` along +x. Solved with the waves off; a run from `t`
-    meets them ramped in over two periods.
+    meets them ramped in over two periods. `initial`: a first guess, the straight
+    branches of `model` by default; [`start_tow`][] makes a better one.
     """
     towed = eqx.tree_at(lambda e: (e.current, e.waves), env, (jnp.array([-speed, 0.0, 0.0]), ()))
     # The drag bends the branches far from their straight first guess, and
     # Levenberg–Marquardt then needs more than its default 500 iterations.
-    statics = solve_statics(model, towed, t=t, max_steps=3000)
+    statics = solve_statics(model, towed, t=t, initial=initial, max_steps=3000)
     positions = statics.state.positions
     velocities = jnp.zeros_like(positions).at[:, 0].set(speed)
     return State(positions, velocities), statics
+
+
+COARSE_SEGMENTS = (4, 2)
+
+
+def _branch_nodes(segments: tuple[int, int]) -> list[np.ndarray]:
+    """Each branch's nodes in order, junctions included, as `towed_trawl` numbers them."""
+    ends = ((0, 1), (1, 2), (1, 3), (1, 4))
+    counts = (segments[0],) + 3 * (segments[1],)
+    nodes, next_node = [], len(ends) + 1
+    for (a, b), n in zip(ends, counts):
+        nodes.append(np.array([a, *range(next_node, next_node + n - 1), b]))
+        next_node += n - 1
+    return nodes
+
+
+def start_tow(
+    speeds: tuple[float, float] = (1.0, 3.0), **options
+) -> tuple[CableNetwork, Environment, State, StaticSolution]:
+    """The trawl of [`towed_trawl`][]`(speeds, **options)` and its steady tow at
+    `speeds[0]` at the run's start: `(model, env, state, statics)`.
+
+    Levenberg–Marquardt from the straight branches takes hundreds of iterations, each
+    dear at 20 segments a branch. So the trawl is first solved with `COARSE_SEGMENTS`,
+    and the fine nodes start on that solution's polylines, each branch's nodes spaced
+    evenly along its length; a few iterations then finish.
+    """
+    segments = options.pop("segments", (20, 10))
+    start = options.get("start", STEP_TIME - 20.0)
+    coarse, env = towed_trawl(speeds, segments=COARSE_SEGMENTS, **options)
+    coarse_state, _ = steady_tow(coarse, env, speeds[0], start)
+    model, env = towed_trawl(speeds, segments=segments, **options)
+    guess = np.array(model.node_positions)
+    solved = np.asarray(coarse_state.positions)
+    for fine_nodes, coarse_nodes in zip(_branch_nodes(segments), _branch_nodes(COARSE_SEGMENTS)):
+        polyline = solved[coarse_nodes]
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(polyline, axis=0), axis=1))])
+        at = np.linspace(0.0, arc[-1], fine_nodes.size)
+        guess[fine_nodes] = np.stack([np.interp(at, arc, polyline[:, k]) for k in range(3)], axis=1)
+    state, statics = steady_tow(model, env, speeds[0], start, initial=State(jnp.asarray(guess), jnp.zeros_like(guess)))
+    return model, env, state, statics
