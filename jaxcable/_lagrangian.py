@@ -247,7 +247,18 @@ def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, 
     pull = viscous[:, None] * tangent
     forces = _scatter(model, drag_start + pull, drag_end - pull)
 
-    wet = column_submerged_fraction(positions[:, 2], body.height)
+    z = positions[:, 2]
+    wet = column_submerged_fraction(z, body.height)
+    if env.waves:
+        # A floating column is wet up to the wave's surface η, not to z = 0: its buoyancy
+        # there is the waves' main heave force on a surface buoy (ρ g A η at the
+        # waterline), which the Morison terms at its centre cannot give. The potential
+        # holds the still-water part; the rest is added here. With the Morison
+        # Froude–Krylov term on the wet volume this is, to first order, the wave
+        # pressure on the column's bottom.
+        still = wet
+        wet = column_submerged_fraction(z - env.surface_elevation(positions[:, 0], positions[:, 1], t), body.height)
+        forces = forces.at[:, 2].add(rho * env.gravity * body.volume * (wet - still))
     coefficient = (0.5 * rho * body.drag_area + body.specific_drag * body.organism_mass * env.gravity) * wet
     forces = forces + body_drag(env.water_velocity(positions, t) - velocities, coefficient)
     if env.has_fluid_acceleration:

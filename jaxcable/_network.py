@@ -114,8 +114,10 @@ class Body(eqx.Module):
         modelled. Zero by default.
     - `height`: h (m). 0 (default): a point body, always fully submerged. Positive: a
         vertical column of height h and cross-section V/h centred on its node, which
-        can float: its buoyancy, added mass, drag and fluid inertia act on the part
-        below the still-water level z = 0 (a surface buoy, a float).
+        can float (a surface buoy, a float): its buoyancy, drag and fluid inertia act
+        on the part below the water's surface, the waves' η at the node's (x, y); its
+        added mass on the part below the still-water level z = 0, since the mass
+        matrix does not depend on time.
     """
 
     mass: Float[Array, "*nodes"]

@@ -91,3 +91,34 @@ def test_float_heave_period(added):
         # added mass C_a ρ V f(z) changes with the draft, and jaxcable, like MoorDyn,
         # applies it as Morison's inertia force, not through a kinetic energy.
         np.testing.assert_allclose(np.max(np.abs(z)), 0.05, rtol=1e-3)
+
+
+def test_float_heaves_on_the_wave_surface():
+    # In a wave, the float is wet up to the surface η, not to z = 0: with no drag and no
+    # fluid inertia, buoyancy to η is the only wave force, and the heave solves
+    # M z'' = ρ g V f(z − η(t)) − M g − EA ((z − anchor)/L − 1), f the wet fraction.
+    # scipy integrates that scalar equation; buoyancy to z = 0 would leave the float at
+    # rest.
+    from scipy.integrate import solve_ivp
+
+    model, _ = moored_float()
+    wave = jc.Airy(0.4, 8.0, 50.0)
+    env = jc.Environment(water_density=RHO, gravity=G, depth=50.0, waves=(wave,), fluid_inertia=False)
+    z0 = draft_reference()
+    mass = MASS + 0.5 * float(model.line.mass_per_length[0]) * LENGTH
+    omega = 2 * np.pi / 8.0
+
+    def heave(t, y):
+        eta = 0.2 * np.cos(-omega * t)  # the crest is at x = 0 at t = 0
+        wet = np.clip((HEIGHT / 2 - (y[0] - eta)) / HEIGHT, 0.0, 1.0)
+        force = RHO * G * VOLUME * wet - MASS * G - EA * ((y[0] - ANCHOR) / LENGTH - 1)
+        return [y[1], force / mass]
+
+    ts = np.linspace(0.0, 24.0, 481)
+    reference = solve_ivp(heave, (0.0, 24.0), [z0, 0.0], t_eval=ts, rtol=1e-11, atol=1e-12, method="DOP853").y[0]
+    positions = model.node_positions.at[1].set(jnp.array([0.0, 0.0, z0]))
+    result = jc.simulate(model, env, 24.0, ts=ts, initial=jc.State(positions, jnp.zeros_like(positions)), rtol=1e-10, atol=1e-10)
+    z = np.asarray(result.positions[:, 1, 2])
+    assert np.ptp(reference) > 0.3  # it heaves, by about the wave's height
+    np.testing.assert_allclose(z, reference, atol=1e-6)
+    np.testing.assert_allclose(np.asarray(result.positions[:, 1, :2]), 0.0, atol=1e-9)
