@@ -30,6 +30,7 @@ from ._seed002 import (
     steady_tow,
     towed_trawl,
 )
+from .._waves import seed003_amplitude
 from ._seed003 import ADDED_MASS, AXIAL_STIFFNESS, MASS_PER_LENGTH
 
 # Study sizes: the notebook's default and the tests run SMALL, the benchmark FULL. `end`
@@ -352,6 +353,11 @@ def plot_diverter_paths(run: TrawlRun, ax=None):
 # --- verdict ---------------------------------------------------------------------------
 
 
+def wave_height() -> float:
+    """The trawl's wave height H (m), crest to trough."""
+    return 2 * float(seed003_amplitude(WAVE_PERIOD))
+
+
 def depth(run: TrawlRun, junction: str = "buoy") -> Levels:
     """The levels of a junction's z (m) before and after the step."""
     return levels(run, run.junctions[:, JUNCTIONS[junction], 2])
@@ -393,10 +399,10 @@ def verdict_rows(runs: dict[str, TrawlRun]) -> list[tuple[str, str, str, str]]:
         f"one-period mean {buoy.mean_before / 1e3:.1f} → peak {buoy.peak_mean / 1e3:.1f} → {buoy.mean_after / 1e3:.1f} kN "
         f"({above:.2f}× the old level); range {buoy.range_before / 1e3:.1f} → {buoy.range_after / 1e3:.1f} kN",
         "yes" if buoy.peak_mean > 1.2 * buoy.mean_before and 1 <= above < 1.3 and buoy.range_after > 1.5 * buoy.range_before else "partly",
-        "the amplitude grows as the paper says; the mean rises only a little and settles below: the faster "
-        f"tow lifts the branch point (z {depth(waves, 'branch').mean_before:.0f} → {depth(waves, 'branch').mean_after:.0f} m) "
-        f"and the buoy rides higher (z {depth(waves, 'buoy').mean_before:+.2f} → {depth(waves, 'buoy').mean_after:+.2f} m), "
-        "with less of it under water to pull; the paper's buoy and vehicle are not given",
+        f"measured: the branch point rises from z = {depth(waves, 'branch').mean_before:.0f} to "
+        f"{depth(waves, 'branch').mean_after:.0f} m and the buoy's mean z goes {depth(waves, 'buoy').mean_before:+.2f} → "
+        f"{depth(waves, 'buoy').mean_after:+.2f} m; the paper's buoy and vehicle are not given, so the levels "
+        "cannot be matched",
     ))
 
     t_tow, t_div = levels(waves, waves.at("tow point")), levels(waves, waves.at("diverter"))
@@ -407,10 +413,9 @@ def verdict_rows(runs: dict[str, TrawlRun]) -> list[tuple[str, str, str, str]]:
         f"{t_tow.range_before / 1e3:.2f} → {t_tow.range_after / 1e3:.2f} kN; diverter: mean {t_div.mean_before / 1e3:.1f} → "
         f"{t_div.mean_after / 1e3:.1f} kN, range {t_div.range_before / 1e3:.2f} → {t_div.range_after / 1e3:.2f} kN",
         "yes" if all(grows) else ("partly" if any(grows) else "no"),
-        "the diverter's range does not grow, though it rises (z "
-        f"{depth(waves, 'diverter').mean_before:.0f} → {depth(waves, 'diverter').mean_after:.0f} m) and heaves more "
-        f"({depth(waves, 'diverter').range_before:.2f} → {depth(waves, 'diverter').range_after:.2f} m): measured, "
-        "not explained here" if not grows[1] else "",
+        "the diverter's range does not grow, though the diverter rises from z = "
+        f"{depth(waves, 'diverter').mean_before:.0f} to {depth(waves, 'diverter').mean_after:.0f} m, nearer the waves: "
+        "measured, not explained here" if not grows[1] else "",
     ))
 
     width = {name: sweep_width(runs[name]) for name in ("rise 1→2", "rise 1→3", "rise 1→4, waves")}
@@ -453,15 +458,23 @@ def verdict_rows(runs: dict[str, TrawlRun]) -> list[tuple[str, str, str, str]]:
     ))
 
     d2, d4 = depth(slow_waves), depth(waves)
+    # Draw-down is how far the buoy is pulled under: its mean z falling.
+    holds = [
+        d2.range_after < d2.range_before,
+        d2.mean_after > d2.mean_before,
+        d4.range_after < d4.range_before,
+        d4.mean_after < d4.mean_before,
+    ]
     rows.append((
         "The buoy's heave (Fig. 9, in waves): at 1 → 2 m/s its amplitude and its draw-down both decrease; "
         "at 1 → 4 m/s the amplitude decreases but the draw-down increases",
-        f"heave range / mean z: 1 → 2 {d2.range_before:.2f} → {d2.range_after:.2f} m / {d2.mean_before:+.2f} → "
-        f"{d2.mean_after:+.2f} m; 1 → 4 {d4.range_before:.2f} → {d4.range_after:.2f} m / {d4.mean_before:+.2f} → "
-        f"{d4.mean_after:+.2f} m; calm 1 → 2: mean z {depth(slow).mean_before:+.2f} → {depth(slow).mean_after:+.2f} m",
-        "partly" if d2.range_after < d2.range_before and d2.mean_after > d2.mean_before else "no",
-        "1 → 2 agrees; at 1 → 4 the buoy rides higher and heaves more, as the tow lifts the branch point "
-        f"to z = {depth(waves, 'branch').mean_after:.0f} m",
+        f"heave range / mean z: 1 → 2 {d2.range_before:.2f} → {d2.range_after:.2f} m / {d2.mean_before:+.3f} → "
+        f"{d2.mean_after:+.3f} m; 1 → 4 {d4.range_before:.2f} → {d4.range_after:.2f} m / {d4.mean_before:+.3f} → "
+        f"{d4.mean_after:+.3f} m (wave height {wave_height():.2f} m); "
+        f"calm 1 → 2: mean z {depth(slow).mean_before:+.3f} → {depth(slow).mean_after:+.3f} m",
+        "yes" if all(holds) else ("partly" if any(holds) else "no"),
+        f"{sum(holds)} of the 4 trends hold; wet up to the wave's surface, the buoy heaves "
+        f"{d4.range_before / wave_height():.2f}× the wave height before the step",
     ))
     return rows
 
