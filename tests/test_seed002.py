@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
+from _balance import hand_forces
 from jaxcable.examples._seed002 import (
     BUOY,
     DIVERTER,
@@ -34,39 +35,14 @@ def trawl():
 
 def test_trawl_nodes_balance_by_hand(trawl):
     model, env, _, statics = trawl
-    rho, g = float(env.water_density), float(env.gravity)
-    line = model.line
     positions = np.asarray(statics.state.positions)
-    ends = np.asarray(model.segment_nodes)
-    chord = positions[ends[:, 1]] - positions[ends[:, 0]]
-    stretched = np.linalg.norm(chord, axis=1)
-    tau = chord / stretched[:, None]
-    length = np.asarray(model.segment_length)
-    tension = np.asarray(line.tension_law.axial_stiffness) * (stretched / length - 1)
+    # The water flows past at −SPEED along x; the floating buoy's buoyancy and drag act
+    # on its part below z = 0, and each diverter pushes its way across.
+    bodies = {1: VEHICLE, 2: DIVERTER, 3: DIVERTER, 4: BUOY}
+    tension, force = hand_forces(model, env, positions, bodies, flow=(-SPEED, 0.0, 0.0))
     np.testing.assert_allclose(np.asarray(statics.tension), tension, rtol=1e-6)
-
-    # Drag per stretched length on the water flowing past at −SPEED along x, uniform
-    # along a straight segment: C_n |u_n| u_n + C_τ |u_τ| u_τ.
-    u = np.array([-SPEED, 0.0, 0.0])
-    diameter = np.asarray(line.diameter)
-    c_n = 0.5 * rho * np.asarray(line.normal_drag) * diameter
-    c_t = 0.5 * rho * np.asarray(line.tangential_drag) * np.pi * diameter
-    u_t = (tau @ u)[:, None] * tau
-    u_n = u - u_t
-    drag = (c_n * np.linalg.norm(u_n, axis=1))[:, None] * u_n + (c_t * np.linalg.norm(u_t, axis=1))[:, None] * u_t
-    per_end = 0.5 * drag * stretched[:, None]
-    per_end[:, 2] -= 0.5 * (np.asarray(line.mass_per_length) - rho * np.asarray(line.area)) * g * length
-
-    force = np.zeros_like(positions)
-    np.add.at(force, ends[:, 0], tension[:, None] * tau + per_end)
-    np.add.at(force, ends[:, 1], -tension[:, None] * tau + per_end)
-    for node, body, push in ((1, VEHICLE, 0.0), (2, DIVERTER, DIVERTER_FORCE), (3, DIVERTER, -DIVERTER_FORCE), (4, BUOY, 0.0)):
-        # The floating buoy's buoyancy, drag and added mass act on its part below z = 0.
-        height = body.get("height", 0.0)
-        wet = np.clip((height / 2 - positions[node, 2]) / height, 0.0, 1.0) if height else 1.0
-        force[node, 2] -= (body["mass"] - rho * body["volume"] * wet) * g
-        force[node] += 0.5 * rho * body["drag_area"] * wet * np.linalg.norm(u) * u
-        force[node, 1] += push
+    force[2, 1] += DIVERTER_FORCE
+    force[3, 1] -= DIVERTER_FORCE
     free = np.asarray(model.free_nodes)
     scale = np.max(np.abs(tension))
     assert np.max(np.abs(force[free])) < 1e-7 * scale

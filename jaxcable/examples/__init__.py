@@ -6,6 +6,7 @@ from pathlib import Path
 from .._waves import seed003_amplitude as seed003_amplitude
 from ._seed001 import seed001_element as seed001_element
 from ._seed002 import start_tow as start_tow, towed_trawl as towed_trawl
+from ._seed002_net import moored_net as moored_net
 from ._seed003 import seed003_line as seed003_line
 
 _SCENES = Path(__file__).parent / "scenes"

@@ -54,6 +54,8 @@ JUNCTIONS = dict(tow=0, branch=1, diverter=2, diverter_minus=3, buoy=4)
 # A segment counts as slack where its tension is at or below zero: Kelvin–Voigt's
 # viscous term can push a stretched segment briefly below zero when it unloads fast.
 SLACK_TENSION = 0.0  # N
+# A snap's peak is looked for within this time (s) after its slack spell ends.
+SNAP_WINDOW = 1.0
 
 
 @dataclasses.dataclass
@@ -226,28 +228,44 @@ class Snap:
     settled: float
 
 
-def snaps(run: TrawlRun, segments=None, after: float = STEP_TIME) -> list[Snap]:
-    """Every slack spell after `after` on `segments` (all by default), with its snap."""
-    segments = range(run.tension.shape[1]) if segments is None else segments
+def series_snaps(
+    times: np.ndarray,
+    tension: np.ndarray,
+    segments=None,
+    after: float = -np.inf,
+    within: float = SNAP_WINDOW,
+    settle: float = 5.0,
+) -> list[Snap]:
+    """Every slack spell after `after` (s) on `segments` (columns of `tension`, shape
+    `(times, segments)`; all by default), with its snap: the largest tension within
+    `within` seconds after the spell ends. A segment is slack at or below
+    `SLACK_TENSION`; a spell still going at the end is left out. `settled`
+    is the segment's mean tension over the last `settle` seconds. """
+    segments = range(tension.shape[1]) if segments is None else segments
+    window = times >= after
+    t = times[window]
     found = []
-    window = run.window(after)
-    t = run.times[window]
     for s in segments:
-        tension = run.tension[window, s]
-        slack = tension <= SLACK_TENSION
+        series = tension[window, s]
+        slack = series <= SLACK_TENSION
         starts = np.flatnonzero(slack[1:] & ~slack[:-1]) + 1
-        if slack[0]:
+        if slack.size and slack[0]:
             starts = np.concatenate([[0], starts])
-        settled = float(run.tension[run.window(run.times[-1] - 5.0), s].mean())
+        settled = float(tension[times >= times[-1] - settle, s].mean())
         for k in starts:
             ends = np.flatnonzero(~slack[k:])
             if ends.size == 0:
                 continue
             stop = k + ends[0]
-            following = (t >= t[stop]) & (t <= t[stop] + 1.0)
-            j = np.flatnonzero(following)[np.argmax(tension[following])]
-            found.append(Snap(s, float(t[k]), float(t[stop]), float(tension[j]), float(t[j]), settled))
+            following = (t >= t[stop]) & (t <= t[stop] + within)
+            j = np.flatnonzero(following)[np.argmax(series[following])]
+            found.append(Snap(int(s), float(t[k]), float(t[stop]), float(series[j]), float(t[j]), settled))
     return found
+
+
+def snaps(run: TrawlRun, segments=None, after: float = STEP_TIME) -> list[Snap]:
+    """Every slack spell after `after` on `segments` (all by default), with its snap."""
+    return series_snaps(run.times, run.tension, segments, after)
 
 
 def jerk(run: TrawlRun, point: str = "tow point", span: float = 2.0) -> tuple[float, float]:
