@@ -9,7 +9,7 @@ The studies of `jaxcable.examples._seed002_study` and `_seed002_net` at the `FUL
 2. the moored net in 6.4 s waves along its diagonal: the buoys' heave and drift, and the
    tension along the vertical branch under buoy 2.
 
-    python benchmarks/seed002_reproduction.py                # both, about 30 min on 2 cores
+    python benchmarks/seed002_reproduction.py                # both, about 25 min on 2 cores
     python benchmarks/seed002_reproduction.py --part trawl   # or net: one study
     python benchmarks/seed002_reproduction.py --report       # reprint the last verdicts
 
@@ -91,7 +91,7 @@ def net(out: str) -> None:
         heave={b: vars(h) for b, h in s2n.heave(run).items()},
         drift={b: vars(d) for b, d in s2n.drift(run).items()},
         places={
-            name: {"still_N": p.still, "min_N": p.min, "max_N": p.max, "mean_N": p.mean,
+            name: {"still_N": p.still, "min_N": p.min, "max_N": p.max, "max_20ms_N": p.max_smoothed, "mean_N": p.mean,
                    "slack_spells": len(p.spells), "slack_fraction": p.slack_fraction,
                    "snap_peaks_N": [x.peak for x in p.spells]}
             for name, p in s2n.places(run).items()

@@ -66,7 +66,8 @@ def test_heave_amplitude_and_phase_by_hand():
         assert h[b].sink == pytest.approx(mean, abs=1e-9)
     assert [h[b].phase for b in BUOYS] == pytest.approx([0.0, -80.0, 175.0, -80.0], abs=1e-7)
     # A second harmonic and a slow sink leave the first harmonic as it was.
-    extra = {b: p + np.stack([0 * t, 0 * t, 0.2 * np.cos(2 * OMEGA * t) - 0.001 * t], 1) for b, p in ((b, run.buoy(b)) for b in BUOYS)}
+    wobble = np.stack([0 * t, 0 * t, 0.2 * np.cos(2 * OMEGA * t) - 0.001 * t], 1)
+    extra = {b: run.buoy(b) + wobble for b in BUOYS}
     h2 = s.heave(_run(t, extra, periods=4))
     for b in BUOYS:
         assert h2[b].amplitude == pytest.approx(h[b].amplitude, rel=1e-9)
@@ -158,6 +159,19 @@ def test_places_on_a_clipped_sine():
     assert near.peak == pytest.approx(a + b * np.sin(-c + OMEGA * 1.0), rel=1e-3)
     assert p["above junction"].spells == [] and np.isnan(p["above junction"].peak)
     assert p["above junction"].min == pytest.approx(100.0)
+    # The running mean over 0.02 s (n samples) of a slow sine peaks as the sine does; a
+    # spike one sample wide adds its height over n to each window that holds it.
+    assert near.max_smoothed == pytest.approx(a + b, rel=1e-4)
+    spiked = tension.copy()
+    j = np.argmin(np.abs(t - 9.5 * T - 0.3))
+    spiked[j, 0] += 1e6
+    dt = t[1] - t[0]
+    n = round(0.02 / dt)
+    under = s.places(_run(t, tension=spiked, periods=5))["under buoy"]
+    assert under.max == pytest.approx(spiked[j, 0])
+    assert under.max_time == pytest.approx(t[j])
+    holding = max(sine[k : k + n].mean() for k in range(j - n + 1, j + 1))
+    assert under.max_smoothed == pytest.approx(holding + 1e6 / n, rel=1e-9)
 
 
 def _verdict_run(along=(0.8, 0.5, 0.3, 0.5), inward_24=0.1, slack_upper=True):

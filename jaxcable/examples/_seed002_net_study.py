@@ -36,7 +36,7 @@ from ._seed002_net import (
     HUB,
     N_BUOYS,
     PRETENSION,
-    WATER_DENSITY,
+    VISCOUS_RATIO,
     WATER_DEPTH,
     WAVE_PERIOD,
     branch_segments,
@@ -47,7 +47,6 @@ from ._seed002_net import (
     moored_net,
 )
 from ._seed002_study import SLACK_TENSION, Snap, series_snaps
-from ._seed003 import AREA, AXIAL_STIFFNESS, MASS_PER_LENGTH
 
 # Study sizes. `segments`: upper, lower, row side, diagonal (`moored_net`); `end`: the
 # run's last time (s), from t = 0; `periods`: the whole wave periods at the end over which
@@ -61,7 +60,13 @@ FULL = dict(
 )
 BUOYS = tuple(range(1, N_BUOYS + 1))
 PLACES = ("under buoy", "above junction", "below junction", "near anchor")
-RAMP = 2 * WAVE_PERIOD  # s, over which the waves come in (`moored_net`)
+# A slack spell ends in a snap where the tension then peaks (within
+# `_seed002_study.SNAP_WINDOW`) above this many times the segment's mean: a spike, not
+# the tension merely coming back.
+SNAP_RATIO = 1.5
+# s, the span of the running mean whose largest value is a place's `max_smoothed`: the
+# lines' retardation time C_v / C_E.
+SMOOTH = VISCOUS_RATIO
 
 
 @dataclasses.dataclass
@@ -174,7 +179,9 @@ class Harmonic:
 HARMONICS = 3
 
 
-def harmonic_fit(times: np.ndarray, values: np.ndarray, period: float = WAVE_PERIOD, mid: float | None = None) -> Harmonic:
+def harmonic_fit(
+    times: np.ndarray, values: np.ndarray, period: float = WAVE_PERIOD, mid: float | None = None
+) -> Harmonic:
     """The least-squares [`Harmonic`][] of `values` at `times` (s); `mid` (s) the time
     its `mean` is at, the middle of `times` by default."""
     omega = 2 * np.pi / period
@@ -261,15 +268,24 @@ def drift(run: NetRun, periods: int | None = None) -> dict[int, Drift]:
 @dataclasses.dataclass
 class Place:
     """The tension at one place over the last whole periods: `still` (N) in still
-    water; `min`, `max`, `mean` (N); `spells`, the slack spells that ended within the
-    span, with their snaps; `slack_fraction`, the share of the span spent slack."""
+    water; `min`, `max`, `mean` (N), and `max_time` (s) when it peaked; `max_smoothed`
+    (N), the largest of its `SMOOTH`-second running mean, which a spike of a few
+    samples barely moves; `spells`, the slack spells that ended within the span, with
+    their snaps; `slack_fraction`, the share of the span spent slack."""
 
     still: float
     min: float
     max: float
+    max_time: float
+    max_smoothed: float
     mean: float
     spells: list[Snap]
     slack_fraction: float
+
+    @property
+    def snaps(self) -> list[Snap]:
+        """The spells that end in a snap: a peak above `SNAP_RATIO` times the mean."""
+        return [s for s in self.spells if s.peak > SNAP_RATIO * self.mean]
 
     @property
     def longest(self) -> float:
@@ -285,6 +301,7 @@ class Place:
 def places(run: NetRun, periods: int | None = None) -> dict[str, Place]:
     """Each of Fig. 5's `PLACES`, by name."""
     m = run.last_periods(periods)
+    n = max(int(round(SMOOTH / np.median(np.diff(run.times[m])))), 1)
     out = {}
     for name, segment in run.places.items():
         series = run.tension[:, segment]
@@ -292,6 +309,8 @@ def places(run: NetRun, periods: int | None = None) -> dict[str, Place]:
             still=float(run.still_tension[segment]),
             min=float(series[m].min()),
             max=float(series[m].max()),
+            max_time=float(run.times[m][np.argmax(series[m])]),
+            max_smoothed=float(np.convolve(series[m], np.ones(n) / n, mode="valid").max()),
             mean=float(series[m].mean()),
             spells=series_snaps(run.times, run.tension, [segment], after=run.measured_from(periods)),
             slack_fraction=float(np.mean(series[m] <= SLACK_TENSION)),
@@ -304,14 +323,6 @@ def branch_spells(run: NetRun, periods: int | None = None) -> dict[int, list[Sna
     segment) over the last whole periods, by buoy number."""
     after = run.measured_from(periods)
     return {b: series_snaps(run.times, run.tension, run.branches[b], after=after) for b in BUOYS}
-
-
-def hanging_weight(run: NetRun) -> float:
-    """The submerged weight (N) of buoy 2's upper part, buoy to junction, at its
-    unstretched length: what the buoy holds when the part hangs free below it."""
-    chord = np.linalg.norm(run.still[buoy_node(2)] - run.still[corner_node(2)])
-    length = chord / (1 + run.still_tension[run.places["under buoy"]] / AXIAL_STIFFNESS)
-    return float((MASS_PER_LENGTH - WATER_DENSITY * AREA) * GRAVITY * length)
 
 
 # --- plots -----------------------------------------------------------------------------
@@ -360,16 +371,23 @@ def plot_paths(run: NetRun, ax=None):
 
 def plot_fig5(run: NetRun, window=None, axes=None):
     """Tension histories (kN) at Fig. 5's four places on buoy 2's vertical branch, one
-    panel each, over `window` (s; the last whole periods by default)."""
+    panel each, over `window` (s; the last whole periods by default), with their
+    `SMOOTH`-second running mean where the samples are dense enough to take one."""
     import matplotlib.pyplot as plt
 
     if axes is None:
         _, axes = plt.subplots(len(PLACES), 1, figsize=(8, 2 * len(PLACES)), sharex=True)
     m = run.window(*(window or (run.measured_from(), run.times[-1])))
+    t = run.times[m]
+    n = int(round(SMOOTH / np.median(np.diff(t))))
     for ax, place in zip(np.atleast_1d(axes), PLACES):
-        ax.plot(run.times[m], run.at(place)[m] / 1e3, lw=0.7)
+        ax.plot(t, run.at(place)[m] / 1e3, lw=0.7, label="samples")
+        if n > 1:
+            mean = np.convolve(run.at(place)[m], np.ones(n) / n, mode="valid")
+            ax.plot(t[n // 2 : n // 2 + mean.size], mean / 1e3, lw=0.9, color="k", label=f"{1e3 * SMOOTH:.0f} ms mean")
         ax.axhline(0.0, color="0.7", lw=0.5)
         ax.set_ylabel(f"{place}\nT (kN)")
+    np.atleast_1d(axes)[0].legend(fontsize="small", loc="upper right")
     np.atleast_1d(axes)[-1].set_xlabel("t (s)")
     return axes
 
@@ -385,112 +403,141 @@ def verdict_rows(run: NetRun) -> list[tuple[str, str, str, str]]:
     """The net's rows of the closing table, `(paper's claim, jaxcable's result,
     agreement, why)`, every number measured on `run` (the `FULL` run) over its last
     whole periods."""
-    periods = run.config["periods"]
     span = f"t = {run.measured_from():.0f}–{run.times[-1]:.0f} s"
     h, d, p = heave(run), drift(run), places(run)
-    wave_amplitude = _wave_amplitude()
     rows = []
 
     amplitudes = [h[b].amplitude for b in BUOYS]
     phases = [h[b].phase for b in BUOYS]
+    waves = [wave_phase(b, run.still) for b in BUOYS]
+    behind = max(abs(np.degrees(_wrap(np.radians(x - w)))) for x, w in zip(phases, waves))
     differ = [max(amplitudes) > 1.2 * min(amplitudes), max(abs(x) for x in phases) > 30.0]
     rows.append((
         "The buoys heave with different amplitudes and phases (Fig. 4)",
-        f"over {span}: heave amplitude " + ", ".join(f"{a:.2f}" for a in amplitudes) + f" m (buoys 1–4; "
-        f"the wave's {wave_amplitude:.2f} m), phase from buoy 1 " + ", ".join(f"{x:+.0f}°" for x in phases)
+        f"over {span}: heave amplitude " + ", ".join(f"{a:.2f}" for a in amplitudes) + " m (buoys 1–4; "
+        f"the wave's {_wave_amplitude():.2f} m), phase from buoy 1 " + ", ".join(_degrees(x) for x in phases)
         + "; mean height " + ", ".join(f"{h[b].sink:+.2f}" for b in BUOYS) + " m from still water",
         _grade(sum(differ), 2),
-        "the wave reaches the buoys at " + ", ".join(f"{wave_phase(b, run.still):+.0f}°" for b in BUOYS)
-        + " from buoy 1 (k Δx); buoy 1's column meets it first, buoy 3's behind the net",
+        "the phases follow the wave's own at each buoy, −k Δx = " + ", ".join(_degrees(w) for w in waves)
+        + f", to within {behind:.0f}°; the amplitudes differ though the wave's is the same at all four",
     ))
 
-    gap = abs(_wrap(np.radians(h[2].phase - h[4].phase)))
+    gap = abs(np.degrees(_wrap(np.radians(h[2].phase - h[4].phase))))
     spread = abs(h[2].amplitude - h[4].amplitude) / max(h[2].amplitude, h[4].amplitude)
     rows.append((
         "Buoys 2 and 4 heave in phase",
         f"amplitudes {h[2].amplitude:.3f} and {h[4].amplitude:.3f} m, phases {h[2].phase:+.1f}° and "
         f"{h[4].phase:+.1f}° from buoy 1",
-        "yes" if np.degrees(gap) < 1.0 and spread < 0.01 else "no",
+        "yes" if gap < 1.0 and spread < 0.01 else "no",
         "the scene is mirror-symmetric about the waves' vertical plane y = 0, in which they run",
     ))
 
-    along = [d[b].along for b in (1, 3)]
     on_axis = all(abs(d[b].across) < 0.05 * max(abs(d[b].along), 0.01) for b in (1, 3))
-    forward = all(a > 0.05 for a in along)
+    forward = all(d[b].along > 0.05 for b in (1, 3))
     most = all(abs(d[1].along) >= abs(d[b].along) for b in BUOYS)
+    order = sorted(BUOYS, key=lambda b: -abs(d[b].along))
     rows.append((
         "Buoys 1 and 3 drift only along the wave direction, buoy 1 the most",
-        f"mean offsets along the waves (x) {d[1].along:+.2f} m (buoy 1), {d[3].along:+.2f} m (buoy 3), "
-        f"across {d[1].across:+.3f} and {d[3].across:+.3f} m; buoys 2, 4: {d[2].along:+.2f} m along; "
-        f"still changing by {d[1].rate:+.3f}, {d[3].rate:+.3f} m a period",
+        f"mean offsets along the waves (x) {d[1].along:+.2f} m (buoy 1) and {d[3].along:+.2f} m (buoy 3), "
+        f"across {_signed(d[1].across)} and {_signed(d[3].across)} m; buoys 2 and 4 {d[2].along:+.2f} m along; "
+        f"still changing by {max(abs(d[b].rate) for b in BUOYS):.3f} m a period or less",
         _grade(on_axis + forward + most, 3),
-        "they stay on the x axis, by the mirror symmetry"
-        + ("" if forward else "; but they sit upwave (−x) of their still positions: measured, not explained here")
-        + ("" if most else "; buoy 1's is not the largest"),
+        "they stay on the x axis, by the mirror symmetry, and move "
+        + ("downwave" if forward else "not both downwave")
+        + ("" if most else "; but buoy 1 drifts the least of the four: largest to smallest, buoys "
+           + ", ".join(map(str, order))),
     ))
 
-    both = [all(d[b].along > 0.05 for b in (2, 4)), all(d[b].inward > 0.05 for b in (2, 4))]
+    along_24 = all(d[b].along > 0.05 for b in (2, 4))
+    inward_24 = all(d[b].inward > max(0.05, 0.1 * abs(d[b].along)) for b in (2, 4))
     rows.append((
         "Buoys 2 and 4 drift along the wave direction and are pulled toward the centre",
         f"mean offsets along the waves {d[2].along:+.2f} and {d[4].along:+.2f} m, toward the centre "
         f"{d[2].inward:+.3f} and {d[4].inward:+.3f} m",
-        _grade(sum(both), 2),
-        ("they move upwave (−x)" if not both[0] else "they move downwave")
-        + (" and hardly inward" if not both[1] else " and inward")
-        + f": measured over {periods} periods; the frame's corners hold them through the plumb upper parts",
+        _grade(along_24 + inward_24, 2),
+        ("downwave" if along_24 else "not downwave")
+        + (", and inward" if inward_24 else ", and inward by less than a tenth of that (criterion: 5 cm and a tenth)"),
     ))
 
-    slack_places = [name for name in PLACES if p[name].spells]
-    weight = hanging_weight(run)
+    snapping = [name for name in PLACES if p[name].snaps]
+    taut = [name for name in PLACES if not p[name].spells]
 
     def describe(name):
         place = p[name]
         text = f"{name} {place.min / 1e3:.2f}–{place.max / 1e3:.1f} kN (mean {place.mean / 1e3:.1f})"
         if place.spells:
-            text += (f", slack {len(place.spells)}× for up to {place.longest:.2f} s, then snaps to "
-                     f"{place.peak / 1e3:.1f} kN")
+            text += (f", slack {len(place.spells)}× in {run.config['periods']} periods for up to "
+                     f"{place.longest:.2f} s, snaps to {place.peak / 1e3:.1f} kN")
         return text
 
     rows.append((
         "Snap loads (slack, then a spike) on all parts of the vertical branch under buoy 2 "
         "(Fig. 5's four places)",
         f"over {span}: " + "; ".join(describe(name) for name in PLACES),
-        _grade(len(slack_places), len(PLACES)),
-        f"slack at {len(slack_places)} of the 4 places"
-        + (f"; the upper part's tension bottoms at {min(p[n].min for n in PLACES[:2]) / 1e3:.2f} kN, "
-           f"against the {weight / 1e3:.2f} kN submerged weight of the part hanging below the buoy"
-           if not all(p[n].spells for n in PLACES[:2]) else ""),
+        _grade(len(snapping), len(PLACES)),
+        f"slack, then a spike above {SNAP_RATIO}× the mean, at {len(snapping)} of the 4 places"
+        + (f"; {', '.join(taut)}: never slack, the least tension "
+           + ", ".join(f"{p[n].min / 1e3:.2f}" for n in taut) + " kN" if taut else ""),
     ))
 
-    upper = max(p[n].max for n in PLACES[:2])
-    lower = max(p[n].max for n in PLACES[2:])
+    upper = max(p[n].max_smoothed for n in PLACES[:2])
+    lower = max(p[n].max_smoothed for n in PLACES[2:])
     ratio = upper / lower
-    snapping = all(p[n].spells for n in PLACES)
+    raw = max(p[n].max for n in PLACES[:2]) / max(p[n].max for n in PLACES[2:])
+    # Where, near the anchor's largest sample, each place peaks: one spike along the branch?
+    t0 = p["near anchor"].max_time
+    near = run.window(t0 - 0.05, t0 + 0.05)
+    lags = [run.times[near][np.argmax(run.at(n)[near])] - t0 for n in PLACES]
+    together = all(run.at(n)[near].max() >= 0.99 * p[n].max for n in PLACES)
+    j = int(np.flatnonzero(run.times == t0)[0])
+    anchor = run.at("near anchor")
+    drop = anchor[j] / max(anchor[min(j + 1, anchor.size - 1)], 1e-9)
+    snaps_upper = all(p[n].snaps for n in PLACES[:2])
+    dt = float(np.median(np.diff(run.times[run.last_periods()])))
     rows.append((
         "The upper part's jerk is somewhat smaller than the lower part's (the weight of the freely "
         "hanging part)",
-        f"largest tension on the upper part {upper / 1e3:.1f} kN, on the lower {lower / 1e3:.1f} kN "
-        f"({ratio:.2f}×)",
-        "yes" if 0.6 <= ratio < 0.98 and snapping else ("partly" if 0.6 <= ratio < 1.0 else "no"),
-        ("smaller, as the paper says" if ratio < 1.0 else "the upper part's is not smaller")
-        + ("" if snapping else "; but where a place never goes slack its peaks follow no slack spell: "
-           "they are not snaps in the paper's sense"),
+        f"largest tension over {1e3 * SMOOTH:.0f} ms, upper part {upper / 1e3:.1f} kN, lower {lower / 1e3:.1f} kN "
+        f"({ratio:.2f}×); in single {1e3 * dt:.1f} ms samples "
+        + ", ".join(f"{p[n].max / 1e3:.1f}" for n in PLACES) + f" kN from the buoy down ({raw:.2f}×)",
+        "yes" if 0.6 <= ratio < 0.98 and snaps_upper else ("partly" if 0.6 <= ratio < 1.0 else "no"),
+        ("somewhat smaller" if 0.6 <= ratio < 0.98 else "about as large" if 0.98 <= ratio < 1.02 else
+         "much smaller (criterion for somewhat: 0.6–0.98×)" if ratio < 0.6 else "larger")
+        + (f"; all four places peak within {1e3 * (max(lags) - min(lags)):.1f} ms of each other, as the "
+           f"segment near the anchor snaps taut: one spike along the branch; near the anchor it falls "
+           f"{drop:.1f}-fold from its highest sample to the next, so the samples' heights depend on the "
+           "sampling" if together else "")
+        + ("" if snaps_upper else "; the upper part's peaks follow no slack spell of its own"),
     ))
 
     spells = branch_spells(run)
-    means = {b: run.tension[run.last_periods()][:, run.branches[b]].mean(axis=0) for b in BUOYS}
-    snapped = {b: [s for s in spells[b] if s.peak > 1.5 * means[b][list(run.branches[b]).index(s.segment)]] for b in BUOYS}
+    window = run.last_periods()
+    snapped = {}
+    for b in BUOYS:
+        means = dict(zip(run.branches[b], run.tension[window][:, run.branches[b]].mean(axis=0)))
+        snapped[b] = [x for x in spells[b] if x.peak > SNAP_RATIO * means[x.segment]]
     slack_buoys = [b for b in BUOYS if spells[b]]
-    total = sum(len(spells[b]) for b in BUOYS)
     rows.append((
         "The same picture on every vertical branch whenever its tension drops to zero",
         "slack spells on the vertical branches under buoys 1–4: " + ", ".join(str(len(spells[b])) for b in BUOYS)
-        + "; followed within 1 s by a peak above 1.5× the segment's mean: "
+        + f"; of them ending in a spike above {SNAP_RATIO}× the segment's mean: "
         + ", ".join(str(len(snapped[b])) for b in BUOYS),
-        "no" if not total else _grade(sum(len(snapped[b]) == len(spells[b]) for b in slack_buoys), len(slack_buoys)),
-        "only the branches under buoys " + ", ".join(map(str, slack_buoys)) + " go slack" if slack_buoys else "no branch goes slack",
+        _grade(sum(len(snapped[b]) == len(spells[b]) for b in slack_buoys), len(slack_buoys)) if slack_buoys else "no",
+        ("only the branches under buoys " + ", ".join(map(str, slack_buoys)) + " go slack; spells under 10 ms: "
+         + ", ".join(str(sum(x.slack_to - x.slack_from < 0.01 for x in spells[b])) for b in BUOYS))
+        if slack_buoys else "no vertical branch goes slack",
     ))
     return rows
+
+
+def _signed(value: float, digits: int = 3) -> str:
+    """A signed number to `digits` decimals, with no −0."""
+    return f"{round(value, digits) + 0.0:+.{digits}f}"
+
+
+def _degrees(angle: float) -> str:
+    """An angle (degrees) to the nearest degree, signed, with no −0."""
+    return f"{int(round(angle)):+d}°"
 
 
 def _wave_amplitude() -> float:
