@@ -1,12 +1,12 @@
 """jaxcable: differentiable, JIT-compiled dynamics of underwater cable systems.
 
-jaxcable works in float64 throughout (stiff cables need it): importing it enables
-`jax_enable_x64`.
+jaxcable computes in float64 throughout (stiff cables need it). Importing it changes no
+global setting: enable JAX's float64 once, before building a model, with
+`jax.config.update("jax_enable_x64", True)` or `JAX_ENABLE_X64=1` in the environment.
+A model built without it raises an error that says so.
 """
 
-import jax as _jax
-
-_jax.config.update("jax_enable_x64", True)
+from importlib.metadata import version as _version
 
 from ._advice import Advice as Advice, advise as advise
 from ._calibrate import (
@@ -14,6 +14,7 @@ from ._calibrate import (
     calibrate as calibrate,
     synthetic_record as synthetic_record,
 )
+from ._checks import Float64Error as Float64Error
 from ._cnoidal import Cnoidal as Cnoidal, cnoidal_coefficients as cnoidal_coefficients
 from ._jacobian import NetworkJacobian as NetworkJacobian
 from ._environment import CurrentProfile as CurrentProfile, Environment as Environment, Seabed as Seabed
@@ -95,4 +96,4 @@ from ._waves import (
     seed003_amplitude as seed003_amplitude,
 )
 
-__version__ = "0.1.0"
+__version__ = _version("jaxcable")

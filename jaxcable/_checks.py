@@ -11,6 +11,25 @@ import numpy as np
 from jaxtyping import Array, ArrayLike
 
 
+class Float64Error(RuntimeError):
+    """JAX's float64 is off, and jaxcable computes in float64."""
+
+
+def require_float64() -> None:
+    """Raise [`jaxcable.Float64Error`][] unless JAX's float64 is enabled.
+
+    Stiff cables need float64: at float32 a 1e-7 strain on a 3e7 N line is lost to
+    rounding. jaxcable does not enable it itself, since a library must not change its
+    caller's global configuration, so every constructor checks here instead.
+    """
+    if not jax.config.jax_enable_x64:
+        raise Float64Error(
+            "jaxcable computes in float64, but JAX's float64 is off. Enable it once, before "
+            'building any model: jax.config.update("jax_enable_x64", True), or set '
+            "JAX_ENABLE_X64=1 in the environment"
+        )
+
+
 def is_concrete(value) -> bool:
     return not isinstance(value, jax.core.Tracer)
 
@@ -18,8 +37,10 @@ def is_concrete(value) -> bool:
 def float_array(name: str, value: ArrayLike, shape: tuple[int, ...] | None = None) -> Array:
     """`value` as a float array, checked finite and, if `shape` is given, broadcast to it.
 
-    Raises `ValueError` naming `name` if the value is not finite or cannot take `shape`.
+    Raises `ValueError` naming `name` if the value is not finite or cannot take `shape`,
+    and [`jaxcable.Float64Error`][] if JAX's float64 is off.
     """
+    require_float64()
     if is_concrete(value):
         array = np.asarray(value, dtype=float)
         if not np.all(np.isfinite(array)):

@@ -20,6 +20,7 @@ import sys
 import warnings
 from pathlib import Path
 
+import jax
 import numpy as np
 
 from . import _output as output
@@ -42,6 +43,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
+    # The command owns its process, so it may set JAX's global configuration, which
+    # the library itself never does.
+    jax.config.update("jax_enable_x64", True)
     try:
         return args.handler(args)
     except SceneError as error:

@@ -3,7 +3,10 @@ import gc
 import jax
 import pytest
 
-import jaxcable  # noqa: F401  (enables float64 before any test builds an array)
+
+# jaxcable computes in float64 and leaves the switch to its caller; the suite is the
+# caller here, and flips it before any test builds an array.
+jax.config.update("jax_enable_x64", True)
 
 
 @pytest.fixture(autouse=True, scope="module")

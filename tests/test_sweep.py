@@ -157,7 +157,9 @@ def test_sharded_sweep_equals_unsharded():
     # Keep the batch small: with as many host devices as cores, jaxlib's batched LU
     # (the mass blocks' inverse) can deadlock once it splits a large batch across the
     # thread pool, and the timeout turns such a hang into a failure.
-    env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2", JAX_PLATFORMS="cpu")
+    env = dict(
+        os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2", JAX_PLATFORMS="cpu", JAX_ENABLE_X64="1"
+    )
     run = subprocess.run([sys.executable, "-c", _SHARDED], env=env, capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stdout + run.stderr[-4000:]
     assert "sharded sweep OK" in run.stdout
