@@ -1,12 +1,27 @@
 import gc
+import os
 
 import jax
 import pytest
 
-
 # jaxcable computes in float64 and leaves the switch to its caller; the suite is the
 # caller here, and flips it before any test builds an array.
 jax.config.update("jax_enable_x64", True)
+
+
+def pytest_configure(config):
+    """Keep compiled programs on disk, in pytest's cache folder, for the whole run.
+
+    Modules free their compiled programs when they end (below), and the workers of
+    `pytest -n` share nothing in memory, so without a disk cache a program that two
+    modules or two workers need is compiled twice. JAX's persistent cache keeps every
+    program that took over a second to compile; a second run of the suite on the same
+    checkout skips those compilations altogether. A cache folder the caller chose
+    (`JAX_COMPILATION_CACHE_DIR`) is left alone.
+    """
+    cache = getattr(config, "cache", None)
+    if cache is not None and "JAX_COMPILATION_CACHE_DIR" not in os.environ:
+        jax.config.update("jax_compilation_cache_dir", str(cache.mkdir("jax-compilation-cache")))
 
 
 @pytest.fixture(autouse=True, scope="module")
