@@ -54,6 +54,12 @@ def test_split_fields_sum_to_the_whole(mass_matrix):
         np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9 * float(jnp.max(jnp.abs(b))))
 
 
+def test_a_misspelt_part_is_an_error_not_all_forces():
+    model, env = seed003_line(3, mass_matrix="lumped")
+    with pytest.raises(ValueError, match=r"part must be one of \('all', 'internal', 'external'\), got 'intrenal'"):
+        lag.free_accelerations(model, env, 0.0, *_moving_state(model), part="intrenal")
+
+
 def test_kencarp_follows_a_tight_reference():
     """KenCarp4 (axial forces implicit, the rest explicit) on seed 003's line over 2 s
     against Dopri5 at rtol = 1e-10."""
