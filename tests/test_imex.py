@@ -66,8 +66,9 @@ def test_kencarp_follows_a_tight_reference():
     model, env = seed003_line(6, mass_matrix="lumped")
     static = jc.solve_statics(model, env)
     ts = np.linspace(0.0, 2.0, 21)
-    reference = jc.simulate(model, env, 2.0, ts=ts, initial=static.state, rtol=1e-10, atol=1e-10)
-    run = jc.simulate(model, env, 2.0, ts=ts, initial=static.state, solver=diffrax.KenCarp4(), rtol=1e-7, atol=1e-7)
+    tight, kencarp = jc.SolverConfig(rtol=1e-10, atol=1e-10), jc.SolverConfig(diffrax.KenCarp4(), rtol=1e-7, atol=1e-7)
+    reference = jc.simulate(model, env, 2.0, ts=ts, initial=static.state, solver=tight)
+    run = jc.simulate(model, env, 2.0, ts=ts, initial=static.state, solver=kencarp)
     assert bool(run.success)
     peak = float(jnp.max(reference.tension))
     assert float(jnp.max(jnp.abs(run.tension - reference.tension))) < 1e-3 * peak
