@@ -45,7 +45,6 @@ Results are appended to benchmarks/results/calibration.json;
 """
 
 import argparse
-import dataclasses
 import json
 import math
 import time
@@ -103,6 +102,7 @@ def main():
     if args.report:
         report(Path(args.out))
         return
+    import diffrax
     import equinox as eqx
     import jax
     import numpy as np
@@ -114,11 +114,11 @@ def main():
     for name in args.sets:
         for length in args.lengths:
             records, names = records_for(name, length, args.sample_interval, args.segments)
-            settings = jc.SolverSettings()
-            problem, _ = _calibrate._problem(records, names, settings, "forward")
+            problem, _ = _calibrate._problem(records, names, jc.calibration_solver())
             start = np.log(np.array([2 * TRUTH[n] for n in names]))
             loss = eqx.filter_jit(problem.loss)
-            reverse = dataclasses.replace(problem, gradient="reverse")
+            # The solver's adjoint is calibrate's gradient mode.
+            reverse = eqx.tree_at(lambda p: p.solver.adjoint, problem, diffrax.RecursiveCheckpointAdjoint())
             _, forward_compile, forward_run = timed(lambda: loss(start), args.repeats)
             _, jac_compile, jac_run = timed(lambda: _calibrate._evaluate(start, problem), args.repeats)
             _, rev_compile, rev_run = timed(lambda: _calibrate._evaluate(start, reverse), args.repeats)
@@ -206,7 +206,7 @@ def linear_draws(name, length, args, names):
 
     truth = np.log(np.array([TRUTH[n] for n in names]))
     records, _ = records_for(name, length, args.sample_interval, args.segments, seed=100)
-    problem, _ = _calibrate._problem(records, names, jc.SolverSettings(), "forward")
+    problem, _ = _calibrate._problem(records, names, jc.calibration_solver())
     _, _, (jacobian, _, _) = _calibrate._evaluate(truth, problem)
     jacobian = np.asarray(jacobian)
     inner = np.linalg.inv(jacobian.T @ jacobian)
@@ -215,7 +215,7 @@ def linear_draws(name, length, args, names):
     errors, sigmas = [], []
     for draw in range(args.linear_draws):
         records, _ = records_for(name, length, args.sample_interval, args.segments, seed=100 + 10 * draw)
-        problem, _ = _calibrate._problem(records, names, jc.SolverSettings(), "forward")
+        problem, _ = _calibrate._problem(records, names, jc.calibration_solver())
         r = np.asarray(residuals_at(problem))
         noise = np.repeat(np.sqrt(np.mean(r.reshape(-1, blocks) ** 2, axis=1)), blocks)
         noisy = jacobian * noise[:, None]
@@ -241,7 +241,7 @@ def _steps(problem, log_values):
 
     values = dict(zip(problem.names, jnp.exp(log_values)))
     return [
-        jax.vmap(lambda rig, t, i: rig.with_coefficients(values).simulate(t, i, problem.settings))(
+        jax.vmap(lambda rig, t, i: rig.with_coefficients(values).simulate(t, i, problem.solver))(
             g.rigs, g.times, g.inputs
         )
         for g in problem.groups

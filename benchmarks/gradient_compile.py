@@ -203,10 +203,10 @@ def gradient_study(args):
                     def loss(theta, tol, t1):
                         # t1 and the output times are data: the check at a shorter
                         # horizon reuses the compiled programs.
+                        config = jc.SolverConfig(rtol=tol, atol=tol, max_steps=args.max_steps, adjoint=adjoint)
                         result = jc.simulate(
                             scaled(model, theta, names), env, t1, ts=jnp.linspace(0.0, t1, n_out),
-                            initial=static.state, rtol=tol, atol=tol, adjoint=adjoint, max_steps=args.max_steps,
-                            throw=False,
+                            initial=static.state, solver=config, throw=False,
                         )
                         top = result.tension[:, -1] / TENSION_SCALE
                         slack = jnp.min(result.tension, axis=1) < SLACK_TENSION
@@ -337,8 +337,8 @@ def segments_study(args):
         equations = count_equations(jax.make_jaxpr(lambda y: vector_field(0.0, y, (model, env)))(y))
 
         def run():
-            return jc.simulate(model, env, duration, ts=ts, initial=static.state, rtol=args.rtol, atol=args.rtol,
-                               max_steps=args.max_steps, throw=False)
+            config = jc.SolverConfig(rtol=args.rtol, atol=args.rtol, max_steps=args.max_steps)
+            return jc.simulate(model, env, duration, ts=ts, initial=static.state, solver=config, throw=False)
 
         result, c, r, ev = timed_with_events(run, args.repeats)
         entry = {"study": "segments", "segments": n, "mass_matrix": "lumped", "solver": "Dopri5",
@@ -376,8 +376,8 @@ def solvers_study(args):
         solver = make()
 
         def run():
-            return jc.simulate(model, env, duration, ts=ts, initial=static.state, solver=solver, rtol=args.rtol,
-                               atol=args.rtol, max_steps=args.max_steps, throw=False)
+            config = jc.SolverConfig(solver, rtol=args.rtol, atol=args.rtol, max_steps=args.max_steps)
+            return jc.simulate(model, env, duration, ts=ts, initial=static.state, solver=config, throw=False)
 
         equations = count_equations(jax.make_jaxpr(run)())
         result, c, r, ev = timed_with_events(run, args.repeats)
@@ -419,8 +419,9 @@ def reuse_study(args):
         return out
 
     def sim(m=model, rtol=1e-6, atol=1e-6, t1=duration):
-        return jc.simulate(m, env, t1, ts=ts * (t1 / duration), initial=static.state, rtol=rtol, atol=atol,
-                           max_steps=args.max_steps, throw=False).tension
+        config = jc.SolverConfig(rtol=rtol, atol=atol, max_steps=args.max_steps)
+        result = jc.simulate(m, env, t1, ts=ts * (t1 / duration), initial=static.state, solver=config, throw=False)
+        return result.tension
 
     jax.clear_caches()
     call("simulate #1", "first call", sim)
@@ -441,7 +442,7 @@ def reuse_study(args):
 
     def sweep(values):
         return jc.sweep(build, {"ea_scale": values}, duration, ts=ts, initial=static.state,
-                        max_steps=args.max_steps).simulation.tension
+                        solver=jc.SolverConfig(max_steps=args.max_steps)).simulation.tension
 
     call("sweep #1", f"first call, {batch} cases", lambda: sweep(np.linspace(0.8, 1.2, batch)))
     call("sweep #2", f"new values, {batch} cases", lambda: sweep(np.linspace(0.7, 1.3, batch)))
@@ -449,7 +450,7 @@ def reuse_study(args):
     call("sweep #4", f"{batch // 2} cases (new batch size)", lambda: sweep(np.linspace(0.8, 1.2, batch // 2)))
     call("sweep #5", f"rtol 1e-6 → 1e-7, {batch // 2} cases", lambda: jc.sweep(
         build, {"ea_scale": np.linspace(0.8, 1.2, batch // 2)}, duration, ts=ts, initial=static.state,
-        rtol=1e-7, max_steps=args.max_steps).simulation.tension)
+        solver=jc.SolverConfig(rtol=1e-7, max_steps=args.max_steps)).simulation.tension)
     jax.clear_caches()
     return entries
 

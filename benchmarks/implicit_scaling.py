@@ -81,12 +81,12 @@ def equilibrium(n: int, statics_up_to: int) -> jc.State:
     return jc.State(fine, np.zeros_like(fine))
 
 
-def root_finder(name, tolerance):
+def root_finder(name, tolerance, linear_solver):
     # Too tight a tolerance and the iterations stall on rounding (the stiff springs
     # scale the stage residual: at N = 100 below 1e-6, at N = 1000 below 1e-4) until
     # diffrax's cap of 10 root-find steps.
-    tolerances = dict(rtol=tolerance, atol=tolerance)
-    return optx.Newton(**tolerances) if name == "newton" else diffrax.VeryChord(**tolerances)
+    options = dict(rtol=tolerance, atol=tolerance, linear_solver=linear_solver)
+    return optx.Newton(**options) if name == "newton" else diffrax.VeryChord(**options)
 
 
 def main():
@@ -113,16 +113,17 @@ def main():
         for jacobian in ("structured", "dense"):
             if jacobian == "dense" and n > args.dense_up_to:
                 continue
-            linear = jc.NetworkJacobian(model) if jacobian == "structured" else lx.AutoLinearSolver(well_posed=None)
+            linear = jc.NetworkJacobian(model) if jacobian == "structured" else lx.LU()
             _, compile_solve, solve = timed(stage_solve(model, env, state, linear, args.dt), args.repeats)
             row = {"segments": n, "jacobian": jacobian, "solve_s": solve, "solve_compile_s": compile_solve}
             for name in ("newton", "verychord"):
-                solver = diffrax.Kvaerno5(root_finder=root_finder(name, args.root_tolerance))
+                solver = diffrax.Kvaerno5(root_finder=root_finder(name, args.root_tolerance, linear))
+                config = jc.SolverConfig(solver, dt0=args.dt, stepsize_controller=diffrax.ConstantStepSize())
 
                 def run():
                     return jc.simulate(
-                        model, env, args.steps * args.dt, ts=[args.steps * args.dt], initial=state, solver=solver,
-                        stepsize_controller=diffrax.ConstantStepSize(), dt0=args.dt, jacobian=jacobian, throw=False,
+                        model, env, args.steps * args.dt, ts=[args.steps * args.dt], initial=state, solver=config,
+                        throw=False,
                     )
 
                 result, compile_step, run_time = timed(run, args.repeats)

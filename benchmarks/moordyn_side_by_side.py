@@ -288,9 +288,9 @@ def with_amplitude(model, amplitude):
     return eqx.tree_at(lambda m: m.motions[k].amplitude, model, amplitude)
 
 
-def run_jaxcable(model, env, initial, duration, *, solver, repeats, rtol=1e-6, atol=1e-6, dt0=None,
-                 controller=None, max_steps=2_000_000) -> dict:
-    """`simulate` timed: compile apart, median of `repeats` warm runs."""
+def run_jaxcable(model, env, initial, duration, *, solver, repeats) -> dict:
+    """`simulate` timed with the `jc.SolverConfig` `solver`: compile apart, median of
+    `repeats` warm runs."""
     import numpy as np
 
     import jaxcable as jc
@@ -299,8 +299,7 @@ def run_jaxcable(model, env, initial, duration, *, solver, repeats, rtol=1e-6, a
     ts = np.linspace(0.0, duration, round(duration / OUTPUT_DT) + 1)
 
     def run():
-        return jc.simulate(model, env, duration, ts=ts, initial=initial, solver=solver, rtol=rtol, atol=atol,
-                           dt0=dt0, stepsize_controller=controller, max_steps=max_steps, throw=False)
+        return jc.simulate(model, env, duration, ts=ts, initial=initial, solver=solver, throw=False)
 
     if repeats:
         result, compile_time, run_time = timed(run, repeats)
@@ -385,8 +384,9 @@ def part_check(args) -> dict:
 
     # Dynamics: 10 s of each, same solver and tolerance.
     ts = np.linspace(0.0, 10.0, 201)
-    own = jc.simulate(model, env, 10.0, ts=ts, initial=static.state, rtol=1e-9, atol=1e-9)
-    theirs = jc.simulate(back, back_env, 10.0, ts=ts, initial=back_static.state, rtol=1e-9, atol=1e-9)
+    own = jc.simulate(model, env, 10.0, ts=ts, initial=static.state, solver=jc.SolverConfig(rtol=1e-9, atol=1e-9))
+    config = jc.SolverConfig(rtol=1e-9, atol=1e-9)
+    theirs = jc.simulate(back, back_env, 10.0, ts=ts, initial=back_static.state, solver=config)
     own_top, back_top = np.asarray(own.tension[:, -1]), np.asarray(theirs.tension[:, top_segment])
     segment_length = float(model.segment_length[-1])
     ea = float(model.line.tension_law.axial_stiffness[-1])
@@ -430,16 +430,19 @@ def part_work_precision(args) -> dict:
     record["settings"]["segments"] = SEGMENTS
 
     print(f"reference: Dopri8 at rtol = atol = {args.reference_tol:g} (load {load()})", flush=True)
-    ref = run_jaxcable(model, env, static.state, duration, solver=diffrax.Dopri8(), repeats=0,
-                       rtol=args.reference_tol, atol=args.reference_tol, max_steps=args.max_steps)
+    def adaptive(solver, tol):
+        return jc.SolverConfig(solver, rtol=tol, atol=tol, max_steps=args.max_steps)
+
+    ref = run_jaxcable(model, env, static.state, duration, solver=adaptive(diffrax.Dopri8(), args.reference_tol),
+                       repeats=0)
     reference = ref["tension"]
     record["reference"] = {"steps": ref["steps"], "rejected": ref["rejected"], "success": ref["success"],
                            "wall_s": ref["compile_s"] + ref["run_s"], "peak_N": float(reference.max()),
                            "min_N": float(reference.min()), "load_average": load()}
     print(json.dumps(record["reference"]), flush=True)
     # A second reference at 10× the tolerance bounds the reference's own error.
-    check = run_jaxcable(model, env, static.state, duration, solver=diffrax.Dopri8(), repeats=0,
-                         rtol=10 * args.reference_tol, atol=10 * args.reference_tol, max_steps=args.max_steps)
+    check = run_jaxcable(model, env, static.state, duration, solver=adaptive(diffrax.Dopri8(), 10 * args.reference_tol),
+                         repeats=0)
     window = np.linspace(0.0, duration, reference.size) <= args.window + 1e-9
     record["reference"]["error_of_10x_tolerance"] = errors(check["tension"], reference)
     record["reference"]["error_of_10x_tolerance_window"] = errors(check["tension"][window], reference[window])
@@ -472,8 +475,8 @@ def part_work_precision(args) -> dict:
 
     jax.clear_caches()
     for tol in args.tols:
-        r = run_jaxcable(model, env, static.state, duration, solver=diffrax.Dopri5(), repeats=args.repeats,
-                         rtol=tol, atol=tol, max_steps=args.max_steps)
+        r = run_jaxcable(model, env, static.state, duration, solver=adaptive(diffrax.Dopri5(), tol),
+                         repeats=args.repeats)
         row = {"engine": "jaxcable Dopri5", "setting": f"tol {tol:g}", "tol": tol, "steps": r["steps"],
                "rejected": r["rejected"], "evaluations": 6 * r["steps"], "run_s": r["run_s"],
                "compile_s": r["compile_s"], "success": r["success"], **measure(r["tension"]),
@@ -484,8 +487,9 @@ def part_work_precision(args) -> dict:
 
     jax.clear_caches()
     for dt in args.midpoint_dts or args.dtm:
-        r = run_jaxcable(model, env, static.state, duration, solver=diffrax.Midpoint(), repeats=args.repeats,
-                         dt0=dt, controller=diffrax.ConstantStepSize(), max_steps=args.max_steps)
+        fixed = jc.SolverConfig(diffrax.Midpoint(), dt0=dt, stepsize_controller=diffrax.ConstantStepSize(),
+                                max_steps=args.max_steps)
+        r = run_jaxcable(model, env, static.state, duration, solver=fixed, repeats=args.repeats)
         md = series.get(f"dtM {dt:g}")
         row = {"engine": "jaxcable midpoint", "setting": f"dt {dt:g}", "dt": dt, "steps": r["steps"],
                "evaluations": 2 * r["steps"], "run_s": r["run_s"], "compile_s": r["compile_s"],
@@ -511,8 +515,7 @@ def part_work_precision(args) -> dict:
         md = run_moordyn(path, fairlead, amplitude, args.history_duration, pair["dtm"])
         long[f"MoorDyn RK2 dtM {pair['dtm']:g}"] = (md["tension"], md["run_s"], md["steps"])
     for solver, tol in ((diffrax.Dopri5(), pair["tol"]), (diffrax.Dopri8(), 100 * args.reference_tol)):
-        r = run_jaxcable(model, env, static.state, args.history_duration, solver=solver, repeats=1, rtol=tol, atol=tol,
-                         max_steps=args.max_steps)
+        r = run_jaxcable(model, env, static.state, args.history_duration, solver=adaptive(solver, tol), repeats=1)
         long[f"jaxcable {type(solver).__name__} tol {tol:.2g}"] = (r["tension"], r["run_s"], r["steps"])
     names = list(long)
     tight = long[names[-1]][0]
@@ -621,8 +624,8 @@ def part_sweep(args) -> dict:
         return with_amplitude(model, amplitude), env
 
     def run():
-        return jc.sweep(build, {"amplitude": amplitudes}, duration, ts=ts, initial=static.state, rtol=tol, atol=tol,
-                        max_steps=args.max_steps)
+        config = jc.SolverConfig(rtol=tol, atol=tol, max_steps=args.max_steps)
+        return jc.sweep(build, {"amplitude": amplitudes}, duration, ts=ts, initial=static.state, solver=config)
 
     load_before = load()
     # As `_timing.timed`, keeping every warm time: one batch is long and the machine shared.

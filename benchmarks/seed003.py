@@ -63,17 +63,16 @@ def main():
         static = jc.solve_statics(model, env)
         reference = None
         if not args.no_reference:
-            reference = jc.simulate(
-                model, env, args.duration, ts=ts, initial=static.state, solver=diffrax.Tsit5(),
-                rtol=args.reference_rtol, atol=args.reference_rtol, max_steps=args.max_steps,
-            )
+            tight = args.reference_rtol
+            config = jc.SolverConfig(diffrax.Tsit5(), rtol=tight, atol=tight, max_steps=args.max_steps)
+            reference = jc.simulate(model, env, args.duration, ts=ts, initial=static.state, solver=config)
         for name in args.solvers:
             solver = SOLVERS[name]()
 
             def run():
+                config = jc.SolverConfig(solver, rtol=args.rtol, atol=args.atol, max_steps=args.max_steps)
                 return jc.simulate(
-                    model, env, args.duration, ts=ts, initial=static.state, solver=solver,
-                    rtol=args.rtol, atol=args.atol, max_steps=args.max_steps, throw=False,
+                    model, env, args.duration, ts=ts, initial=static.state, solver=config, throw=False,
                 )
 
             result, compile_time, run_time = timed(run, args.repeats)

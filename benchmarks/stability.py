@@ -190,10 +190,8 @@ class Case:
         self.model, self.env, self.static, self.omega = build(config)
         self.window, self.ts = window, ts
         start = time.perf_counter()
-        ref = jc.simulate(
-            self.model, self.env, window, ts=ts, initial=self.static.state, solver=diffrax.Dopri5(),
-            rtol=1e-8, atol=1e-8, max_steps=2_000_000, throw=False,
-        )
+        tight = jc.SolverConfig(diffrax.Dopri5(), rtol=1e-8, atol=1e-8, max_steps=2_000_000)
+        ref = jc.simulate(self.model, self.env, window, ts=ts, initial=self.static.state, solver=tight, throw=False)
         tension = np.asarray(ref.tension)
         self.reference_ok = bool(ref.success) and bool(np.isfinite(tension).all())
         self.reference = {
@@ -314,9 +312,12 @@ def study_method(name, cases, args):
             def trial(dt):
                 nonlocal compiled
                 start = time.perf_counter()
+                config = jc.SolverConfig(
+                    solver, dt0=dt, stepsize_controller=diffrax.ConstantStepSize(), max_steps=max_steps
+                )
                 r = jc.simulate(
-                    case.model, case.env, args.window, ts=case.ts, initial=case.static.state, solver=solver,
-                    dt0=dt, stepsize_controller=diffrax.ConstantStepSize(), max_steps=max_steps, throw=False,
+                    case.model, case.env, args.window, ts=case.ts, initial=case.static.state, solver=config,
+                    throw=False,
                 )
                 jax.block_until_ready(r.positions)
                 elapsed = time.perf_counter() - start
@@ -372,9 +373,9 @@ def study_adaptive(cases, args):
             if not case.reference_ok:
                 continue
             start = time.perf_counter()
+            config = jc.SolverConfig(solver, rtol=args.adaptive_rtol, atol=args.adaptive_rtol, max_steps=max_steps)
             r = jc.simulate(
-                case.model, case.env, args.window, ts=case.ts, initial=case.static.state, solver=solver,
-                rtol=args.adaptive_rtol, atol=args.adaptive_rtol, max_steps=max_steps, throw=False,
+                case.model, case.env, args.window, ts=case.ts, initial=case.static.state, solver=config, throw=False,
             )
             jax.block_until_ready(r.positions)
             wall = time.perf_counter() - start

@@ -66,7 +66,8 @@ def main():
         _, _, field = timed(lambda: fields(y), args.repeats)
 
         def run(solver, t1, ts, **options):
-            return lambda: jc.simulate(model, env, t1, ts=ts, initial=state, solver=solver, throw=False, **options)
+            config = jc.SolverConfig(solver, **options)
+            return lambda: jc.simulate(model, env, t1, ts=ts, initial=state, solver=config, throw=False)
 
         euler_t1 = 2000 * 1e-5
         euler, _, euler_time = timed(

@@ -163,8 +163,8 @@ def warm_time(run, repeats: int, slow: float = 1.0) -> float:
 def reference(model, env, initial, duration, ts, tol, max_steps):
     """A Dopri8 solve at rtol = atol = `tol`, with its wall time (s), compilation included."""
     start = time.perf_counter()
-    r = jc.simulate(model, env, duration, ts=ts, initial=initial, solver=diffrax.Dopri8(), rtol=tol, atol=tol,
-                    max_steps=max_steps, throw=False)
+    config = jc.SolverConfig(diffrax.Dopri8(), rtol=tol, atol=tol, max_steps=max_steps)
+    r = jc.simulate(model, env, duration, ts=ts, initial=initial, solver=config, throw=False)
     tension = np.asarray(r.tension)
     return r, tension, time.perf_counter() - start
 
@@ -228,12 +228,13 @@ def run_scene(scene: str, args) -> dict:
 
                 def run(value=value):
                     if kind == "adaptive":
-                        return jc.simulate(model, env, duration, ts=ts, initial=initial, solver=solver, rtol=value,
-                                           atol=value, max_steps=max_steps, throw=False, **extra)
-                    # rtol/atol: an implicit solver's root finder would read them; the explicit ones here do not.
-                    return jc.simulate(model, env, duration, ts=ts, initial=initial, solver=solver, dt0=value,
-                                       stepsize_controller=diffrax.ConstantStepSize(), rtol=1e-8, atol=1e-8,
-                                       max_steps=args.max_steps, throw=False, **extra)
+                        config = jc.SolverConfig(solver, rtol=value, atol=value, max_steps=max_steps)
+                    else:
+                        config = jc.SolverConfig(solver, dt0=value, stepsize_controller=diffrax.ConstantStepSize(),
+                                                 max_steps=args.max_steps)
+                    return jc.simulate(
+                        model, env, duration, ts=ts, initial=initial, solver=config, throw=False, **extra
+                    )
 
                 try:
                     if i == 0:
@@ -289,9 +290,9 @@ def run_segments(args) -> dict:
         static = jc.solve_statics(model, env)
 
         def run():
-            return jc.simulate(model, env, duration, ts=ts, initial=static.state, solver=diffrax.Dopri5(),
-                               rtol=args.segments_tol, atol=args.segments_tol, max_steps=args.max_steps,
-                               throw=False)
+            tol = args.segments_tol
+            config = jc.SolverConfig(diffrax.Dopri5(), rtol=tol, atol=tol, max_steps=args.max_steps)
+            return jc.simulate(model, env, duration, ts=ts, initial=static.state, solver=config, throw=False)
 
         result, compile_s, run_s = timed(run, 1)
         tension = np.asarray(result.tension)

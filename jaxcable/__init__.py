@@ -12,9 +12,17 @@ from ._advice import Advice as Advice, advise as advise
 from ._calibrate import (
     CalibrationResult as CalibrationResult,
     calibrate as calibrate,
+    calibration_solver as calibration_solver,
+    default_optimizer as default_optimizer,
     synthetic_record as synthetic_record,
 )
 from ._checks import Float64Error as Float64Error
+from ._config import (
+    SOLVERS as SOLVERS,
+    SolverConfig as SolverConfig,
+    default_solver as default_solver,
+    stiff_solver as stiff_solver,
+)
 from ._cnoidal import Cnoidal as Cnoidal, cnoidal_coefficients as cnoidal_coefficients
 from ._jacobian import NetworkJacobian as NetworkJacobian
 from ._environment import CurrentProfile as CurrentProfile, Environment as Environment, Seabed as Seabed
@@ -69,13 +77,7 @@ from ._scene import (
     WaveSpec as WaveSpec,
 )
 from ._scene_file import read_scene as read_scene
-from ._simulate import (
-    SOLVERS as SOLVERS,
-    SimulationResult as SimulationResult,
-    default_solver as default_solver,
-    simulate as simulate,
-    stiff_solver as stiff_solver,
-)
+from ._simulate import SimulationResult as SimulationResult, simulate as simulate
 from ._state import State as State
 from ._sweep import SweepResult as SweepResult, sweep as sweep, sweep_grid as sweep_grid
 from ._statics import StaticSolution as StaticSolution, solve_statics as solve_statics
@@ -84,10 +86,10 @@ from ._towing import (
     RIGS as RIGS,
     AbstractTowingRig as AbstractTowingRig,
     HorizontalTow as HorizontalTow,
-    SolverSettings as SolverSettings,
     TowingRun as TowingRun,
     VerticalTow as VerticalTow,
     rig_from_conditions as rig_from_conditions,
+    rig_solver as rig_solver,
 )
 from ._waves import (
     AbstractWave as AbstractWave,

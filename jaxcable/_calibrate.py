@@ -20,7 +20,6 @@ whose uncertainty is large, or that is strongly correlated with another, is flag
 the records do not pin it down.
 """
 
-import dataclasses
 import functools
 import math
 import warnings
@@ -34,11 +33,9 @@ import jax.numpy as jnp
 import numpy as np
 import optax
 
+from ._config import SolverConfig
 from ._records import TowingRecord
-from ._towing import COEFFICIENTS, AbstractTowingRig, SolverSettings, rig_from_conditions
-
-OPTIMIZERS = ("lbfgs", "adam")
-GRADIENTS = ("forward", "reverse")
+from ._towing import COEFFICIENTS, AbstractTowingRig, rig_from_conditions, rig_solver
 
 # Flag a coefficient whose one-standard-deviation relative uncertainty exceeds this:
 # the records then leave it free to wander by more than the 5-10 % an engineer would
@@ -141,7 +138,7 @@ def synthetic_record(
     seed: int = 0,
     observables: Sequence[str] | None = None,
     name: str = "synthetic",
-    settings: SolverSettings = SolverSettings(),
+    solver: SolverConfig | None = None,
 ) -> TowingRecord:
     """A towing record simulated on `rig`, with noise: for tests and examples.
 
@@ -160,7 +157,8 @@ def synthetic_record(
     - `seed`: the random seed.
     - `observables`: which to record; all the rig's by default.
     - `name`: the record's name.
-    - `settings`: how to solve.
+    - `solver`: how to integrate, a [`jaxcable.SolverConfig`][];
+        [`jaxcable.rig_solver`][]`()` by default.
 
     **Returns:**
 
@@ -182,7 +180,7 @@ def synthetic_record(
     if missing:
         raise ValueError(f"synthetic_record: {type(rig).__name__} needs input {missing[0]!r}")
     times = np.asarray(times, dtype=float)
-    run = _simulate_one(rig, jnp.asarray(times), {k: jnp.asarray(inputs[k], dtype=float) for k in rig.inputs}, settings)
+    run = _simulate_one(rig, jnp.asarray(times), {k: jnp.asarray(inputs[k], dtype=float) for k in rig.inputs}, solver)
     if not bool(run.success):
         raise RuntimeError(
             f"synthetic_record: the simulation failed (starting equilibrium or run; diffrax: {run.simulation.result})"
@@ -196,21 +194,27 @@ def synthetic_record(
     return TowingRecord(times=times, columns=columns, conditions=rig.conditions(), name=name)
 
 
+def calibration_solver(**options) -> SolverConfig:
+    """[`jaxcable.calibrate`][]'s default [`jaxcable.SolverConfig`][]: the rigs'
+    ([`jaxcable.rig_solver`][]) with `adjoint=diffrax.ForwardMode()`, which makes the
+    fit's gradient forward mode. `options` are `SolverConfig`'s keyword arguments,
+    replacing these defaults: `calibration_solver(rtol=1e-8)`."""
+    return rig_solver(**{"adjoint": diffrax.ForwardMode(), **options})
+
+
 @eqx.filter_jit
-def _simulate_one(rig, times, inputs, settings):
-    return rig.simulate(times, inputs, settings)
+def _simulate_one(rig, times, inputs, solver):
+    return rig.simulate(times, inputs, solver)
 
 
 def calibrate(
     tests: Sequence[TowingRecord | tuple[AbstractTowingRig, TowingRecord]],
     start: Mapping[str, float],
     *,
-    optimizer: str = "lbfgs",
+    optimizer: optax.GradientTransformation | None = None,
     max_steps: int = 50,
-    learning_rate: float = 0.05,
     tolerance: float = 1e-6,
-    gradient: str = "forward",
-    settings: SolverSettings = SolverSettings(),
+    solver: SolverConfig | None = None,
     progress: bool = True,
 ) -> CalibrationResult:
     """Fit drag coefficients to towing records.
@@ -223,19 +227,23 @@ def calibrate(
     - `start`: the coefficients to fit, by name (`"normal_drag"` K_n,
         `"tangential_drag"` K_τ, `"specific_drag"` k₀), with their starting values.
         Every other coefficient stays as the rig has it.
-    - `optimizer`: `"lbfgs"` (optax's L-BFGS with a backtracking line search; the
-        default) or `"adam"` (optax's Adam, with `learning_rate` as the step in the log
-        of each coefficient).
+    - `optimizer`: any optax `GradientTransformation`, stepping in the log of each
+        coefficient (so `optax.adam(0.05)` changes each by about 5 % a step).
+        [`jaxcable.default_optimizer`][]`()` by default: L-BFGS with a backtracking
+        line search. It is called with the extra arguments `value`, `grad` and
+        `value_fn` (the loss), which L-BFGS's line search needs and others ignore.
+        Reuse one object across fits to reuse their compilation.
     - `max_steps`: the most optimizer iterations.
-    - `learning_rate`: Adam's step size.
     - `tolerance`: stop when the loss falls by less than this, relative, over an
         iteration.
-    - `gradient`: `"forward"` (the default: the residuals' Jacobian in forward mode,
-        `diffrax.ForwardMode`, one tangent per coefficient) or `"reverse"` (reverse
-        mode through `settings.adjoint`). With a few coefficients forward mode is the
-        cheaper, and it yields the Jacobian that the uncertainty needs anyway;
-        `benchmarks/calibration.py` measures both.
-    - `settings`: how each simulation is solved.
+    - `solver`: how each simulation is integrated, a [`jaxcable.SolverConfig`][]. Its
+        adjoint is also the gradient mode: `diffrax.ForwardMode()` takes the
+        residuals' Jacobian in forward mode, one tangent per coefficient; any other
+        adjoint (`diffrax.RecursiveCheckpointAdjoint()`, say) takes the loss's gradient
+        in reverse mode through it. With a few coefficients forward mode is the
+        cheaper, and it yields the Jacobian that the uncertainty needs anyway
+        (`benchmarks/calibration.py` measures both), so the default is
+        [`jaxcable.calibration_solver`][]`()`.
     - `progress`: show a progress bar over iterations.
 
     **Returns:**
@@ -244,7 +252,8 @@ def calibrate(
 
     **Raises:**
 
-    `ValueError` for an unknown coefficient, optimizer or gradient mode, a non-positive
+    `ValueError` for an unknown coefficient, an optimizer that is not an optax
+    `GradientTransformation`, a `solver` that is not a `SolverConfig`, a non-positive
     start, a record that lacks its rig's inputs or has none of its observables, or a
     coefficient that no record's rig depends on. `RuntimeError` if a simulation fails
     at the starting values.
@@ -257,14 +266,19 @@ def calibrate(
             raise ValueError(f"calibrate: start[{name!r}] must be positive and finite, got {start[name]}")
     if not names:
         raise ValueError("calibrate: start names no coefficient to fit")
-    if optimizer not in OPTIMIZERS:
-        raise ValueError(f"calibrate: optimizer must be one of {OPTIMIZERS}, got {optimizer!r}")
-    if gradient not in GRADIENTS:
-        raise ValueError(f"calibrate: gradient must be one of {GRADIENTS}, got {gradient!r}")
-    problem, pairs = _problem(tests, names, settings, gradient)
+    optimizer = default_optimizer() if optimizer is None else optimizer
+    if not isinstance(optimizer, optax.GradientTransformation):
+        raise ValueError(
+            "calibrate: optimizer must be an optax GradientTransformation, such as optax.lbfgs() or "
+            f"optax.adam(0.05), got {optimizer!r}"
+        )
+    solver = calibration_solver() if solver is None else solver
+    if not isinstance(solver, SolverConfig):
+        raise ValueError(f"calibrate: solver must be a jaxcable.SolverConfig, got {solver!r}")
+    problem, pairs = _problem(tests, names, solver)
     log_values = jnp.log(jnp.array([start[n] for n in names], dtype=float))
     log_values, losses, converged, steps, (jacobian, r, successes) = _optimise(
-        problem, log_values, _optimizer(optimizer, learning_rate), max_steps, tolerance, progress
+        problem, log_values, optax.with_extra_args_support(optimizer), max_steps, tolerance, progress
     )
     return _report(problem, start, log_values, losses, steps, converged, pairs, r, jacobian, successes)
 
@@ -331,17 +345,21 @@ class _Problem(eqx.Module):
     names: tuple[str, ...] = eqx.field(static=True)
     groups: tuple[_Group, ...]
     samples: jax.Array  # measured samples in all, for the mean
-    settings: SolverSettings
-    forward: SolverSettings
-    gradient: str = eqx.field(static=True)
+    solver: SolverConfig
+    forward: SolverConfig  # `solver` with diffrax.ForwardMode, for the Jacobian
 
-    def residuals(self, log_values, settings=None):
+    @property
+    def gradient(self) -> str:
+        """`"forward"` or `"reverse"`: the gradient mode that `solver`'s adjoint asks for."""
+        return "forward" if isinstance(self.solver.adjoint, diffrax.ForwardMode) else "reverse"
+
+    def residuals(self, log_values, solver=None):
         """All scaled residuals, predicted minus measured over the RMS, masked, flat;
         and each group's per-record success. A failed simulation's residuals are
         zeroed, not NaN, so that gradients stay finite; `loss` reports the failure as
         infinite instead."""
         parts, successes = [], []
-        predicted = _predict(log_values, self.names, self.groups, self.settings if settings is None else settings)
+        predicted = _predict(log_values, self.names, self.groups, self.solver if solver is None else solver)
         for group, (observables, success) in zip(self.groups, predicted):
             successes.append(success)
             for k in group.names:
@@ -354,11 +372,11 @@ class _Problem(eqx.Module):
         ok = jnp.all(jnp.concatenate(successes))
         return jnp.where(ok, 0.5 * jnp.sum(r**2) / self.samples, jnp.inf)
 
-    def loss(self, log_values, settings=None):
-        return self.loss_of(*self.residuals(log_values, settings))
+    def loss(self, log_values, solver=None):
+        return self.loss_of(*self.residuals(log_values, solver))
 
 
-def _problem(tests, names, settings, gradient) -> tuple[_Problem, list]:
+def _problem(tests, names, solver) -> tuple[_Problem, list]:
     """Check the records against their rigs, and group, pad and stack them."""
     pairs = [_pair(test, i) for i, test in enumerate(tests)]
     if not pairs:
@@ -371,21 +389,20 @@ def _problem(tests, names, settings, gradient) -> tuple[_Problem, list]:
         names=names,
         groups=tuple(groups),
         samples=jnp.asarray(sum(float(np.sum(m)) for g in groups for m in g.mask.values())),
-        settings=settings,
+        solver=solver,
         # The Jacobian needs forward mode whichever way the fit's gradient goes.
-        forward=dataclasses.replace(settings, adjoint=diffrax.ForwardMode()),
-        gradient=gradient,
+        forward=eqx.tree_at(lambda s: s.adjoint, solver, diffrax.ForwardMode()),
     )
     return problem, pairs
 
 
-def _predict(log_values, names, groups, settings):
+def _predict(log_values, names, groups, solver):
     """Each group's observables, name -> (records, samples), and per-record success."""
     values = dict(zip(names, jnp.exp(log_values)))
     out = []
     for group in groups:
         def one(rig, times, inputs):
-            run = rig.with_coefficients(values).simulate(times, inputs, settings)
+            run = rig.with_coefficients(values).simulate(times, inputs, solver)
             return run.observables, run.success
 
         out.append(jax.vmap(one)(group.rigs, group.times, group.inputs))
@@ -423,15 +440,14 @@ def _evaluate(log_values, problem: _Problem):
 
 
 @functools.cache
-def _optimizer(kind: str, learning_rate: float) -> optax.GradientTransformationExtraArgs:
-    """One optax transformation per setting, kept so that compiled steps are reused.
+def default_optimizer() -> optax.GradientTransformationExtraArgs:
+    """[`jaxcable.calibrate`][]'s default: optax's L-BFGS with a backtracking line search.
 
     L-BFGS backtracks on the loss alone: optax's default zoom line search also needs
     gradients at its trial points, which cost 3.6-5.9x a loss each (measured in
-    `benchmarks/calibration.py`)."""
-    if kind == "lbfgs":
-        return optax.lbfgs(linesearch=optax.scale_by_backtracking_linesearch(max_backtracking_steps=20))
-    return optax.adam(learning_rate)
+    `benchmarks/calibration.py`). Always the same object, so that fits reuse their
+    compiled steps."""
+    return optax.lbfgs(linesearch=optax.scale_by_backtracking_linesearch(max_backtracking_steps=20))
 
 
 @eqx.filter_jit

@@ -14,6 +14,7 @@ name of a bundled example scene (see `jaxcable examples`). A RECORD is a towing 
 """
 
 import argparse
+import dataclasses
 import json
 import os
 import sys
@@ -22,18 +23,22 @@ from pathlib import Path
 
 import jax
 import numpy as np
+import optax
 
 from . import _output as output
 from ._advice import advise
-from ._calibrate import calibrate
+from ._calibrate import calibrate, calibration_solver, default_optimizer
+from ._config import SOLVERS
 from ._motion import Harmonic, Sampled
 from ._motion_file import read_motion_file
 from ._records import read_records
 from ._run import load_scene, run_scene
 from ._scene import Scene, SceneError
-from ._simulate import SOLVERS
-from ._towing import SolverSettings
 from .examples import scene_path, scene_names
+
+OPTIMIZERS = {"lbfgs": lambda learning_rate: default_optimizer(), "adam": optax.adam}
+"""The `calibrate` command's optimizers by name, each made from `--learning-rate` (which
+L-BFGS, with its line search, does not use)."""
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -89,7 +94,7 @@ def _parser() -> argparse.ArgumentParser:
     calibrate.add_argument("--fit", nargs="+", required=True, metavar="NAME=START",
                            help="coefficients to fit, with starting values: normal_drag (K_n), tangential_drag "
                                 "(K_τ), specific_drag (k₀, s²/m²)")
-    calibrate.add_argument("--optimizer", choices=("lbfgs", "adam"), default="lbfgs", help="optax optimizer")
+    calibrate.add_argument("--optimizer", choices=tuple(OPTIMIZERS), default="lbfgs", help="optax optimizer")
     calibrate.add_argument("--max-steps", type=int, default=50, help="most optimizer iterations (default 50)")
     calibrate.add_argument("--learning-rate", type=float, default=0.05, help="Adam's step in log coefficients")
     calibrate.add_argument("--rtol", type=float, default=1e-6, help="solver relative tolerance")
@@ -139,7 +144,10 @@ def _run(args) -> int:
     channels = tuple(args.channels or ())
     for name in channels or output.default_channels(scene):
         output.parse_channel(name, scene)  # fail now, not after the simulation
-    run = run_scene(scene, duration=duration, dt_out=args.dt_out, solver=args.solver, progress=not args.no_progress)
+    settings = scene.run if args.solver is None else dataclasses.replace(scene.run, solver=args.solver)
+    run = run_scene(
+        scene, duration=duration, dt_out=args.dt_out, solver=settings.solver_config(), progress=not args.no_progress
+    )
     static = run.static
     print(f"equilibrium: {int(static.steps)} iterations, {run.statics_seconds:.1f} s; largest tension "
           f"{float(np.max(static.tension)) / 1e3:.3f} kN, smallest {float(np.min(static.tension)) / 1e3 + 0.0:.3f} kN")
@@ -249,10 +257,9 @@ def _calibrate(args) -> int:
             result = calibrate(
                 records,
                 start,
-                optimizer=args.optimizer,
+                optimizer=OPTIMIZERS[args.optimizer](args.learning_rate),
                 max_steps=args.max_steps,
-                learning_rate=args.learning_rate,
-                settings=SolverSettings(rtol=args.rtol, atol=args.atol),
+                solver=calibration_solver(rtol=args.rtol, atol=args.atol),
                 progress=not args.no_progress,
             )
     except ValueError as error:  # a malformed record, an unknown rig or coefficient

@@ -38,8 +38,6 @@ import numpy as np
 from . import _checks as checks
 from ._network import CableNetwork
 
-JACOBIANS = ("auto", "structured", "dense")
-
 
 class NetworkJacobian(lx.AbstractLinearSolver):
     """A lineax linear solver for the implicit stages of a lumped-mass network: it
@@ -47,9 +45,11 @@ class NetworkJacobian(lx.AbstractLinearSolver):
     along the network's graph, so that a step costs O(N), not O(N³).
 
     [`jaxcable.simulate`][] and [`jaxcable.sweep`][] put it into an implicit solver's
-    root finder by themselves (`jacobian="auto"`); build it directly only to use it
-    elsewhere, as `diffrax.Kvaerno5(root_finder=diffrax.VeryChord(rtol, atol,
-    linear_solver=NetworkJacobian(model)))`.
+    root finder by themselves, in place of lineax's automatic choice; build it
+    directly to insist on it (an error, not a silent dense solve, if the model cannot
+    use it), or to use it elsewhere, as `diffrax.Kvaerno5(root_finder=optx.Newton(rtol,
+    atol, linear_solver=NetworkJacobian(model)))`. For diffrax's dense Jacobian and LU
+    instead, put `lineax.LU()` in the root finder.
 
     The operator it solves must map the free nodes' `(positions, velocities)` (each of
     shape `(free, 3)`, or any pytree whose leaves have the free nodes as their first
@@ -302,25 +302,15 @@ def _reverse_cuthill_mckee(neighbours: list[list[int]]) -> np.ndarray:
     return np.asarray(order[::-1], dtype=int)
 
 
-def with_network_jacobian(solver: diffrax.AbstractSolver, model: CableNetwork, jacobian: str) -> diffrax.AbstractSolver:
-    """`solver` with [`jaxcable.NetworkJacobian`][] in its root finder, as `jacobian`
-    asks: `"structured"` always (or an error saying why not), `"dense"` never, and
-    `"auto"` where it applies: an implicit solver whose root finder has lineax's
-    automatic linear solver, on a lumped-mass model with concrete topology."""
-    checks.option("jacobian", jacobian, JACOBIANS)
-    if jacobian == "dense":
-        return solver
+def with_network_jacobian(solver: diffrax.AbstractSolver, model: CableNetwork) -> diffrax.AbstractSolver:
+    """`solver` with [`jaxcable.NetworkJacobian`][] in its root finder where it applies: an
+    implicit solver whose Newton-type root finder has lineax's automatic linear solver,
+    on a lumped-mass model with concrete topology. A linear solver the user chose
+    (`lineax.LU()` for a dense solve, or `NetworkJacobian(model)` itself) is kept."""
     root_finder = getattr(solver, "root_finder", None)
-    applies = isinstance(solver, diffrax.AbstractImplicitSolver) and hasattr(root_finder, "linear_solver")
-    if jacobian == "structured":
-        if not applies:
-            raise ValueError(
-                f"jacobian='structured' needs an implicit solver with a Newton-type root finder, got {type(solver).__name__}"
-            )
-        return eqx.tree_at(lambda s: s.root_finder.linear_solver, solver, NetworkJacobian(model))
     if (
-        applies
-        and isinstance(root_finder.linear_solver, lx.AutoLinearSolver)
+        isinstance(solver, diffrax.AbstractImplicitSolver)
+        and isinstance(getattr(root_finder, "linear_solver", None), lx.AutoLinearSolver)
         and model.mass_matrix == "lumped"
         and checks.is_concrete(model.segment_nodes)
         and checks.is_concrete(model.free_nodes)

@@ -35,6 +35,7 @@ import lineax as lx
 import numpy as np
 from jaxtyping import Array, Float
 
+from . import _checks as checks
 from ._environment import Environment
 from ._hydro import body_drag, gauss_legendre, line_drag, line_inertia, safe_norm, submerged_interval
 from ._network import CableNetwork
@@ -334,7 +335,14 @@ def free_accelerations(model: CableNetwork, env: Environment, t, free_positions,
     Returns `(a_f, positions, velocities, a)`: the free accelerations, shape
     `(free, 3)`, and the full node positions, velocities and accelerations (of the
     part asked for).
+
+    **Raises:**
+
+    `ValueError` naming `part` and the choices if it is not one of `FORCE_PARTS`: a
+    misspelt part would otherwise be taken as `"all"`, and an implicit–explicit split
+    would then count some forces twice.
     """
+    checks.option("free_accelerations: part", part, FORCE_PARTS)
     positions, velocities = full_state(model, t, free_positions, free_velocities)
     _, _, constrained_acc = constrained_motion(model, t)
     free, constrained = model.free_nodes, model.constrained_nodes

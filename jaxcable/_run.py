@@ -7,11 +7,12 @@ from pathlib import Path
 import numpy as np
 
 from . import _output as output
+from ._config import SolverConfig
 from ._moordyn import read_moordyn
 from ._motion import Sampled
 from ._scene import BuiltScene, Scene, SceneError
 from ._scene_file import read_scene
-from ._simulate import SOLVERS, simulate
+from ._simulate import simulate
 from ._statics import StaticSolution, solve_statics
 
 DEFAULT_DT_OUT = 0.1  # s
@@ -98,7 +99,7 @@ def run_scene(
     *,
     duration: float | None = None,
     dt_out: float | None = None,
-    solver: str | None = None,
+    solver: SolverConfig | None = None,
     progress: bool = False,
 ) -> SceneRun:
     """Solve a scene's statics in still water (with its current, without its waves) and,
@@ -110,24 +111,28 @@ def run_scene(
     - `duration`: simulated time (s); the scene's `run.duration` by default; 0 solves
         statics only.
     - `dt_out`: output interval (s); the scene's, or 0.1 s.
-    - `solver`: a name in [`jaxcable.SOLVERS`][]; the scene's by default.
+    - `solver`: a [`jaxcable.SolverConfig`][]; the scene's by default
+        (`scene.run.solver_config()`: its named solver and tolerances).
     - `progress`: show a progress bar over simulated time.
 
     **Raises:**
 
-    [`jaxcable.SceneError`][] for a bad duration, interval or solver name;
+    [`jaxcable.SceneError`][] for a bad duration or interval, or an unknown solver
+    name in the scene;
     `RuntimeError` if statics or the integration fails.
     """
     settings = scene.run
     duration = settings.duration if duration is None else duration
     dt_out = dt_out or settings.dt_out or DEFAULT_DT_OUT
-    solver = solver or settings.solver
     if not (np.isfinite(duration) and duration >= 0):
         raise SceneError(f"duration must be a non-negative number of seconds, got {duration}")
     if not (np.isfinite(dt_out) and dt_out > 0):
         raise SceneError(f"dt_out must be a positive number of seconds, got {dt_out}")
-    if solver not in SOLVERS:
-        raise SceneError(f"unknown solver {solver!r}; expected one of {sorted(SOLVERS)}")
+    if solver is None:
+        try:
+            solver = settings.solver_config()
+        except ValueError as error:  # a scene built in Python with an unknown solver name
+            raise SceneError(str(error)) from None
     for point in scene.points:
         motion = point.motion
         if isinstance(motion, Sampled):
@@ -156,7 +161,7 @@ def run_scene(
     start = time.perf_counter()
     result = simulate(
         model, env, duration, ts=output_times(duration, dt_out), initial=static.state,
-        solver=SOLVERS[solver](), rtol=settings.rtol, atol=settings.atol, progress=progress,
+        solver=solver, progress=progress,
     )
     positions = np.asarray(result.positions)
     dynamics_seconds = time.perf_counter() - start

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ._cnoidal import Cnoidal
+from ._config import SOLVERS, SolverConfig
 from ._environment import CurrentProfile, Environment, Seabed
 from ._materials import KelvinVoigt
 from ._motion import AbstractMotion, Fixed, Sampled
@@ -278,7 +279,8 @@ class LineSpec:
 class RunSettings:
     """How to run a scene: `duration` (s), the output interval `dt_out` (s; `None` for
     0.1 s), the `solver` (a name in [`jaxcable.SOLVERS`][]), its tolerances and the
-    `mass_matrix` (`"consistent"` or `"lumped"`)."""
+    `mass_matrix` (`"consistent"` or `"lumped"`). Plain data, as a scene file holds it;
+    `solver_config()` makes the [`jaxcable.SolverConfig`][] that runs it."""
 
     duration: float = 60.0
     dt_out: float | None = None
@@ -286,6 +288,11 @@ class RunSettings:
     rtol: float = 1e-6
     atol: float = 1e-6
     mass_matrix: str = "consistent"
+
+    def solver_config(self) -> SolverConfig:
+        """`SOLVERS[solver](rtol=rtol, atol=atol)`; `ValueError` naming the solver and
+        the choices for an unknown name."""
+        return SOLVERS[self.solver](rtol=self.rtol, atol=self.atol)
 
 
 @dataclass(frozen=True)

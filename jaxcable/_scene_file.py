@@ -85,6 +85,7 @@ import tomllib
 import warnings
 from pathlib import Path
 
+from ._config import SOLVERS
 from ._motion import Harmonic, Sampled
 from ._motion_file import read_motion_file
 from ._network import MASS_MATRICES, Body
@@ -105,7 +106,6 @@ from ._scene import (
     read_text,
     unique_names,
 )
-from ._simulate import SOLVERS
 
 _TOP = ("title", "water", "waves", "seabed", "simulation", "line_types", "points", "lines", "output")
 _WATER = ("density", "gravity", "depth", "current", "current_profile", "free_surface", "fluid_inertia")

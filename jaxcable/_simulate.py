@@ -7,62 +7,14 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks, _lagrangian as lag
+from ._config import SolverConfig
 from ._environment import Environment
 from ._jacobian import with_network_jacobian
 from ._network import CableNetwork
-from ._picard import PicardTrapezoid
 from ._state import State
-
-
-def default_solver() -> diffrax.AbstractSolver:
-    """`diffrax.Dopri5()`: jaxcable's default, chosen from measurements.
-
-    On seed 003's taut, snapping line (C_E = 3e7 N) the step size is limited by
-    accuracy, not stability: slackening and snap loads need short steps whatever the
-    method. With 10 segments over 10 s at rtol = atol = 1e-6, an explicit Runge–Kutta
-    method took about as many steps as `Kvaerno5` (Tsit5 4,055; Kvaerno5 with Newton
-    3,952) and ran 45× faster, since an implicit step must form and factor the Jacobian.
-    Of the explicit methods, Dopri5 took 11–28 % fewer steps than Tsit5 (fewer rejected
-    across snap loads) and ran as fast to 1.6× faster at 10–100 segments over 60 s.
-    `benchmarks/seed003.py` measures it; `benchmarks/README.md` has the figures.
-    Use [`jaxcable.stiff_solver`][] where stability, not accuracy, limits the step.
-    """
-    return diffrax.Dopri5()
-
-
-def stiff_solver() -> diffrax.AbstractSolver:
-    """`Kvaerno5` with a full Newton root finder, for stability-limited (stiff) runs.
-
-    diffrax's default root finder for implicit solvers, `VeryChord`, reuses one
-    Jacobian across iterations; as segments slacken and re-tension that Jacobian goes
-    stale and steps are rejected. On seed 003's line (10 segments, 10 s) it took 8,277
-    steps where Newton took 3,952, though each was cheaper.
-
-    With lumped mass, [`jaxcable.simulate`][] gives the root finder
-    [`jaxcable.NetworkJacobian`][], so that each Newton iteration costs O(N), not the
-    O(N³) of a dense LU.
-    """
-    return diffrax.Kvaerno5(root_finder=diffrax.with_stepsize_controller_tols(optx.Newton)())
-
-
-SOLVERS = {
-    "dopri5": default_solver,
-    "tsit5": diffrax.Tsit5,
-    "dopri8": diffrax.Dopri8,
-    "kvaerno5": stiff_solver,
-    "kencarp4": diffrax.KenCarp4,
-    "picard": PicardTrapezoid,
-}
-"""Solvers by the names scene files and the command line use: explicit Runge–Kutta
-`dopri5` (the default), `tsit5` and `dopri8`, implicit `kvaerno5`
-([`jaxcable.stiff_solver`][]), implicit–explicit `kencarp4` (the line's axial forces
-implicit, the rest explicit), and `picard`, seed 001's Picard–trapezoid iteration
-([`jaxcable.PicardTrapezoid`][]), the historical baseline. Each entry makes a fresh
-diffrax solver."""
 
 
 class SimulationResult(eqx.Module):
@@ -145,14 +97,7 @@ def simulate(
     t0: float = 0.0,
     ts: ArrayLike | None = None,
     initial: State | None = None,
-    solver: diffrax.AbstractSolver | None = None,
-    rtol: float = 1e-6,
-    atol: float = 1e-6,
-    dt0: float | None = None,
-    stepsize_controller: diffrax.AbstractStepSizeController | None = None,
-    jacobian: str = "auto",
-    max_steps: int = 1_000_000,
-    adjoint: diffrax.AbstractAdjoint | None = None,
+    solver: SolverConfig | None = None,
     progress: bool = False,
     throw: bool = True,
 ) -> SimulationResult:
@@ -170,27 +115,11 @@ def simulate(
     - `ts`: output times (s); 201 evenly spaced times from `t0` to `t1` by default.
     - `initial`: the initial [`jaxcable.State`][]; `model.node_positions` at rest by
         default. Use `solve_statics(...).state` to start from equilibrium.
-    - `solver`: any diffrax solver; [`jaxcable.default_solver`][] (Dopri5) by default,
-        or [`jaxcable.stiff_solver`][] (Kvaerno5 with Newton) where stiffness, not
-        accuracy, limits the step. Implicit–explicit solvers (`KenCarp3/4/5`,
-        `Sil3`) get the line's axial forces implicitly and the rest explicitly.
-    - `rtol`, `atol`: step-size controller tolerances, on positions (m) and velocities
-        (m/s). A new tolerance reuses the compiled solve.
-    - `dt0`: first step (s); chosen by diffrax by default. With a fixed step, the step.
-    - `stepsize_controller`: any diffrax step-size controller;
-        `diffrax.PIDController(rtol, atol)` by default. `diffrax.ConstantStepSize()`
-        with `dt0` gives fixed steps (as MoorDyn takes); `rtol` and `atol` are then
-        unused, except by an implicit solver's root finder, which needs its own
-        tolerances.
-    - `jacobian`: how an implicit solver's root finder solves its linear systems.
-        `"auto"` (default): with [`jaxcable.NetworkJacobian`][] (coloured JVPs and a
-        block-tridiagonal factorisation along the network, O(N) a step) for a
-        lumped-mass model whose solver leaves the linear solver to lineax; otherwise
-        as the solver says. `"structured"`: always, or a `ValueError` saying why it
-        cannot. `"dense"`: never (diffrax's dense Jacobian and LU, O(N³)).
-    - `max_steps`: the most steps before the solve is declared failed.
-    - `adjoint`: diffrax's adjoint for reverse-mode gradients;
-        `RecursiveCheckpointAdjoint` by default.
+    - `solver`: how to integrate, a [`jaxcable.SolverConfig`][]: the diffrax solver,
+        step-size controller, tolerances, first step, step limit and adjoint.
+        `SolverConfig()` by default: Dopri5 with a PIDController at rtol = atol = 1e-6
+        and at most 1,000,000 steps. A new tolerance or first step reuses the
+        compiled solve.
     - `progress`: show a tqdm progress bar over simulated time.
     - `throw`: raise on solver failure (default). Set `False` inside `vmap` sweeps and
         read `result.success` per case instead.
@@ -201,10 +130,11 @@ def simulate(
 
     **Raises:**
 
-    With `throw=True`, an error carrying diffrax's message when the solve fails (too
-    many steps, step size collapse). Non-finite states are rejected steps, not output;
-    with a fixed step, which cannot reject, a state that goes non-finite fails the
-    solve (`diffrax.RESULTS.nonfinite`).
+    `ValueError` naming the argument for bad times, a bad `initial`, or a `solver`
+    that is not a [`jaxcable.SolverConfig`][]. With `throw=True`, an error carrying
+    diffrax's message when the solve fails (too many steps, step size collapse).
+    Non-finite states are rejected steps, not output; with a fixed step, which cannot
+    reject, a state that goes non-finite fails the solve (`diffrax.RESULTS.nonfinite`).
     """
     if checks.is_concrete(t0) and checks.is_concrete(t1) and not t1 > t0:
         raise ValueError(f"simulate: t1 must be greater than t0, got t0={t0}, t1={t1}")
@@ -230,46 +160,48 @@ def simulate(
         jnp.asarray(t0, dtype=float),
         jnp.asarray(t1, dtype=float),
         ts,
-        with_network_jacobian(default_solver() if solver is None else solver, model, jacobian),
-        step_controller(rtol, atol, stepsize_controller),
-        None if dt0 is None else jnp.asarray(dt0, dtype=float),
-        max_steps,
-        diffrax.RecursiveCheckpointAdjoint() if adjoint is None else adjoint,
+        for_model(as_config("simulate", solver), model),
         diffrax.TqdmProgressMeter() if progress else diffrax.NoProgressMeter(),
         throw,
     )
 
 
-def step_controller(
-    rtol: float, atol: float, stepsize_controller: diffrax.AbstractStepSizeController | None
-) -> diffrax.AbstractStepSizeController:
-    """`stepsize_controller`, or by default `diffrax.PIDController(rtol, atol)` with the
-    tolerances as arrays: a work-precision study then compiles once, not once per
-    tolerance."""
-    if stepsize_controller is not None:
-        return stepsize_controller
-    for name, value in (("rtol", rtol), ("atol", atol)):
-        if checks.is_concrete(value) and not float(value) > 0:
-            raise ValueError(f"{name} must be positive, got {value}")
-    return diffrax.PIDController(rtol=jnp.asarray(rtol, dtype=float), atol=jnp.asarray(atol, dtype=float))
+def as_config(where: str, solver: SolverConfig | None) -> SolverConfig:
+    """`solver`, or `SolverConfig()` for `None`; `ValueError` for anything else, such as
+    a bare diffrax solver (which the configuration wraps)."""
+    if solver is None:
+        return SolverConfig()
+    if not isinstance(solver, SolverConfig):
+        raise ValueError(
+            f"{where}: solver must be a jaxcable.SolverConfig, got {solver!r}; wrap a diffrax solver "
+            "as SolverConfig(diffrax.Tsit5()), or name a preset with jaxcable.SOLVERS['tsit5']()"
+        )
+    return solver
+
+
+def for_model(config: SolverConfig, model: CableNetwork) -> SolverConfig:
+    """`config` with [`jaxcable.NetworkJacobian`][] in its implicit solver's root finder
+    where that replaces lineax's automatic choice (see
+    `jaxcable._jacobian.with_network_jacobian`)."""
+    return eqx.tree_at(lambda c: c.solver, config, with_network_jacobian(config.solver, model))
 
 
 @eqx.filter_jit
-def _simulate(model, env, initial, t0, t1, ts, solver, controller, dt0, max_steps, adjoint, meter, throw):
+def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, throw):
     free = model.free_nodes
     y0 = (initial[0][free], initial[1][free])
     solution = diffrax.diffeqsolve(
-        terms_for(solver),
-        solver,
+        terms_for(config.solver),
+        config.solver,
         t0,
         t1,
-        dt0,
+        config.dt0,
         y0,
         args=(model, env),
         saveat=diffrax.SaveAt(ts=ts),
-        stepsize_controller=controller,
-        max_steps=max_steps,
-        adjoint=adjoint,
+        stepsize_controller=config.stepsize_controller,
+        max_steps=config.max_steps,
+        adjoint=config.adjoint,
         progress_meter=meter,
         throw=throw,
     )

@@ -32,10 +32,10 @@ from jax.sharding import Mesh, NamedSharding, PartitionSpec
 from jaxtyping import Array, ArrayLike, Bool, Float
 
 from . import _checks as checks
+from ._config import SolverConfig
 from ._environment import Environment
-from ._jacobian import with_network_jacobian
 from ._network import CableNetwork
-from ._simulate import SimulationResult, _simulate, default_solver, step_controller
+from ._simulate import SimulationResult, _simulate, as_config, for_model
 from ._state import State
 from ._statics import StaticSolution, solve_statics
 
@@ -164,13 +164,7 @@ def sweep(
     t0: float = 0.0,
     ts: ArrayLike | None = None,
     initial: str | State = "statics",
-    solver: diffrax.AbstractSolver | None = None,
-    rtol: float = 1e-6,
-    atol: float = 1e-6,
-    dt0: float | None = None,
-    stepsize_controller: diffrax.AbstractStepSizeController | None = None,
-    jacobian: str = "auto",
-    max_steps: int = 1_000_000,
+    solver: SolverConfig | None = None,
     devices: Sequence[jax.Device] | None = None,
 ) -> SweepResult:
     """Simulate one model over a batch of parameter values, in one compiled solve.
@@ -207,8 +201,9 @@ def sweep(
 
         The batch integrates in lockstep: a vmapped while loop runs until its slowest
         case finishes, and finished cases wait. So a case that runs out of `max_steps`
-        costs every case on its device `max_steps` steps. Set `max_steps` to a few
-        times what a good case needs, rather than leaving it at a million.
+        costs every case on its device `max_steps` steps. Set the configuration's
+        `max_steps` to a few times what a good case needs, rather than leaving it at a
+        million.
 
     **Arguments:**
 
@@ -230,9 +225,9 @@ def sweep(
         fallback, so start from taut shapes. `"rest"`: `model.node_positions` at rest.
         A [`jaxcable.State`][]: positions and velocities of shape `(nodes, 3)` shared by
         all cases, or `(cases, nodes, 3)`, one per case.
-    - `solver`, `rtol`, `atol`, `dt0`, `stepsize_controller`, `jacobian`, `max_steps`:
-        as for [`jaxcable.simulate`][];
-        `max_steps` counts each case's own steps.
+    - `solver`: a [`jaxcable.SolverConfig`][], as for [`jaxcable.simulate`][]
+        (`SolverConfig()` by default), shared by all cases; its `max_steps` counts each
+        case's own steps.
     - `devices`: the JAX devices to split the cases across; `jax.devices()` by
         default.
 
@@ -246,8 +241,8 @@ def sweep(
     is not 1-D, empty, not finite, of a different length from the others, or not a
     keyword `build` takes; if `build` does not return `(CableNetwork, Environment)`,
     uses a parameter's value in Python, or returns a topology that depends on the
-    parameters; and for bad times, `initial` or `devices`. Errors raised by `build` on
-    the first case propagate, with a note naming the case.
+    parameters; and for bad times, `initial`, `solver` or `devices`. Errors raised by
+    `build` on the first case propagate, with a note naming the case.
     """
     values = _check_parameters(parameters)
     n_cases = len(next(iter(values.values())))
@@ -263,6 +258,7 @@ def sweep(
         checks.option("sweep: initial", initial, INITIAL_STATES)
     elif not isinstance(initial, State):
         raise ValueError(f"sweep: initial must be 'statics', 'rest' or a jaxcable.State, got {initial!r}")
+    config = as_config("sweep", solver)
     devices = _check_devices(devices)
 
     reference = _build_first(build, values)
@@ -276,9 +272,7 @@ def sweep(
         "t0": np.asarray(t0, dtype=float),
         "t1": np.asarray(t1, dtype=float),
         "ts": ts,
-        "solver": with_network_jacobian(default_solver() if solver is None else solver, reference[0], jacobian),
-        "controller": step_controller(rtol, atol, stepsize_controller),
-        "dt0": None if dt0 is None else np.asarray(dt0, dtype=float),
+        "solver": for_model(config, reference[0]),
     }
     mode = initial if isinstance(initial, str) else "state"
     if isinstance(initial, State):
@@ -307,7 +301,7 @@ def sweep(
         per_case = _place(per_case, NamedSharding(mesh, PartitionSpec(_CASES)))
         shared = _place(shared, NamedSharding(mesh, PartitionSpec()))
 
-    simulation, statics, success = _run(per_case, shared, mode, max_steps, mesh)
+    simulation, statics, success = _run(per_case, shared, mode, mesh)
     if padding:
         simulation, statics, success = jax.tree.map(lambda x: x[:n_cases], (simulation, statics, success))
     return SweepResult(
@@ -320,7 +314,7 @@ def sweep(
 
 
 @eqx.filter_jit
-def _run(per_case, shared, mode, max_steps, mesh):
+def _run(per_case, shared, mode, mesh):
     """The compiled batch: `vmap` over cases, split across the devices of `mesh` (if
     given) by the sharding of the inputs. Returns the batched `SimulationResult`,
     `StaticSolution` (or `None`) and success flags.
@@ -350,10 +344,7 @@ def _run(per_case, shared, mode, max_steps, mesh):
             start = (model.node_positions, jnp.zeros_like(model.node_positions))
         else:
             start = case["initial"] if "initial" in case else shared["initial"]
-        simulation = _simulate(
-            model, env, start, t0, t1, ts, shared["solver"], shared["controller"], shared["dt0"], max_steps,
-            diffrax.RecursiveCheckpointAdjoint(), diffrax.NoProgressMeter(), False,
-        )
+        simulation = _simulate(model, env, start, t0, t1, ts, shared["solver"], diffrax.NoProgressMeter(), False)
         if statics is not None:
             # No state was integrated: inf throughout, as diffrax marks outputs past a
             # failure, and the statics' code promoted to diffrax's enumeration so that

@@ -21,7 +21,6 @@ import inspect
 from collections.abc import Mapping
 from typing import ClassVar, NamedTuple
 
-import diffrax
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
@@ -29,6 +28,7 @@ import optimistix as optx
 from jaxtyping import Array, ArrayLike, Bool, Float
 
 from . import _checks as checks
+from ._config import SolverConfig
 from ._environment import Environment
 from ._materials import KelvinVoigt
 from ._motion import Towing
@@ -59,15 +59,17 @@ class TowingRun(NamedTuple):
     success: Bool[Array, ""]
 
 
-class SolverSettings(eqx.Module):
-    """How a rig's simulation is solved: diffrax's solver, tolerances, step limit and
-    adjoint. Every field is static: changing one recompiles."""
+RIG_MAX_STEPS = 100_000
+"""The rigs' default step limit: a towing test that needs more has gone wrong, and under
+calibration's `vmap` one such record would hold every other to its step count."""
 
-    solver: diffrax.AbstractSolver = eqx.field(static=True, default_factory=diffrax.Dopri5)
-    rtol: float = eqx.field(static=True, default=1e-6)
-    atol: float = eqx.field(static=True, default=1e-6)
-    max_steps: int = eqx.field(static=True, default=100_000)
-    adjoint: diffrax.AbstractAdjoint = eqx.field(static=True, default_factory=diffrax.RecursiveCheckpointAdjoint)
+
+def rig_solver(**options) -> SolverConfig:
+    """The rigs' default [`jaxcable.SolverConfig`][]: as [`jaxcable.simulate`][]'s
+    (Dopri5 at rtol = atol = 1e-6, `RecursiveCheckpointAdjoint`) but with at most
+    100,000 steps (`RIG_MAX_STEPS`). `options` are `SolverConfig`'s keyword arguments,
+    replacing these defaults: `rig_solver(rtol=1e-8)`."""
+    return SolverConfig(**{"max_steps": RIG_MAX_STEPS, **options})
 
 
 class AbstractTowingRig(eqx.Module):
@@ -92,13 +94,14 @@ class AbstractTowingRig(eqx.Module):
         self,
         times: Float[Array, " samples"],
         inputs: Mapping[str, Float[Array, " samples"]],
-        settings: SolverSettings = SolverSettings(),
+        solver: SolverConfig | None = None,
     ) -> TowingRun:
         """Simulate the test; its observables are taken at `times` (s).
 
         `times` must be non-decreasing; repeated final times (padding) are allowed. The
         run starts at `times[0]` and ends at `times[-1]`. `inputs` holds one array per
-        name in `inputs`, sampled at `times`.
+        name in `inputs`, sampled at `times`. `solver` is how to integrate,
+        [`jaxcable.rig_solver`][]`()` by default.
         """
 
     @abc.abstractmethod
@@ -107,9 +110,9 @@ class AbstractTowingRig(eqx.Module):
         `jaxcable.RIGS`, and every argument of its constructor (SI), so that
         [`jaxcable.rig_from_conditions`][] rebuilds it."""
 
-    def predict(self, times, inputs=None, settings: SolverSettings = SolverSettings()):
+    def predict(self, times, inputs=None, solver: SolverConfig | None = None):
         """The observables alone, `simulate(...).observables`."""
-        return self.simulate(jnp.asarray(times, dtype=float), _as_arrays(inputs), settings).observables
+        return self.simulate(jnp.asarray(times, dtype=float), _as_arrays(inputs), solver).observables
 
 
 def _as_arrays(inputs):
@@ -292,7 +295,7 @@ class HorizontalTow(AbstractTowingRig):
         angle = 0.5 * (low + high)
         return length * (1 + 1e-3) * jnp.stack([-jnp.cos(angle), 0.0, -jnp.sin(angle)])
 
-    def simulate(self, times, inputs, settings=SolverSettings()):
+    def simulate(self, times, inputs, solver=None):
         speeds = inputs["speed"]
         model = self.network(times, speeds)
         direction = jnp.array([1.0, 0.0, 0.0])
@@ -304,7 +307,7 @@ class HorizontalTow(AbstractTowingRig):
         # its iterations are cheap next to the run: allow plenty.
         steady = solve_statics(model, towed, t=times[0], max_steps=5000, throw=False)
         initial = State(steady.state.positions, jnp.broadcast_to(speeds[0] * direction, model.node_positions.shape))
-        result = _run(model, Environment(self.water_density, self.gravity), times, initial, settings)
+        result = _run(model, Environment(self.water_density, self.gravity), times, initial, solver)
         end = self.segments
         observables = {
             "tension": result.tension[:, 0],
@@ -507,10 +510,10 @@ class VerticalTow(AbstractTowingRig):
             mass_matrix="lumped",
         )
 
-    def simulate(self, times, inputs=None, settings=SolverSettings()):
+    def simulate(self, times, inputs=None, solver=None):
         model = self.network()
         initial = State(model.node_positions, jnp.zeros_like(model.node_positions))
-        result = _run(model, Environment(self.water_density, self.gravity), times, initial, settings)
+        result = _run(model, Environment(self.water_density, self.gravity), times, initial, solver)
         observables = {"speed": result.velocities[:, 0, 2], "tension": result.tension[:, 0]}
         return TowingRun(observables, result, result.success)
 
@@ -532,21 +535,9 @@ def _floats(rig: str, segments: int, **values) -> dict[str, float | str]:
     return {"rig": rig, **{k: float(v) for k, v in values.items()}, "segments": segments}
 
 
-def _run(model, env, times, initial, settings: SolverSettings) -> SimulationResult:
-    return simulate(
-        model,
-        env,
-        times[-1],
-        t0=times[0],
-        ts=times,
-        initial=initial,
-        solver=settings.solver,
-        rtol=settings.rtol,
-        atol=settings.atol,
-        max_steps=settings.max_steps,
-        adjoint=settings.adjoint,
-        throw=False,
-    )
+def _run(model, env, times, initial, solver: SolverConfig | None) -> SimulationResult:
+    solver = rig_solver() if solver is None else solver
+    return simulate(model, env, times[-1], t0=times[0], ts=times, initial=initial, solver=solver, throw=False)
 
 
 RIGS: dict[str, type[AbstractTowingRig]] = {"horizontal_tow": HorizontalTow, "vertical_tow": VerticalTow}

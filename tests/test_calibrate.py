@@ -8,7 +8,9 @@ step serves several tests.
 
 import math
 
+import diffrax
 import numpy as np
+import optax
 import pytest
 
 import jaxcable as jc
@@ -108,7 +110,7 @@ def test_without_axial_flow_tangential_drag_is_flagged(depressor_fit):
 
 def test_adam_also_recovers_specific_drag(vertical_records):
     result = jc.calibrate(
-        vertical_records, {"specific_drag": 1.0}, optimizer="adam", learning_rate=0.05, max_steps=120, progress=False
+        vertical_records, {"specific_drag": 1.0}, optimizer=optax.adam(0.05), max_steps=120, progress=False
     )
     within(result, "specific_drag", 0.05)
 
@@ -116,8 +118,6 @@ def test_adam_also_recovers_specific_drag(vertical_records):
 def test_gradient_matches_central_differences():
     # One joint problem over both rigs, so that every coefficient is loaded; tight
     # tolerances, so that the finite differences see the same discretisation.
-    import dataclasses
-
     import equinox as eqx
 
     from jaxcable import _calibrate
@@ -128,19 +128,21 @@ def test_gradient_matches_central_differences():
         jc.synthetic_record(depressor(), times, {"speed": speed}, seed=0, name="h"),
         jc.synthetic_record(jc.VerticalTow(leader_lift=200.0), times, seed=1, name="v"),
     ]
-    settings = jc.SolverSettings(rtol=1e-10, atol=1e-10)
     names = ("normal_drag", "tangential_drag", "specific_drag")
-    problem, _ = _calibrate._problem(records, names, settings, "forward")
+    problem, _ = _calibrate._problem(records, names, jc.rig_solver(rtol=1e-10, atol=1e-10))
     log_values = np.log(np.array([1.5, 0.015, 0.7]))
     loss = eqx.filter_jit(problem.loss)
     step = 1e-4
     central = np.array(
         [(loss(log_values + step * e) - loss(log_values - step * e)) / (2 * step) for e in np.eye(3)]
     )
-    for mode in ("forward", "reverse"):
-        _, grad, _ = _calibrate._evaluate(log_values, dataclasses.replace(problem, gradient=mode))
+    # The solver's adjoint is the gradient mode: forward for ForwardMode, else reverse.
+    for adjoint in (diffrax.ForwardMode(), diffrax.RecursiveCheckpointAdjoint()):
+        mode = eqx.tree_at(lambda p: p.solver.adjoint, problem, adjoint)
+        assert mode.gradient == ("forward" if isinstance(adjoint, diffrax.ForwardMode) else "reverse")
+        _, grad, _ = _calibrate._evaluate(log_values, mode)
         np.testing.assert_allclose(np.asarray(grad), central, rtol=1e-4, atol=1e-4 * np.max(np.abs(central)),
-                                   err_msg=mode)
+                                   err_msg=mode.gradient)
 
 
 @pytest.mark.parametrize(
@@ -150,8 +152,8 @@ def test_gradient_matches_central_differences():
         (dict(start={"specific_drag": -1.0}), r"start\['specific_drag'\] must be positive and finite, got -1.0"),
         (dict(start={}), r"start names no coefficient to fit"),
         (dict(start={"normal_drag": 1.0}), r"no record's rig depends on 'normal_drag'"),
-        (dict(optimizer="sgd"), r"optimizer must be one of \('lbfgs', 'adam'\), got 'sgd'"),
-        (dict(gradient="sideways"), r"gradient must be one of \('forward', 'reverse'\), got 'sideways'"),
+        (dict(optimizer="adam"), r"optimizer must be an optax GradientTransformation.*got 'adam'"),
+        (dict(solver=diffrax.Tsit5()), r"solver must be a jaxcable.SolverConfig, got Tsit5\(\)"),
         (dict(tests=[]), r"no records to fit"),
     ],
 )

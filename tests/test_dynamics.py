@@ -182,7 +182,8 @@ def simulate_string(model, initial, t1=ENERGY_TIME):
     """Every string simulation shares these options (and so one compilation per mass
     matrix): 61 outputs, Tsit5 at rtol = atol = 1e-8."""
     ts = np.linspace(0.0, t1, 61)
-    return jc.simulate(model, ENV, t1, ts=ts, initial=initial, solver=diffrax.Tsit5(), rtol=1e-8, atol=1e-8)
+    config = jc.SolverConfig(diffrax.Tsit5(), rtol=1e-8, atol=1e-8)
+    return jc.simulate(model, ENV, t1, ts=ts, initial=initial, solver=config)
 
 
 def run_energy(model):
@@ -220,7 +221,8 @@ def test_energy_balance_with_anisotropic_added_mass():
     )
     # The power oscillates with the string's axial modes: integrate it on dense outputs.
     ts = np.linspace(0.0, ENERGY_TIME, 6001)
-    result = jc.simulate(model, ENV, ENERGY_TIME, ts=ts, initial=perturbed(model), solver=diffrax.Tsit5(), rtol=1e-8, atol=1e-8)
+    config = jc.SolverConfig(diffrax.Tsit5(), rtol=1e-8, atol=1e-8)
+    result = jc.simulate(model, ENV, ENERGY_TIME, ts=ts, initial=perturbed(model), solver=config)
     total, kinetic = energy(model, ENV, result)
 
     def power(positions, velocities):
@@ -314,7 +316,7 @@ def sinking():
     out = {}
     for name, (body, coefficient) in cases.items():
         model = sinking_model(body)
-        result = jc.simulate(model, ENV, 3.0, ts=ts, solver=diffrax.Tsit5(), rtol=1e-10, atol=1e-10)
+        result = jc.simulate(model, ENV, 3.0, ts=ts, solver=jc.SolverConfig(diffrax.Tsit5(), rtol=1e-10, atol=1e-10))
         out[name] = (result, coefficient)
     return ts, out
 
@@ -361,8 +363,9 @@ def snap_runs():
         )
         static = solve(model, ENV)
         ts = np.linspace(0.0, SNAP_TIME, 401)
+        config = jc.SolverConfig(diffrax.Tsit5(), rtol=1e-7, atol=1e-7)
         result = jc.simulate(
-            model, ENV, SNAP_TIME, ts=ts, initial=static.state, solver=diffrax.Tsit5(), rtol=1e-7, atol=1e-7
+            model, ENV, SNAP_TIME, ts=ts, initial=static.state, solver=config
         )
         runs[width] = (static, result)
     return runs

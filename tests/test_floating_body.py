@@ -79,7 +79,7 @@ def test_float_heave_period(added):
     positions = model.node_positions.at[1].set(jnp.array([0.0, 0.0, z0 + 0.05]))
     initial = jc.State(positions, jnp.zeros_like(positions))
     ts = np.linspace(0.0, 5 * period, 2001)
-    result = jc.simulate(model, env, ts[-1], ts=ts, initial=initial, rtol=1e-10, atol=1e-10)
+    result = jc.simulate(model, env, ts[-1], ts=ts, initial=initial, solver=jc.SolverConfig(rtol=1e-10, atol=1e-10))
     z = np.asarray(result.positions[:, 1, 2]) - z0
     # Upward zero crossings, interpolated, give the period.
     k = np.flatnonzero((z[:-1] < 0) & (z[1:] >= 0))
@@ -117,7 +117,8 @@ def test_float_heaves_on_the_wave_surface():
     ts = np.linspace(0.0, 24.0, 481)
     reference = solve_ivp(heave, (0.0, 24.0), [z0, 0.0], t_eval=ts, rtol=1e-11, atol=1e-12, method="DOP853").y[0]
     positions = model.node_positions.at[1].set(jnp.array([0.0, 0.0, z0]))
-    result = jc.simulate(model, env, 24.0, ts=ts, initial=jc.State(positions, jnp.zeros_like(positions)), rtol=1e-10, atol=1e-10)
+    config = jc.SolverConfig(rtol=1e-10, atol=1e-10)
+    result = jc.simulate(model, env, 24.0, ts=ts, initial=jc.State(positions, jnp.zeros_like(positions)), solver=config)
     z = np.asarray(result.positions[:, 1, 2])
     assert np.ptp(reference) > 0.3  # it heaves, by about the wave's height
     np.testing.assert_allclose(z, reference, atol=1e-6)

@@ -88,7 +88,7 @@ def with_parameters(p):
 
 def simulate_with(p, throw=True):
     return jc.simulate(
-        with_parameters(p), ENV, T1, ts=TS, solver=diffrax.Tsit5(), rtol=TOL, atol=TOL, throw=throw
+        with_parameters(p), ENV, T1, ts=TS, solver=jc.SolverConfig(diffrax.Tsit5(), rtol=TOL, atol=TOL), throw=throw
     )
 
 
@@ -242,7 +242,7 @@ def test_jit_with_jax_array_output_times():
     def final_positions(amplitude):
         p = jnp.asarray(P0).at[5].set(amplitude)
         return jc.simulate(
-            with_parameters(p), ENV, T1, ts=ts, solver=diffrax.Tsit5(), rtol=TOL, atol=TOL
+            with_parameters(p), ENV, T1, ts=ts, solver=jc.SolverConfig(diffrax.Tsit5(), rtol=TOL, atol=TOL)
         ).positions[-1]
 
     np.testing.assert_allclose(

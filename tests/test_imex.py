@@ -54,14 +54,21 @@ def test_split_fields_sum_to_the_whole(mass_matrix):
         np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-9 * float(jnp.max(jnp.abs(b))))
 
 
+def test_a_misspelt_part_is_an_error_not_all_forces():
+    model, env = seed003_line(3, mass_matrix="lumped")
+    with pytest.raises(ValueError, match=r"part must be one of \('all', 'internal', 'external'\), got 'intrenal'"):
+        lag.free_accelerations(model, env, 0.0, *_moving_state(model), part="intrenal")
+
+
 def test_kencarp_follows_a_tight_reference():
     """KenCarp4 (axial forces implicit, the rest explicit) on seed 003's line over 2 s
     against Dopri5 at rtol = 1e-10."""
     model, env = seed003_line(6, mass_matrix="lumped")
     static = jc.solve_statics(model, env)
     ts = np.linspace(0.0, 2.0, 21)
-    reference = jc.simulate(model, env, 2.0, ts=ts, initial=static.state, rtol=1e-10, atol=1e-10)
-    run = jc.simulate(model, env, 2.0, ts=ts, initial=static.state, solver=diffrax.KenCarp4(), rtol=1e-7, atol=1e-7)
+    tight, kencarp = jc.SolverConfig(rtol=1e-10, atol=1e-10), jc.SolverConfig(diffrax.KenCarp4(), rtol=1e-7, atol=1e-7)
+    reference = jc.simulate(model, env, 2.0, ts=ts, initial=static.state, solver=tight)
+    run = jc.simulate(model, env, 2.0, ts=ts, initial=static.state, solver=kencarp)
     assert bool(run.success)
     peak = float(jnp.max(reference.tension))
     assert float(jnp.max(jnp.abs(run.tension - reference.tension))) < 1e-3 * peak

@@ -127,14 +127,24 @@ def test_free_edges_drop_constrained_nodes():
     np.testing.assert_array_equal(_free_edges(segments, np.array([1, 2, 3]), 5), [[0, 1], [1, 2]])
 
 
+def kvaerno5(linear_solver):
+    """diffrax's default `Kvaerno5` (VeryChord at the step controller's tolerances)
+    with the given linear solver in its root finder."""
+    root_finder = diffrax.with_stepsize_controller_tols(diffrax.VeryChord)(linear_solver=linear_solver)
+    return diffrax.Kvaerno5(root_finder=root_finder)
+
+
 @pytest.fixture(scope="module")
 def implicit_runs():
     model, env = seed003_line(6, mass_matrix="lumped")
     static = jc.solve_statics(model, env)
     ts = np.linspace(0.0, 2.0, 21)
+    linear_solvers = {"structured": NetworkJacobian(model), "dense": lx.LU()}
     runs = {
-        jacobian: jc.simulate(model, env, 2.0, ts=ts, initial=static.state, solver=diffrax.Kvaerno5(), rtol=1e-8, atol=1e-8, jacobian=jacobian)
-        for jacobian in ("structured", "dense")
+        name: jc.simulate(
+            model, env, 2.0, ts=ts, initial=static.state, solver=jc.SolverConfig(kvaerno5(linear), rtol=1e-8, atol=1e-8)
+        )
+        for name, linear in linear_solvers.items()
     }
     return runs
 
@@ -155,25 +165,24 @@ def test_auto_applies_only_where_it_holds(models):
     from jaxcable._jacobian import with_network_jacobian
 
     stiff = jc.stiff_solver()
-    chosen = with_network_jacobian(stiff, model, "auto")
+    chosen = with_network_jacobian(stiff, model)
     assert isinstance(chosen.root_finder.linear_solver, NetworkJacobian)
     # Consistent mass, explicit solvers and a user's own linear solver are left alone.
-    assert with_network_jacobian(stiff, consistent, "auto") is stiff
-    assert with_network_jacobian(diffrax.Dopri5(), model, "auto") is not None
-    own = diffrax.Kvaerno5(root_finder=diffrax.VeryChord(rtol=1e-6, atol=1e-6, linear_solver=lx.LU()))
-    assert with_network_jacobian(own, model, "auto") is own
-    assert with_network_jacobian(stiff, model, "dense") is stiff
+    assert with_network_jacobian(stiff, consistent) is stiff
+    explicit = diffrax.Dopri5()
+    assert with_network_jacobian(explicit, model) is explicit
+    own = kvaerno5(lx.LU())
+    assert with_network_jacobian(own, model) is own
+    structured = kvaerno5(NetworkJacobian(model))
+    assert with_network_jacobian(structured, model) is structured
 
 
 def test_structured_refuses_what_it_cannot_do(models):
-    model, env = models["line"]
-    consistent, consistent_env = seed003_line(4)
+    """Asking for the structured solver on a consistent-mass model is an error, not a
+    silent dense solve."""
+    consistent, _ = seed003_line(4)
     with pytest.raises(ValueError, match="mass_matrix='lumped', got 'consistent'"):
-        jc.simulate(consistent, consistent_env, 0.1, solver=jc.stiff_solver(), jacobian="structured")
-    with pytest.raises(ValueError, match="needs an implicit solver.*Dopri5"):
-        jc.simulate(model, env, 0.1, jacobian="structured")
-    with pytest.raises(ValueError, match="jacobian.*'sparse'"):
-        jc.simulate(model, env, 0.1, jacobian="sparse")
+        kvaerno5(NetworkJacobian(consistent))
 
 
 def test_sweep_vmaps_the_structured_solver():
@@ -186,9 +195,10 @@ def test_sweep_vmaps_the_structured_solver():
         return eqx.tree_at(lambda m: m.motions[1].amplitude, model, model.motions[1].amplitude * scale), env
 
     ts = np.linspace(0.0, 0.5, 6)
-    batch = jc.sweep(build, {"scale": np.array([0.8, 1.2])}, 0.5, ts=ts, solver=jc.stiff_solver())
+    batch = jc.sweep(build, {"scale": np.array([0.8, 1.2])}, 0.5, ts=ts, solver=jc.SolverConfig(jc.stiff_solver()))
     assert all(batch.success), batch.status
     for k, scale in enumerate([0.8, 1.2]):
         model, env = build(scale)
-        alone = jc.simulate(model, env, 0.5, ts=ts, initial=jc.solve_statics(model, env).state, solver=jc.stiff_solver())
+        initial = jc.solve_statics(model, env).state
+        alone = jc.simulate(model, env, 0.5, ts=ts, initial=initial, solver=jc.SolverConfig(jc.stiff_solver()))
         np.testing.assert_allclose(batch.simulation.tension[k], alone.tension, rtol=1e-8, atol=1e-6)

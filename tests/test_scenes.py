@@ -18,10 +18,12 @@ per stretched length with `C_n = ½ ρ K_n d`, `C_τ = ½ ρ K_τ π d`; body we
 Each example is run once (statics and 1 s of motion) and shared by every check.
 """
 
+import dataclasses
 import json
 import re
 import tomllib
 
+import diffrax
 import jax
 import numpy as np
 import pytest
@@ -507,3 +509,28 @@ def test_cli_out_writes_the_scenes_channels(tmp_path, capsys):
     assert main(["run", "seed003_line", "--duration", "0", "--out", str(csv), "--no-progress"]) == 0
     capsys.readouterr()
     assert csv.read_text().splitlines()[0] == "Time," + ",".join(toml("seed003_line")["output"]["channels"])
+
+
+def test_run_settings_name_a_solver_configuration():
+    """A scene's solver name and tolerances become the `SolverConfig` that runs it; an
+    unknown name fails with the choices, from Python as from a file."""
+    config = jc.RunSettings(solver="kvaerno5", rtol=1e-7, atol=1e-8).solver_config()
+    assert isinstance(config.solver, diffrax.Kvaerno5)
+    assert float(config.stepsize_controller.rtol) == 1e-7 and float(config.stepsize_controller.atol) == 1e-8
+    scene = jc.read_scene(examples.scene_path("seed003_line"))
+    bad = scene.replace(run=dataclasses.replace(scene.run, solver="rk4"))
+    with pytest.raises(jc.SceneError, match=r"solver must be one of \('dopri5'.*, got 'rk4'"):
+        jc.run_scene(bad, duration=0.1)
+
+
+def test_cli_solver_runs_the_named_configuration_at_the_scenes_tolerances(tmp_path, capsys):
+    """`--solver tsit5` gives the same tensions as the library's run with
+    `SOLVERS["tsit5"]` at the scene file's tolerances."""
+    npz = tmp_path / "t.npz"
+    argv = ["run", "seed003_line", "--duration", "0.2", "--dt-out", "0.05", "--solver", "tsit5", "--out", str(npz)]
+    assert main([*argv, "--no-progress"]) == 0, capsys.readouterr().err
+    scene = jc.read_scene(examples.scene_path("seed003_line"))
+    config = jc.SOLVERS["tsit5"](rtol=scene.run.rtol, atol=scene.run.atol)
+    run = jc.run_scene(scene, duration=0.2, dt_out=0.05, solver=config)
+    with np.load(npz) as archive:
+        np.testing.assert_allclose(archive["tension"], run.tension, rtol=1e-12, atol=1e-9)

@@ -67,7 +67,8 @@ def test_steady_tow_stays_steady(trawl):
     # keep its tensions and its shape relative to the tow point.
     model, env, state, statics = trawl
     ts = np.linspace(STEP_TIME - 20.0, STEP_TIME - 5.0, 4)
-    result = jc.simulate(model, env, ts[-1], t0=ts[0], ts=ts, initial=state, rtol=1e-9, atol=1e-9)
+    config = jc.SolverConfig(rtol=1e-9, atol=1e-9)
+    result = jc.simulate(model, env, ts[-1], t0=ts[0], ts=ts, initial=state, solver=config)
     tension = np.asarray(result.tension)
     np.testing.assert_allclose(tension, np.broadcast_to(np.asarray(statics.tension), tension.shape), rtol=1e-6)
     shift = SPEED * (ts - ts[0])

@@ -107,7 +107,8 @@ def test_batched_study_matches_plain_simulations(one_sweep):
         model, env = seed003_case(N, angle, 0.0, c_e)
         linear = eqx.tree_at(lambda m: m.line.tension_law, model, jc.LinearElastic(jnp.full(N, c_e), 1e-5))
         static = jc.solve_statics(model, env)  # C_E1 = 0: the linear law's equilibrium
-        result = jc.simulate(linear, env, 2.0, ts=np.linspace(*window, 51), initial=static.state, rtol=rtol, atol=rtol)
+        config = jc.SolverConfig(rtol=rtol, atol=rtol)
+        result = jc.simulate(linear, env, 2.0, ts=np.linspace(*window, 51), initial=static.state, solver=config)
         case = study.case(angle, 0.0)
         assert case.success and study.case(angle, 0.2).success
         np.testing.assert_array_equal(case.static_tension, np.asarray(static.tension))

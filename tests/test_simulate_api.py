@@ -1,6 +1,10 @@
 """The simulation's contract: shapes, failure reporting, progress, solver choice."""
 
+import logging
+import re
+
 import diffrax
+import jax
 import numpy as np
 import pytest
 
@@ -42,12 +46,12 @@ def test_result_shapes_and_constrained_nodes(scene):
 def test_failure_raises_by_default(scene):
     model, env, static = scene
     with pytest.raises(Exception, match="maximum number of solver steps"):
-        jc.simulate(model, env, 1.0, initial=static.state, max_steps=5)
+        jc.simulate(model, env, 1.0, initial=static.state, solver=jc.SolverConfig(max_steps=5))
 
 
 def test_failure_is_reported_without_throw(scene):
     model, env, static = scene
-    result = jc.simulate(model, env, 1.0, initial=static.state, max_steps=5, throw=False)
+    result = jc.simulate(model, env, 1.0, initial=static.state, solver=jc.SolverConfig(max_steps=5), throw=False)
     assert not bool(result.success)
     assert result.result == diffrax.RESULTS.max_steps_reached
 
@@ -56,8 +60,10 @@ def test_any_diffrax_solver_and_progress(scene, capsys):
     model, env, static = scene
     # Two different solvers integrating the same equations must agree (independent
     # discretisations of the same ODE), and the progress meter must print.
-    a = jc.simulate(model, env, 0.5, initial=static.state, solver=diffrax.Dopri8(), rtol=1e-10, atol=1e-10)
-    b = jc.simulate(model, env, 0.5, initial=static.state, solver=jc.stiff_solver(), rtol=1e-8, atol=1e-8, progress=True)
+    dopri8 = jc.SolverConfig(diffrax.Dopri8(), rtol=1e-10, atol=1e-10)
+    kvaerno5 = jc.SolverConfig(jc.stiff_solver(), rtol=1e-8, atol=1e-8)
+    a = jc.simulate(model, env, 0.5, initial=static.state, solver=dopri8)
+    b = jc.simulate(model, env, 0.5, initial=static.state, solver=kvaerno5, progress=True)
     np.testing.assert_allclose(a.tension, b.tension, rtol=1e-5, atol=1e-3)
     assert "100.00%" in capsys.readouterr().err
 
@@ -72,7 +78,8 @@ def test_statics_state_is_at_rest(scene):
         model.node_positions, model.segment_nodes, model.segment_length, model.line,
         {0: jc.Fixed(), 1: jc.Fixed()}, bodies={1: jc.Body(mass=5.0)},
     )
-    result = jc.simulate(frozen, still, 2.0, initial=static.state, ts=np.linspace(0, 2.0, 5), rtol=1e-10, atol=1e-10)
+    tight = jc.SolverConfig(rtol=1e-10, atol=1e-10)
+    result = jc.simulate(frozen, still, 2.0, initial=static.state, ts=np.linspace(0, 2.0, 5), solver=tight)
     np.testing.assert_allclose(result.tension, np.broadcast_to(static.tension, result.tension.shape), rtol=1e-6)
     np.testing.assert_allclose(result.velocities, 0.0, atol=1e-6)
 
@@ -82,11 +89,78 @@ def test_fixed_step_blow_up_is_a_failure_not_output():
     so (and raises with `throw=True`) rather than passing the NaNs on as a success."""
     model, env = seed003_line(6, mass_matrix="lumped")
     static = jc.solve_statics(model, env)
-    fixed = dict(solver=diffrax.Heun(), stepsize_controller=diffrax.ConstantStepSize(), dt0=0.05, initial=static.state)
-    run = jc.simulate(model, env, 5.0, throw=False, **fixed)
+    def heun(dt0):
+        return jc.SolverConfig(diffrax.Heun(), dt0=dt0, stepsize_controller=diffrax.ConstantStepSize())
+
+    run = jc.simulate(model, env, 5.0, initial=static.state, solver=heun(0.05), throw=False)
     assert not bool(run.success)
     assert run.result == diffrax.RESULTS.nonfinite
     with pytest.raises(Exception, match="non-finite"):
-        jc.simulate(model, env, 5.0, **fixed)
-    stable = jc.simulate(model, env, 0.5, throw=False, **{**fixed, "dt0": 1e-3})
+        jc.simulate(model, env, 5.0, initial=static.state, solver=heun(0.05))
+    stable = jc.simulate(model, env, 0.5, initial=static.state, solver=heun(1e-3), throw=False)
     assert bool(stable.success)
+
+
+def test_a_new_tolerance_reuses_the_compiled_solve(scene):
+    """Tolerances are array leaves of the configuration, not static fields: after the
+    first run, two more tolerances compile nothing (counted from JAX's compile log),
+    yet each changes the steps taken. A static change (`max_steps`) does recompile,
+    which shows that the count sees compilations."""
+    model, env, static = scene
+    compiled = []
+
+    class Compiles(logging.Handler):
+        def emit(self, record):
+            # "Compiling jit(_simulate) with ..." (older JAX: "Compiling _simulate ...").
+            if re.match(r"Compiling (jit\()?_simulate\b", record.getMessage()):
+                compiled.append(record.getMessage())
+
+    handler = Compiles()
+    logging.getLogger("jax").addHandler(handler)
+    steps = []
+    try:
+        with jax.log_compiles():
+            for tol in (1e-6, 1e-8, 1e-7):
+                config = jc.SolverConfig(rtol=tol, atol=tol)
+                result = jc.simulate(model, env, 1.0, ts=np.linspace(0.0, 1.0, 7), initial=static.state, solver=config)
+                steps.append(int(result.stats["num_steps"]))
+                if tol == 1e-6:
+                    first, compiled[:] = len(compiled), []
+            after_tolerances = list(compiled)
+            config = jc.SolverConfig(max_steps=500_000)
+            jc.simulate(model, env, 1.0, ts=np.linspace(0.0, 1.0, 7), initial=static.state, solver=config)
+    finally:
+        logging.getLogger("jax").removeHandler(handler)
+    assert first <= 1  # once, or already compiled by an earlier test
+    assert after_tolerances == []
+    assert len(set(steps)) == 3, steps
+    assert len(compiled) == 1
+
+
+def test_solver_config_errors_name_the_field():
+    with pytest.raises(ValueError, match=r"solver must be one of \('dopri5'.*'picard'\), got 'dopri'"):
+        jc.SOLVERS["dopri"]()
+    with pytest.raises(ValueError, match="SolverConfig.rtol must be positive, got 0.0"):
+        jc.SolverConfig(rtol=0.0)
+    with pytest.raises(ValueError, match="SolverConfig.max_steps must be a positive integer, got 1.5"):
+        jc.SolverConfig(max_steps=1.5)
+    with pytest.raises(ValueError, match="SolverConfig.solver must be a diffrax.AbstractSolver"):
+        jc.SolverConfig("tsit5")
+    with pytest.raises(ValueError, match="rtol and atol set the default PIDController"):
+        jc.SolverConfig(rtol=1e-8, stepsize_controller=diffrax.ConstantStepSize())
+
+
+def test_simulate_takes_a_configuration_not_a_bare_solver(scene):
+    model, env, static = scene
+    with pytest.raises(ValueError, match=r"simulate: solver must be a jaxcable.SolverConfig.*SolverConfig\(diffrax"):
+        jc.simulate(model, env, 1.0, initial=static.state, solver=diffrax.Tsit5())
+
+
+def test_presets_are_configurations():
+    """`SOLVERS` names make configurations whose solver is the named one and whose
+    tolerances are those given."""
+    config = jc.SOLVERS["kvaerno5"](rtol=1e-7)
+    assert isinstance(config, jc.SolverConfig) and isinstance(config.solver, diffrax.Kvaerno5)
+    assert float(config.stepsize_controller.rtol) == 1e-7 and float(config.stepsize_controller.atol) == 1e-6
+    assert isinstance(jc.SOLVERS["picard"]().solver, jc.PicardTrapezoid)
+    assert jc.SolverConfig().max_steps == 1_000_000

@@ -48,7 +48,7 @@ def build(stiffness_scale, stretch):
 
 @pytest.fixture(scope="module")
 def swept():
-    return sweep(build, CASES, T1, ts=TS, max_steps=MAX_STEPS)
+    return sweep(build, CASES, T1, ts=TS, solver=jc.SolverConfig(max_steps=MAX_STEPS))
 
 
 def case(i):
@@ -67,7 +67,8 @@ def test_sweep_equals_single_runs(swept, i):
     assert float(jnp.max(jnp.abs(forces))) < 1e-6 * weight
     assert float(swept.statics.residual[i]) < 1e-6 * weight
 
-    single = jc.simulate(model, env, T1, ts=TS, initial=jc.State(positions, jnp.zeros_like(positions)), max_steps=MAX_STEPS)
+    config = jc.SolverConfig(max_steps=MAX_STEPS)
+    single = jc.simulate(model, env, T1, ts=TS, initial=jc.State(positions, jnp.zeros_like(positions)), solver=config)
     assert bool(single.success) and bool(swept.success[i])
     one = swept.case(i)
     np.testing.assert_allclose(one.tension, single.tension, rtol=1e-8)
@@ -108,6 +109,7 @@ _SHARDED = textwrap.dedent(
     import equinox as eqx
     import jax
     import numpy as np
+    from jaxcable import SolverConfig
     from jaxcable._sweep import sweep
     from jaxcable.examples import seed003_line
 
@@ -124,7 +126,7 @@ _SHARDED = textwrap.dedent(
         )
         return model, env
 
-    options = dict(ts=np.linspace(0.0, 1.0, 11), initial="rest", max_steps=2000)
+    options = dict(ts=np.linspace(0.0, 1.0, 11), initial="rest", solver=SolverConfig(max_steps=2000))
     odd = {"amplitude": [1.6, 0.8, 2.4], "stiffness_scale": [1.0, 2.0, 0.5]}
     both = sweep(build, odd, 1.0, **options)  # padded to 4 cases, 2 per device
     alone = sweep(build, odd, 1.0, devices=[jax.devices()[0]], **options)

@@ -39,7 +39,7 @@ def test_cable_towed_along_the_flow_carries_its_tangential_drag():
     )
     times = np.linspace(0.0, 30.0, 61)
     speed = np.interp(times, [0.0, 10.0, 12.0, 30.0], [1.0, 1.0, 2.0, 2.0])
-    observables, result, success = rig.simulate(times, {"speed": speed}, jc.SolverSettings(rtol=1e-9, atol=1e-9))
+    observables, result, success = rig.simulate(times, {"speed": speed}, jc.rig_solver(rtol=1e-9, atol=1e-9))
     assert bool(success)
     c_tau = 0.5 * RHO * 0.01 * math.pi * diameter
     stretched = np.linalg.norm(np.diff(np.asarray(result.positions), axis=1), axis=-1)  # (times, segments)
@@ -58,7 +58,7 @@ def test_steady_tow_starts_in_equilibrium():
     rig = jc.HorizontalTow(cable_length=100.0, segments=4, cable_axial_stiffness=2e6, cable_axial_damping=5e3,
                            end_mass=100.0, end_volume=0.015, end_drag_area=0.1)
     times = np.linspace(0.0, 10.0, 11)
-    observables = rig.predict(times, {"speed": np.full(11, 1.5)}, jc.SolverSettings(rtol=1e-9, atol=1e-9))
+    observables = rig.predict(times, {"speed": np.full(11, 1.5)}, jc.rig_solver(rtol=1e-9, atol=1e-9))
     for name in rig.observables:
         values = np.asarray(observables[name])
         np.testing.assert_allclose(values, values[0], rtol=1e-7, err_msg=name)
@@ -69,7 +69,7 @@ def test_steady_tow_starts_in_equilibrium():
 def test_vertical_tow_rises_at_the_speed_where_lift_balances_drag(lift):
     rig = jc.VerticalTow(leader_lift=lift, element_drag_area=0.01)
     times = np.linspace(0.0, 20.0, 41)
-    observables = rig.predict(times, settings=jc.SolverSettings(rtol=1e-9, atol=1e-9))
+    observables = rig.predict(times, solver=jc.rig_solver(rtol=1e-9, atol=1e-9))
     # Closed form, written out here from the rig's defaults (scallop cage, 8 mm rope):
     element_wet = (25.0 - RHO * 0.012) * G
     tether_area = math.pi * 0.008**2 / 4

@@ -13,6 +13,7 @@ import time
 import jax
 import numpy as np
 
+from .._config import SolverConfig
 from .._sweep import sweep
 from ._seed001 import (
     ELEMENT_MASS,
@@ -106,8 +107,7 @@ def free_study(
         t1,
         ts=times,
         initial="rest",
-        rtol=1e-8,
-        atol=1e-8,
+        solver=SolverConfig(rtol=1e-8, atol=1e-8),
     )
     positions = np.asarray(result.simulation.positions[:, :, 1, :])
     run_s = time.perf_counter() - start
@@ -184,8 +184,7 @@ def tethered_study(
         {"weight_characteristic": weight_characteristics},
         t1,
         ts=times,
-        rtol=1e-8,
-        atol=1e-8,
+        solver=SolverConfig(rtol=1e-8, atol=1e-8),
     )
     tension = np.asarray(result.simulation.tension[:, :, 0])
     positions = np.asarray(result.simulation.positions[:, :, 1, :])

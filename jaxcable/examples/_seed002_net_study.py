@@ -28,6 +28,7 @@ import time
 
 import numpy as np
 
+from .._config import SolverConfig
 from .._simulate import simulate
 from .._statics import solve_statics
 from .._waves import airy_wavenumber, seed003_amplitude
@@ -133,7 +134,8 @@ def run_net(config: dict = SMALL, pretension: float = PRETENSION, progress: bool
     ])
     clock = time.perf_counter()
     result = simulate(
-        model, env, end, ts=ts, initial=statics.state, max_steps=config.get("max_steps", 1_000_000), progress=progress
+        model, env, end, ts=ts, initial=statics.state,
+        solver=SolverConfig(max_steps=config.get("max_steps", 1_000_000)), progress=progress,
     )
     wall = time.perf_counter() - clock
     junctions = slice(0, HUB + 1)

@@ -35,6 +35,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .._config import SolverConfig
 from .._state import State
 from .._statics import solve_statics
 from .._sweep import sweep, sweep_grid
@@ -332,8 +333,9 @@ def seed003_study(
     - `duration`: simulated time (s), at least `window[1]`.
     - `window`: `(start, end)` (s) over which peaks, minima and slack time are read.
     - `sample_rate`: output samples per second inside the window.
-    - `rtol`, `atol`, `solver`, `max_steps`: as `jaxcable.sweep` (Dopri5 by default;
-        `jaxcable.simulate`'s own default tolerance, 1e-6, is too loose for peaks here).
+    - `rtol`, `atol`, `solver`, `max_steps`: the sweep's `jaxcable.SolverConfig`
+        (Dopri5 by default; `jaxcable.simulate`'s own default tolerance, 1e-6, is too
+        loose for peaks here).
     - `one_sweep`: one sweep over every angle and ratio, rather than one per angle.
     - `verbose`: print one line per sweep.
 
@@ -349,7 +351,7 @@ def seed003_study(
     ts = np.asarray(jnp.linspace(window[0], window[1], n_samples))
     angles = [float(a) for a in angles]
     ratios = [float(r) for r in ratios]
-    options = dict(solver=solver, rtol=rtol, atol=atol, max_steps=max_steps)
+    options = dict(solver=SolverConfig(solver, rtol=rtol, atol=atol, max_steps=max_steps))
     cases, compile_s, run_s, by_angle = [], 0.0, 0.0, {}
     for group in [angles] if one_sweep else [[a] for a in angles]:
         build, lines = _sweep_build(group, n_segments, axial_stiffness, mass_matrix, slack_width, period)
