@@ -13,7 +13,7 @@ import pytest
 
 import jaxcable as jc
 from _balance import hand_forces
-from jaxcable.examples._seed002 import (
+from jaxcable.examples.seed002 import (
     BUOY,
     DIVERTER,
     DIVERTER_FORCE,

@@ -19,8 +19,8 @@ from scipy.integrate import quad
 from scipy.optimize import fsolve
 
 import jaxcable as jc
-from jaxcable.examples._seed003 import AREA, DEPTH, MASS_PER_LENGTH
-from jaxcable.examples._seed003_study import seed003_case, seed003_study, slack_time, verdict
+from jaxcable.examples.seed003 import AREA, DEPTH, MASS_PER_LENGTH
+from studies.seed003 import seed003_case, seed003_study, slack_time, verdict
 
 RHO, G = 1025.0, 9.81
 N = 20  # one shape for every test here: one compilation of each program
