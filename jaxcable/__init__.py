@@ -37,24 +37,26 @@ from ._motion import (
     Sampled as Sampled,
     Towing as Towing,
 )
-from ._moordyn import read_moordyn as read_moordyn
-from ._motion_file import read_motion_file as read_motion_file
 from ._network import Body as Body, Branch as Branch, CableNetwork as CableNetwork, LineType as LineType
-from ._output import write as write_output
 from ._picard import PicardTrapezoid as PicardTrapezoid
 from ._records import (
     COLUMNS as COLUMNS,
     UNITS as UNITS,
     RecordError as RecordError,
     TowingRecord as TowingRecord,
+    to_si as to_si,
+)
+from .io import (
+    read_moordyn as read_moordyn,
+    read_motion_file as read_motion_file,
     read_record as read_record,
     read_records as read_records,
-    to_si as to_si,
+    read_scene as read_scene,
+    write_output as write_output,
     write_record as write_record,
-)
-from ._plots import plot_calibration as plot_calibration, plot_run as plot_run
-from ._run import SceneRun as SceneRun, load_scene as load_scene, run_scene as run_scene
-from ._scene import (
+    SceneRun as SceneRun,
+    load_scene as load_scene,
+    run_scene as run_scene,
     BuiltScene as BuiltScene,
     CurrentProfileSpec as CurrentProfileSpec,
     LineSpec as LineSpec,
@@ -67,7 +69,7 @@ from ._scene import (
     Water as Water,
     WaveSpec as WaveSpec,
 )
-from ._scene_file import read_scene as read_scene
+from .plot import plot_calibration as plot_calibration, plot_run as plot_run
 from ._simulate import (
     SOLVERS as SOLVERS,
     SimulationResult as SimulationResult,

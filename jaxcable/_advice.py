@@ -62,7 +62,7 @@ from ._cnoidal import Cnoidal
 from ._environment import Environment
 from ._motion import Fixed, Harmonic, Sampled
 from ._network import CableNetwork
-from ._scene import BuiltScene
+from .io._scene import BuiltScene  # the scene layer, until advice stops needing it
 from ._state import State
 from ._statics import solve_statics
 from ._waves import AbstractWave, Airy

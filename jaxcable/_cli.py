@@ -22,17 +22,14 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _output as output
 from ._advice import advise
 from ._calibrate import calibrate
 from ._motion import Harmonic, Sampled
-from ._motion_file import read_motion_file
-from ._records import read_records
-from ._run import load_scene, run_scene
-from ._scene import Scene, SceneError
 from ._simulate import SOLVERS
 from ._towing import SolverSettings
 from .examples import scene_path, scene_names
+from .io import Scene, SceneError, load_scene, read_motion_file, read_records, run_scene, write_output
+from .io._channels import default_channels, parse_channel
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -133,8 +130,8 @@ def _run(args) -> int:
         print(f"note: {note}", file=sys.stderr)
     print(f"{Path(scene.source).name}" + (f": {scene.title}" if scene.title else ""))
     channels = tuple(args.channels or ())
-    for name in channels or output.default_channels(scene):
-        output.parse_channel(name, scene)  # fail now, not after the simulation
+    for name in channels or default_channels(scene):
+        parse_channel(name, scene)  # fail now, not after the simulation
     run = run_scene(scene, duration=duration, dt_out=args.dt_out, solver=args.solver, progress=not args.no_progress)
     static = run.static
     print(f"equilibrium: {int(static.steps)} iterations, {run.statics_seconds:.1f} s; largest tension "
@@ -143,10 +140,10 @@ def _run(args) -> int:
     for note in run.notes:
         print(f"warning: {note}", file=sys.stderr)
     if args.out is not None:
-        output.write(args.out, run, channels)
+        write_output(args.out, run, channels)
         print(f"wrote {args.out}")
     if args.plot is not None:
-        from ._plots import plot_run
+        from .plot import plot_run
 
         plot_run(run, args.plot, tuple(c for c in channels if not c.upper().endswith(("PX", "PY", "PZ"))))
         print(f"wrote {args.plot}")
@@ -273,7 +270,7 @@ def _calibrate(args) -> int:
         args.out.write_text(json.dumps(summary, indent=2) + "\n")
         print(f"wrote {args.out}")
     if args.plot is not None:
-        from ._plots import plot_calibration
+        from .plot import plot_calibration
 
         plot_calibration(result, args.plot)
         print(f"wrote {args.plot}")

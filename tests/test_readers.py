@@ -19,7 +19,7 @@ import pytest
 
 import jaxcable as jc
 from jaxcable._cli import main as cli_main
-from jaxcable._scene import SeabedSpec, WaveSpec
+from jaxcable.io import SeabedSpec, WaveSpec
 
 LOWE_AND_LANGLEY = Path(__file__).parent / "data" / "lowe_and_langley_2006" / "line.txt"
 

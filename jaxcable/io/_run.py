@@ -6,13 +6,13 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _output as output
+from .._motion import Sampled
+from .._simulate import SOLVERS, simulate
+from .._statics import StaticSolution, solve_statics
+from . import _channels
 from ._moordyn import read_moordyn
-from ._motion import Sampled
 from ._scene import BuiltScene, Scene, SceneError
 from ._scene_file import read_scene
-from ._simulate import SOLVERS, simulate
-from ._statics import StaticSolution, solve_statics
 
 DEFAULT_DT_OUT = 0.1  # s
 
@@ -58,7 +58,7 @@ class SceneRun:
     def channels(self, names: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
         """Output channels by MoorDyn name, `Time` first; the scene's own channels, or
         every line's `FairTen<k>` and `AnchTen<k>`, when `names` is empty."""
-        return output.channels(self, names)
+        return _channels.channels(self.built, self.times, self.tension, self.positions, names)
 
     def peak_tension(self) -> tuple[float, int, int, float]:
         """The peak tension: `(tension (N), line index, segment index along the line

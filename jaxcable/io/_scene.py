@@ -11,18 +11,16 @@ produce and consume scenes.
 
 import dataclasses
 import warnings
-from collections.abc import Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from ._cnoidal import Cnoidal
-from ._environment import CurrentProfile, Environment, Seabed
-from ._materials import KelvinVoigt
-from ._motion import AbstractMotion, Fixed, Sampled
-from ._network import Body, Branch, CableNetwork, LineType
-from ._waves import AbstractWave, Airy
+from .._cnoidal import Cnoidal
+from .._environment import CurrentProfile, Environment, Seabed
+from .._materials import KelvinVoigt
+from .._motion import AbstractMotion, Fixed, Sampled
+from .._network import Body, Branch, CableNetwork, LineType
+from .._waves import AbstractWave, Airy
 
 POINT_KINDS = ("fixed", "coupled", "free")
 WAVE_THEORIES = ("airy", "cnoidal")
@@ -449,29 +447,3 @@ class located:
         if kind is not None and issubclass(kind, ValueError) and not isinstance(error, SceneError):
             raise SceneError(f"{self.where}: {error}") from error
         return False
-
-
-def read_text(path: Path, what: str = "") -> str:
-    """The text of `path`, or a `SceneError` saying why it cannot be read."""
-    try:
-        return path.read_text(encoding="utf-8", errors="replace")
-    except OSError as error:
-        raise SceneError(f"cannot read {what + ' ' if what else ''}{path}: {error.strerror}") from error
-
-
-def is_number(token: str) -> bool:
-    """Whether `token` reads as a float."""
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
-
-
-def unique_names(items: Sequence, what: str, source: str) -> None:
-    """Raise a `SceneError` naming the second definition of a duplicated name."""
-    seen = {}
-    for item in items:
-        if item.name in seen:
-            raise SceneError(f"{item.where}: {what} {item.name!r} is already defined at {seen[item.name]}")
-        seen[item.name] = item.where or source

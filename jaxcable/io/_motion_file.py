@@ -5,7 +5,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._scene import SceneError, is_number, read_text
+from ._parse import is_number, read_text
+from ._scene import SceneError
 
 
 def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndarray]:

@@ -85,9 +85,11 @@ import tomllib
 import warnings
 from pathlib import Path
 
-from ._motion import Harmonic, Sampled
+from .._motion import Harmonic, Sampled
+from .._network import MASS_MATRICES, Body
+from .._simulate import SOLVERS
 from ._motion_file import read_motion_file
-from ._network import MASS_MATRICES, Body
+from ._parse import read_text, unique_names
 from ._scene import (
     POINT_KINDS,
     WAVE_THEORIES,
@@ -102,10 +104,7 @@ from ._scene import (
     Water,
     WaveSpec,
     located,
-    read_text,
-    unique_names,
 )
-from ._simulate import SOLVERS
 
 _TOP = ("title", "water", "waves", "seabed", "simulation", "line_types", "points", "lines", "output")
 _WATER = ("density", "gravity", "depth", "current", "current_profile", "free_surface", "fluid_inertia")

@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._network import Body
+from .._network import Body
 from ._scene import (
     LineSpec,
     LineTypeSpec,
@@ -45,11 +45,9 @@ from ._scene import (
     SceneError,
     SeabedSpec,
     Water,
-    is_number,
     located,
-    read_text,
-    unique_names,
 )
+from ._parse import is_number, read_text, unique_names
 
 # Section names as MoorDyn recognises them, most specific first: a header matches the
 # first entry any of whose aliases it contains.

@@ -1,0 +1,35 @@
+"""jaxcable.io: scenes in and results out.
+
+Everything between a file and the engine: the scene as data ([`jaxcable.io.Scene`][] and
+its parts), the readers of jaxcable's TOML scenes, MoorDyn input files, motion tables and
+towing records, the scene runner ([`jaxcable.io.run_scene`][]) and the writers of its
+output channels. The engine (`jaxcable`) never imports from here: data flows
+scene → model → equations → solver → result → outputs.
+"""
+
+from .._records import (
+    COLUMNS as COLUMNS,
+    UNITS as UNITS,
+    RecordError as RecordError,
+    TowingRecord as TowingRecord,
+    to_si as to_si,
+)
+from ._moordyn import read_moordyn as read_moordyn
+from ._motion_file import read_motion_file as read_motion_file
+from ._output import write as write_output
+from ._records import read_record as read_record, read_records as read_records, write_record as write_record
+from ._run import SceneRun as SceneRun, load_scene as load_scene, run_scene as run_scene
+from ._scene import (
+    BuiltScene as BuiltScene,
+    CurrentProfileSpec as CurrentProfileSpec,
+    LineSpec as LineSpec,
+    LineTypeSpec as LineTypeSpec,
+    PointSpec as PointSpec,
+    RunSettings as RunSettings,
+    Scene as Scene,
+    SceneError as SceneError,
+    SeabedSpec as SeabedSpec,
+    Water as Water,
+    WaveSpec as WaveSpec,
+)
+from ._scene_file import read_scene as read_scene
