@@ -28,7 +28,7 @@ from ._motion import Harmonic, Sampled
 from ._simulate import SOLVERS
 from ._towing import SolverSettings
 from .examples import scene_path, scene_names
-from .io import Scene, SceneError, load_scene, read_motion_file, read_records, run_scene, write_output
+from .io import Scene, SceneError, advice_lines, load_scene, read_motion_file, read_records, run_scene, write_output
 from .io._channels import default_channels, parse_channel
 
 
@@ -210,7 +210,7 @@ def _info(args) -> int:
     for note in scene.notes:
         print(f"  {note}")
     print("advice:")
-    for line in advise(built, duration=duration).lines():
+    for line in advice_lines(advise(built, duration=duration)):
         print(f"  {line}")
     return 0
 

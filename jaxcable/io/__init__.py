@@ -14,6 +14,7 @@ from .._records import (
     TowingRecord as TowingRecord,
     to_si as to_si,
 )
+from ._advice_text import advice_lines as advice_lines
 from ._moordyn import read_moordyn as read_moordyn
 from ._motion_file import read_motion_file as read_motion_file
 from ._output import write as write_output

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .._advice import Labels
 from .._cnoidal import Cnoidal
 from .._environment import CurrentProfile, Environment, Seabed
 from .._materials import KelvinVoigt
@@ -424,6 +425,7 @@ class BuiltScene:
     - `line_nodes`: per line, the node indices from end A to end B, shape
         `(segments + 1,)`.
     - `line_segments`: per line, the segment indices from end A to end B.
+    - `labels`: the names [`jaxcable.advise`][] gives the lines and points.
     """
 
     scene: Scene
@@ -431,6 +433,19 @@ class BuiltScene:
     environment: Environment
     line_nodes: tuple[np.ndarray, ...] = field(repr=False)
     line_segments: tuple[np.ndarray, ...] = field(repr=False)
+
+    @property
+    def labels(self) -> Labels:
+        """The scene's names for the model's lines, line types and points, for
+        [`jaxcable.advise`][]."""
+        return Labels(
+            tuple(
+                (line.name, nodes, segments)
+                for line, nodes, segments in zip(self.scene.lines, self.line_nodes, self.line_segments)
+            ),
+            tuple(line.line_type for line in self.scene.lines),
+            tuple(point.name for point in self.scene.points),
+        )
 
 
 class located:
