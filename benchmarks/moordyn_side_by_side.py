@@ -352,7 +352,7 @@ def part_check(args) -> dict:
     model, env = scene(args.slack_width)
     static = jc.solve_statics(model, env)
     fairlead = np.asarray(model.node_positions[1])
-    amplitude = float(jc.seed003_amplitude(PERIOD))
+    amplitude = float(jc.examples.seed003_amplitude(PERIOD))
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "seed003.txt"
         path.write_text(moordyn_input(model, env, 1e-3))
@@ -422,7 +422,7 @@ def part_work_precision(args) -> dict:
     model, env = scene(args.slack_width)
     static = jc.solve_statics(model, env)
     fairlead = np.asarray(model.node_positions[1])
-    amplitude = float(jc.seed003_amplitude(PERIOD))
+    amplitude = float(jc.examples.seed003_amplitude(PERIOD))
     duration = args.duration
     record = {"settings": {k: getattr(args, k) for k in (
         "slack_width", "duration", "window", "history_duration", "reference_tol", "dtm", "tols", "midpoint_dts", "repeats", "levels")}}
@@ -608,7 +608,7 @@ def part_sweep(args) -> dict:
     model, env = scene(args.slack_width)
     static = jc.solve_statics(model, env)
     fairlead = np.asarray(model.node_positions[1])
-    base = float(jc.seed003_amplitude(PERIOD))
+    base = float(jc.examples.seed003_amplitude(PERIOD))
     wavelength = float(env.gravity) * PERIOD**2 / (2 * np.pi)
     steepness = 2 * base / wavelength * np.linspace(args.span[0], args.span[1], args.cases)
     amplitudes = steepness * wavelength / 2

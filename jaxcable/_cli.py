@@ -10,7 +10,7 @@
 
 INPUT is a jaxcable scene (`.toml`), a MoorDyn v2 input file (any other suffix), or the
 name of a bundled example scene (see `jaxcable examples`). A RECORD is a towing record
-(CSV, see `jaxcable.read_record`) whose header names its rig.
+(CSV, see `jaxcable.io.read_record`) whose header names its rig.
 """
 
 import argparse
@@ -28,8 +28,9 @@ from ._motion import Harmonic, Sampled
 from ._simulate import SOLVERS
 from ._towing import SolverSettings
 from .examples import scene_path, scene_names
-from .io import Scene, SceneError, advice_lines, load_scene, read_motion_file, read_records, run_scene, write_output
+from .io import Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
+from .io._run import load_scene, run_scene
 
 
 def main(argv: list[str] | None = None) -> int:

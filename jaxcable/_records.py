@@ -63,7 +63,7 @@ UNITS: dict[str, dict[str, float]] = {
 }
 """The known units, by dimension: each unit's factor to SI (multiply a value in the unit
 by it to get SI). The first unit of each dimension is its SI unit, which
-[`jaxcable.write_record`][] uses by default. Every unit belongs to one dimension only.
+[`jaxcable.io.write_record`][] uses by default. Every unit belongs to one dimension only.
 """
 
 COLUMNS: dict[str, str] = {
@@ -74,8 +74,8 @@ COLUMNS: dict[str, str] = {
     "layback": "length",
 }
 """The columns a towing record may have, each with its dimension (a key of
-[`jaxcable.UNITS`][]). `time` is required, and comes first in a file; a
-[`jaxcable.TowingRecord`][] holds it apart from the other columns, as `times`.
+[`jaxcable.io.UNITS`][]). `time` is required, and comes first in a file; a
+[`jaxcable.io.TowingRecord`][] holds it apart from the other columns, as `times`.
 """
 
 # Every unit is in one dimension only (the tests check it), so a unit alone says which.
@@ -116,8 +116,8 @@ def to_si(value: float, unit: str, dimension: str | None = None) -> float:
     **Arguments:**
 
     - `value`: the number, in `unit`.
-    - `unit`: a unit of [`jaxcable.UNITS`][], exactly as written there, e.g. `"kn"`.
-    - `dimension`: if given, a key of [`jaxcable.UNITS`][] such as `"velocity"`, which
+    - `unit`: a unit of [`jaxcable.io.UNITS`][], exactly as written there, e.g. `"kn"`.
+    - `dimension`: if given, a key of [`jaxcable.io.UNITS`][] such as `"velocity"`, which
         `unit` must belong to.
 
     **Returns:**
@@ -126,7 +126,7 @@ def to_si(value: float, unit: str, dimension: str | None = None) -> float:
 
     **Raises:**
 
-    [`jaxcable.RecordError`][] for an unknown unit or dimension, or a unit of another
+    [`jaxcable.io.RecordError`][] for an unknown unit or dimension, or a unit of another
     dimension.
     """
     if dimension is not None and dimension not in UNITS:
@@ -198,7 +198,7 @@ class TowingRecord:
 
     - `times`: sample times (s), shape `(samples,)`, strictly increasing, at least two.
     - `columns`: every measured column except time, by name (a key of
-        [`jaxcable.COLUMNS`][] such as `"speed"`, `"tension"`, `"depth"`), each in SI
+        [`jaxcable.io.COLUMNS`][] such as `"speed"`, `"tension"`, `"depth"`), each in SI
         units, shape `(samples,)`. At least one.
     - `conditions`: the test conditions, by identifier: floats in SI units, or strings
         such as the rig's name.
@@ -208,7 +208,7 @@ class TowingRecord:
 
     **Raises:**
 
-    [`jaxcable.RecordError`][] for fewer than two samples, times that are not 1-D or do
+    [`jaxcable.io.RecordError`][] for fewer than two samples, times that are not 1-D or do
     not strictly increase, a column of another shape than `times` or with an unknown
     name, no column besides time, a NaN or infinite value, or a condition that is not a
     finite number or a one-line string.

@@ -25,17 +25,17 @@ from jaxcable._advice import (
 )
 
 
-def taut_line(mass_matrix: str, damping_ratio: float = 0.0) -> jc.BuiltScene:
+def taut_line(mass_matrix: str, damping_ratio: float = 0.0) -> jc.io.BuiltScene:
     # A straight, stretched line between two anchors: its fastest mode is axial.
-    rope = jc.LineTypeSpec("rope", mass_per_length=2.0, diameter=0.02, axial_stiffness=4e6,
+    rope = jc.io.LineTypeSpec("rope", mass_per_length=2.0, diameter=0.02, axial_stiffness=4e6,
                            axial_damping_ratio=damping_ratio, tangential_added_mass=0.5)
-    points = (jc.PointSpec("a", "fixed", (0.0, 0.0, -50.0)), jc.PointSpec("b", "fixed", (101.0, 0.0, -50.0)))
-    lines = (jc.LineSpec("1", "rope", 0, 1, 100.0, 20),)
-    scene = jc.Scene(points, (rope,), lines, run=jc.RunSettings(mass_matrix=mass_matrix))
+    points = (jc.io.PointSpec("a", "fixed", (0.0, 0.0, -50.0)), jc.io.PointSpec("b", "fixed", (101.0, 0.0, -50.0)))
+    lines = (jc.io.LineSpec("1", "rope", 0, 1, 100.0, 20),)
+    scene = jc.io.Scene(points, (rope,), lines, run=jc.io.RunSettings(mass_matrix=mass_matrix))
     return scene.build()
 
 
-def largest_eigenvalue(built: jc.BuiltScene) -> float:
+def largest_eigenvalue(built: jc.io.BuiltScene) -> float:
     """|λ|max of the first-order system linearised about the equilibrium at rest."""
     model, env = built.model, built.environment
     static = jc.solve_statics(model, env)

@@ -33,8 +33,8 @@ ENV = jc.Environment(water_density=RHO, gravity=G)
 
 def energy(model, env, result):
     """E = K + Π at every output time, from jaxcable's public energy functions."""
-    kinetic = jax.vmap(lambda x, v: jc.kinetic_energy(model, env, x, v))(result.positions, result.velocities)
-    potential = jax.vmap(lambda x: jc.potential_energy(model, env, x))(result.positions)
+    kinetic = jax.vmap(lambda x, v: jc.equations.kinetic_energy(model, env, x, v))(result.positions, result.velocities)
+    potential = jax.vmap(lambda x: jc.equations.potential_energy(model, env, x))(result.positions)
     return np.asarray(kinetic + potential), np.asarray(kinetic)
 
 

@@ -75,7 +75,7 @@ def runs():
     """`runs(name)`: the example's `SceneRun` (statics, then DURATION s), computed once."""
     cache = {}
 
-    def get(name: str) -> jc.SceneRun:
+    def get(name: str) -> jc.io.SceneRun:
         if name not in cache:
             scene = jc.read_scene(examples.scene_path(name))
             cache[name] = jc.run_scene(scene, duration=DURATION, dt_out=DT_OUT)
@@ -89,7 +89,7 @@ def runs():
 # ---------------------------------------------------------------------------------------
 
 
-def expected_channels(name: str, run: jc.SceneRun) -> dict[str, np.ndarray]:
+def expected_channels(name: str, run: jc.io.SceneRun) -> dict[str, np.ndarray]:
     """Every line's FairTen/AnchTen and the scene's own channels, from the run's arrays
     by the MoorDyn definitions: the end segments' tensions, node positions."""
     data = toml(name)
@@ -122,7 +122,7 @@ def test_round_trip_through_every_format(name, runs, tmp_path):
     assert run.times.shape == (int(round(DURATION / DT_OUT)) + 1,)
 
     # CSV: one header row of MoorDyn names, as `np.genfromtxt(..., names=True)` reads.
-    csv = jc.write_output(tmp_path / "run.csv", run, names)
+    csv = jc.io.write_output(tmp_path / "run.csv", run, names)
     assert csv.read_text().splitlines()[0] == ",".join(expected)
     table = np.genfromtxt(csv, delimiter=",", names=True)
     assert table.dtype.names == tuple(expected)
@@ -130,7 +130,7 @@ def test_round_trip_through_every_format(name, runs, tmp_path):
         np.testing.assert_allclose(table[channel], values, rtol=1e-9, atol=1e-9, err_msg=channel)
 
     # MoorDyn's .out: a row of names, a row of units, then whitespace-separated values.
-    out = jc.write_output(tmp_path / "run.out", run, names)
+    out = jc.io.write_output(tmp_path / "run.out", run, names)
     with out.open() as f:
         header, units = f.readline().split(), f.readline().split()
         rows = np.loadtxt(f, ndmin=2)
@@ -140,7 +140,7 @@ def test_round_trip_through_every_format(name, runs, tmp_path):
         np.testing.assert_allclose(rows[:, column], values, rtol=1e-6, atol=1e-9, err_msg=channel)
 
     # .npz: everything, with a JSON table of units.
-    npz = jc.write_output(tmp_path / "run.npz", run, names)
+    npz = jc.io.write_output(tmp_path / "run.npz", run, names)
     with np.load(npz) as archive:
         units = json.loads(str(archive["units"]))
         for key, values, unit in [
@@ -157,7 +157,7 @@ def test_round_trip_through_every_format(name, runs, tmp_path):
             np.testing.assert_array_equal(archive[channel], expected[channel], err_msg=channel)
 
     # NetCDF 3 with units and dimensions on every variable.
-    nc = jc.write_output(tmp_path / "run.nc", run, names)
+    nc = jc.io.write_output(tmp_path / "run.nc", run, names)
     with netcdf_file(nc, "r", mmap=False) as f:
         for key, values, unit, dims in [
             ("time", run.times, "s", ("time",)),
@@ -206,7 +206,7 @@ def test_undriven_net_stays_at_equilibrium(runs):
 # ---------------------------------------------------------------------------------------
 
 
-def node_forces(name: str, run: jc.SceneRun) -> np.ndarray:
+def node_forces(name: str, run: jc.io.SceneRun) -> np.ndarray:
     """Every force on each node at the equilibrium except its support's, shape
     `(nodes, 3)`: segment tensions, wet weights, drag of the current, bodies."""
     data = toml(name)

@@ -62,7 +62,7 @@ def test_sweep_equals_single_runs(swept, i):
     # rest vanish, relative to a segment's weight (an independent check of the
     # batched statics, which never sees this eagerly built model).
     positions = swept.statics.state.positions[i]
-    forces = jc.generalised_forces(model, env, 0.0, positions, jnp.zeros_like(positions))[model.free_nodes]
+    forces = jc.equations.generalised_forces(model, env, 0.0, positions, jnp.zeros_like(positions))[model.free_nodes]
     weight = float(model.line.mass_per_length[0] * env.gravity * model.segment_length[0])
     assert float(jnp.max(jnp.abs(forces))) < 1e-6 * weight
     assert float(swept.statics.residual[i]) < 1e-6 * weight

@@ -2,9 +2,12 @@
 
 Everything between a file and the engine: the scene as data ([`jaxcable.io.Scene`][] and
 its parts), the readers of jaxcable's TOML scenes, MoorDyn input files, motion tables and
-towing records, the scene runner ([`jaxcable.io.run_scene`][]) and the writers of its
-output channels. The engine (`jaxcable`) never imports from here: data flows
-scene → model → equations → solver → result → outputs.
+towing records, the scene runner and the writers of its output channels. The engine never
+imports from here: data flows scene → model → equations → solver → result → outputs.
+
+The scene entry points, [`jaxcable.read_scene`][], [`jaxcable.read_moordyn`][],
+[`jaxcable.load_scene`][] and [`jaxcable.run_scene`][], are in `jaxcable` itself; this
+module holds what they take and give, and the rest of the file formats.
 """
 
 from .._records import (
@@ -15,11 +18,10 @@ from .._records import (
     to_si as to_si,
 )
 from ._advice_text import advice_lines as advice_lines
-from ._moordyn import read_moordyn as read_moordyn
 from ._motion_file import read_motion_file as read_motion_file
 from ._output import write as write_output
 from ._records import read_record as read_record, read_records as read_records, write_record as write_record
-from ._run import SceneRun as SceneRun, load_scene as load_scene, run_scene as run_scene
+from ._run import SceneRun as SceneRun
 from ._scene import (
     BuiltScene as BuiltScene,
     CurrentProfileSpec as CurrentProfileSpec,
@@ -33,4 +35,3 @@ from ._scene import (
     Water as Water,
     WaveSpec as WaveSpec,
 )
-from ._scene_file import read_scene as read_scene

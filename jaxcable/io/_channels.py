@@ -46,7 +46,7 @@ def parse_channel(name: str, scene: "Scene") -> tuple[str, str, int, int]:
 
     **Raises:**
 
-    [`jaxcable.SceneError`][] naming a channel that is unknown or refers to a line or
+    [`jaxcable.io.SceneError`][] naming a channel that is unknown or refers to a line or
     node that does not exist.
     """
     count = len(scene.lines)
@@ -77,7 +77,7 @@ def channels(
 
     **Raises:**
 
-    [`jaxcable.SceneError`][], as [`parse_channel`][].
+    [`jaxcable.io.SceneError`][], as [`parse_channel`][].
     """
     scene = built.scene
     values = {"Time": times}

@@ -24,7 +24,7 @@ def write(path: str | Path, run: SceneRun, names: tuple[str, ...] = ()) -> Path:
 
     **Raises:**
 
-    [`jaxcable.SceneError`][] for an unknown suffix, or `.nc` without scipy.
+    [`jaxcable.io.SceneError`][] for an unknown suffix, or `.nc` without scipy.
     """
     path = Path(path)
     suffix = path.suffix.lower()

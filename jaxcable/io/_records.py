@@ -144,11 +144,11 @@ def read_record(path: str | Path) -> TowingRecord:
 
     **Returns:**
 
-    A [`jaxcable.TowingRecord`][] in SI units, named after the file (e.g. `"tow1.csv"`).
+    A [`jaxcable.io.TowingRecord`][] in SI units, named after the file (e.g. `"tow1.csv"`).
 
     **Raises:**
 
-    [`jaxcable.RecordError`][], naming the file and line, for a file that is not UTF-8
+    [`jaxcable.io.RecordError`][], naming the file and line, for a file that is not UTF-8
     text or breaks any rule of the format; `FileNotFoundError` for a missing file.
     """
     path = Path(path)
@@ -201,11 +201,11 @@ def read_records(paths: Iterable[str | Path]) -> list[TowingRecord]:
 
     **Returns:**
 
-    A list of [`jaxcable.TowingRecord`][], in the order of `paths`.
+    A list of [`jaxcable.io.TowingRecord`][], in the order of `paths`.
 
     **Raises:**
 
-    As [`jaxcable.read_record`][]; and `TypeError` for a single path, whose characters
+    As [`jaxcable.io.read_record`][]; and `TypeError` for a single path, whose characters
     would otherwise be read as paths.
     """
     if isinstance(paths, (str, Path)):
@@ -224,7 +224,7 @@ def write_record(
     units: Mapping[str, str] | None = None,
     condition_units: Mapping[str, str] | None = None,
 ) -> None:
-    """Write a towing record file, in the format that [`jaxcable.read_record`][] reads.
+    """Write a towing record file, in the format that [`jaxcable.io.read_record`][] reads.
 
     Numbers are written with enough digits to read back as the same floats, so a round
     trip through a file is exact up to the rounding of the unit conversions.
@@ -232,17 +232,17 @@ def write_record(
     **Arguments:**
 
     - `path`: the file to write; an existing file is replaced.
-    - `record`: the [`jaxcable.TowingRecord`][] to write.
+    - `record`: the [`jaxcable.io.TowingRecord`][] to write.
     - `units`: the unit to write each column in, by column name (including `"time"`),
         e.g. `{"speed": "kn", "tension": "kN"}`. Columns not named are written in SI
         units (s, m/s, N, m).
     - `condition_units`: the unit to write each numeric condition in, by key; any unit
-        of [`jaxcable.UNITS`][]. Numeric conditions not named are written without a
+        of [`jaxcable.io.UNITS`][]. Numeric conditions not named are written without a
         unit, as plain SI numbers; string conditions as `# key = text`.
 
     **Raises:**
 
-    [`jaxcable.RecordError`][], before anything is written, for a unit that is unknown
+    [`jaxcable.io.RecordError`][], before anything is written, for a unit that is unknown
     or of the wrong dimension, or one given for a column or numeric condition that the
     record does not have.
     """

@@ -31,7 +31,7 @@ class SceneRun:
     Arrays are numpy, indexed by output time first. With a duration of 0 there is one
     output time, 0 s, and the state is the equilibrium.
 
-    - `built`: the [`jaxcable.BuiltScene`][] that ran.
+    - `built`: the [`jaxcable.io.BuiltScene`][] that ran.
     - `static`: its [`jaxcable.StaticSolution`][], the initial state.
     - `times`: (s), shape `(times,)`.
     - `positions`, `velocities`: (m, m/s), shape `(times, nodes, 3)`.
@@ -106,7 +106,7 @@ def run_scene(
 
     **Arguments:**
 
-    - `scene`: the [`jaxcable.Scene`][].
+    - `scene`: the [`jaxcable.io.Scene`][].
     - `duration`: simulated time (s); the scene's `run.duration` by default; 0 solves
         statics only.
     - `dt_out`: output interval (s); the scene's, or 0.1 s.
@@ -115,7 +115,7 @@ def run_scene(
 
     **Raises:**
 
-    [`jaxcable.SceneError`][] for a bad duration, interval or solver name;
+    [`jaxcable.io.SceneError`][] for a bad duration, interval or solver name;
     `RuntimeError` if statics or the integration fails.
     """
     settings = scene.run

@@ -1,9 +1,9 @@
 """Scenes: a cable system described as data, as read from a scene or MoorDyn file.
 
-A [`jaxcable.Scene`][] is the description a file gives: named points, line types and
+A [`jaxcable.io.Scene`][] is the description a file gives: named points, line types and
 lines, the water, run settings and output channels. It holds plain Python numbers and
 says where in its file each item came from, so that a bad value is reported against
-the line that wrote it. [`jaxcable.Scene.build`][] turns it into the engine's
+the line that wrote it. [`jaxcable.io.Scene.build`][] turns it into the engine's
 [`jaxcable.CableNetwork`][] and [`jaxcable.Environment`][]; readers
 ([`jaxcable.read_scene`][], [`jaxcable.read_moordyn`][]) and the command line only ever
 produce and consume scenes.
@@ -76,7 +76,7 @@ class WaveSpec:
 
         **Raises:**
 
-        [`jaxcable.SceneError`][] at `where` for an unknown theory, neither or both of
+        [`jaxcable.io.SceneError`][] at `where` for an unknown theory, neither or both of
         height and steepness, Wheeler stretching on a cnoidal wave, or a value the wave
         rejects (non-positive, breaking, a period too short for a cnoidal wave).
         """
@@ -124,10 +124,10 @@ class Water:
     - `depth` (m, positive), or `None` for water without a bottom (allowed only without
         waves and seabed).
     - `current`: a uniform current (m/s, a 3-vector); or `current_profile`, a
-        [`jaxcable.CurrentProfileSpec`][] (then `current` must stay zero).
+        [`jaxcable.io.CurrentProfileSpec`][] (then `current` must stay zero).
     - `free_surface`: whether lines are in the water only below z = 0.
-    - `waves`: regular waves, [`jaxcable.WaveSpec`][], superposed.
-    - `seabed`: a [`jaxcable.SeabedSpec`][] at z = −depth, or `None`.
+    - `waves`: regular waves, [`jaxcable.io.WaveSpec`][], superposed.
+    - `seabed`: a [`jaxcable.io.SeabedSpec`][] at z = −depth, or `None`.
     - `fluid_inertia`: whether the waves' acceleration loads lines and bodies.
     - `where`: where in its file the water was described, for errors.
     """
@@ -148,7 +148,7 @@ class Water:
 
         **Raises:**
 
-        [`jaxcable.SceneError`][] naming the item's place in the file for waves or a
+        [`jaxcable.io.SceneError`][] naming the item's place in the file for waves or a
         seabed without a depth, both a uniform current and a profile, or a value out of
         range.
         """
@@ -369,7 +369,7 @@ class Scene:
 
         **Raises:**
 
-        [`jaxcable.SceneError`][] naming the item's place in the file when a value is
+        [`jaxcable.io.SceneError`][] naming the item's place in the file when a value is
         out of range.
         """
         for line in self.lines:

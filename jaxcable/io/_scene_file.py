@@ -124,12 +124,12 @@ _LINE = ("name", "type", "from", "to", "length", "segments")
 
 
 def read_scene(path: str | Path) -> Scene:
-    """Read a jaxcable scene file (TOML) as a [`jaxcable.Scene`][]. The format is in
+    """Read a jaxcable scene file (TOML) as a [`jaxcable.io.Scene`][]. The format is in
     this module's docstring; `jaxcable/examples/scenes/` has complete examples.
 
     **Raises:**
 
-    [`jaxcable.SceneError`][] naming the file, line and key for TOML syntax errors,
+    [`jaxcable.io.SceneError`][] naming the file, line and key for TOML syntax errors,
     unknown or missing keys, values of the wrong type, points or line types that do
     not exist, and values out of range.
     """
