@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from _balance import hand_forces
+from helpers import hand_forces
 from jaxcable.examples.seed002 import (
     BUOY,
     DIVERTER,
