@@ -12,6 +12,7 @@ import scipy.special
 from scipy.optimize import brentq
 
 import jaxcable as jc
+from helpers import catenary_parameter
 from jaxcable import _lagrangian as lag
 from jaxcable.io import advice_lines
 from jaxcable._advice import (
@@ -198,11 +199,6 @@ def test_polyline_curvature_of_a_circle_and_the_segments_it_needs():
     assert segments_needed(length, 1 / radius, tolerance) == 8
     assert radius * (1 - np.cos(step / 2)) < np.sqrt(2) / 8 * chord**2 / radius
     assert segments_needed(length, 0.0, tolerance) == 1
-
-
-def catenary_parameter(span: float, length: float) -> float:
-    """a = H/w of the inextensible catenary of `length` between points level `span` apart."""
-    return brentq(lambda a: 2 * a * np.sinh(span / (2 * a)) - length, 1.0, 1e4, xtol=1e-14)
 
 
 @pytest.fixture(scope="module")

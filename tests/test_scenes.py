@@ -29,6 +29,7 @@ from scipy.io import netcdf_file
 from scipy.optimize import fsolve
 
 import jaxcable as jc
+from helpers import ElasticCatenary
 from jaxcable import examples
 from jaxcable._cli import main
 
@@ -286,46 +287,6 @@ def test_statics_node_balance(name, runs):
     free, constrained = np.asarray(model.free_nodes), np.asarray(model.constrained_nodes)
     np.testing.assert_allclose(forces[free], 0.0, rtol=0, atol=1e-7 * scale)
     np.testing.assert_allclose(np.asarray(run.static.reactions), -forces[constrained], rtol=0, atol=1e-7 * scale)
-
-
-class ElasticCatenary:
-    """Irvine's elastic catenary from A to B (unstretched length L, wet weight w per
-    unstretched length, tension law C_E ε + C_E1 ε²), in the vertical plane of A and B.
-
-    With H the horizontal tension and V_A the vertical component at A (upwards along
-    the line from A), the tension at arc s from A has components (H, V_A + w s), and
-    the position is `∫₀ˢ (1 + ε(T)) (H, V) / T ds'`. The integrals are done by
-    Gauss–Legendre on 64 points, exact for these smooth integrands to rounding.
-    """
-
-    def __init__(self, length, w, ea, ea1, span, rise, guess):
-        self.length, self.w, self.ea, self.ea1 = length, w, ea, ea1
-        self.nodes, self.weights = np.polynomial.legendre.leggauss(64)
-        solution, info, ok, message = fsolve(
-            lambda p: np.array(self.position(self.length, *p)) - [span, rise], guess, full_output=True, xtol=1e-13
-        )
-        assert ok == 1, message
-        self.horizontal, self.vertical = solution
-
-    def tension(self, s, horizontal=None, vertical=None):
-        h = self.horizontal if horizontal is None else horizontal
-        v = self.vertical if vertical is None else vertical
-        return np.hypot(h, v + self.w * s)
-
-    def strain(self, tension):
-        if self.ea1 == 0:
-            return tension / self.ea
-        return (-self.ea + np.sqrt(self.ea**2 + 4 * self.ea1 * tension)) / (2 * self.ea1)
-
-    def position(self, s, horizontal=None, vertical=None):
-        h = self.horizontal if horizontal is None else horizontal
-        v = self.vertical if vertical is None else vertical
-        arc = 0.5 * s * (self.nodes + 1)
-        t = self.tension(arc, h, v)
-        stretch = 1 + self.strain(t)
-        x = 0.5 * s * np.sum(self.weights * stretch * h / t)
-        z = 0.5 * s * np.sum(self.weights * stretch * (v + self.w * arc) / t)
-        return x, z
 
 
 STILL_WATER = [n for n in CALM if not np.any(water(toml(n))[2])]
