@@ -8,7 +8,7 @@ by default; MoorDyn's switch is sharp). The MoorDyn v2 input is generated from t
 model (`moordyn_input`): the line type's d, m, EA, BA = 0 (seed 003 has no internal
 damping; MoorDyn 2.7.2 accepts 0), Cd, Ca, CdAx, CaAx copied from jaxcable's
 coefficients (both refer Cd to d·l, CdAx to π·d·l and Ca, CaAx to π d²/4; see
-`jaxcable/_moordyn.py`), a fixed anchor and a coupled fairlead, and MoorDyn's
+`jaxcable/io/_moordyn.py`), a fixed anchor and a coupled fairlead, and MoorDyn's
 explicit midpoint scheme (`tScheme RK2`). The water depth is set 100 m below the
 anchor so that nothing touches MoorDyn's seabed (jaxcable's scene has none).
 
