@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable._sweep import sweep, sweep_grid
+from jaxcable import sweep, sweep_grid
 from jaxcable.examples import seed003_line
 
 T1 = 1.0
@@ -108,7 +108,7 @@ _SHARDED = textwrap.dedent(
     import equinox as eqx
     import jax
     import numpy as np
-    from jaxcable._sweep import sweep
+    from jaxcable import sweep
     from jaxcable.examples import seed003_line
 
     assert len(jax.devices()) == 2, jax.devices()

@@ -8,7 +8,7 @@ import pytest
 from scipy.optimize import brentq
 
 import jaxcable as jc
-from jaxcable._waves import airy_wavenumber
+from jaxcable import airy_wavenumber
 
 G = 9.81
 
