@@ -1,13 +1,13 @@
 """Calibration cost: a gradient and a whole fit against one forward simulation, and how
 both grow with the record's length.
 
-Two record sets, each of synthetic records with 2 % noise (`jaxcable.synthetic_record`):
+Two record sets, each of synthetic records with 2 % noise (`jaxcable.calibration.synthetic_record`):
 
-- `horizontal`: two tows on `jaxcable.HorizontalTow` (100 m of the default armoured
+- `horizontal`: two tows on `jaxcable.calibration.HorizontalTow` (100 m of the default armoured
     cable in `--segments` segments, EA = 2e6 N, C_v = 5e3 N·s): a 100 kg depressor and a
     light cable on a drogue (the axial-flow case), each stepping 1 -> 2 m/s over 3 s a
     third of the way in. Fits K_n and K_τ.
-- `vertical`: three vertical tows on `jaxcable.VerticalTow` (leader lifts 160, 220 and
+- `vertical`: three vertical tows on `jaxcable.calibration.VerticalTow` (leader lifts 160, 220 and
     300 N). Fits k₀.
 
 For each record length the script times, on the whole set (records vmapped):
@@ -76,23 +76,23 @@ def parse():
 def records_for(name, length, interval, segments, seed=0):
     import numpy as np
 
-    import jaxcable as jc
+    from jaxcable.calibration import HorizontalTow, VerticalTow, synthetic_record
 
     times = np.arange(0.0, length + interval / 2, interval)
     if name == "vertical":
-        rigs = [jc.VerticalTow(leader_lift=lift) for lift in (160.0, 220.0, 300.0)]
-        records = [jc.synthetic_record(r, times, seed=seed + k, name=f"lift {k}") for k, r in enumerate(rigs)]
+        rigs = [VerticalTow(leader_lift=lift) for lift in (160.0, 220.0, 300.0)]
+        records = [synthetic_record(r, times, seed=seed + k, name=f"lift {k}") for k, r in enumerate(rigs)]
         return records, ("specific_drag",)
     small = dict(cable_length=100.0, segments=segments, cable_axial_stiffness=2e6, cable_axial_damping=5e3)
     neutral = 1025.0 * math.pi * 0.0173**2 / 4
     rigs = [
-        jc.HorizontalTow(**small, end_mass=100.0, end_volume=0.015, end_drag_area=0.1),
-        jc.HorizontalTow(**small, cable_mass_per_length=1.05 * neutral, end_mass=2.0, end_volume=0.0015,
-                         end_drag_area=0.05),
+        HorizontalTow(**small, end_mass=100.0, end_volume=0.015, end_drag_area=0.1),
+        HorizontalTow(**small, cable_mass_per_length=1.05 * neutral, end_mass=2.0, end_volume=0.0015,
+                      end_drag_area=0.05),
     ]
     speed = np.interp(times, [0.0, length / 3, length / 3 + 3.0, length], [1.0, 1.0, 2.0, 2.0])
     records = [
-        jc.synthetic_record(r, times, {"speed": speed}, seed=seed + k, name=f"tow {k}") for k, r in enumerate(rigs)
+        synthetic_record(r, times, {"speed": speed}, seed=seed + k, name=f"tow {k}") for k, r in enumerate(rigs)
     ]
     return records, ("normal_drag", "tangential_drag")
 
@@ -114,7 +114,7 @@ def main():
     for name in args.sets:
         for length in args.lengths:
             records, names = records_for(name, length, args.sample_interval, args.segments)
-            problem, _ = _calibrate._problem(records, names, jc.calibration_solver())
+            problem, _ = _calibrate._problem(records, names, jc.calibration.calibration_solver())
             start = np.log(np.array([2 * TRUTH[n] for n in names]))
             loss = eqx.filter_jit(problem.loss)
             # The solver's adjoint is calibrate's gradient mode.
@@ -206,7 +206,7 @@ def linear_draws(name, length, args, names):
 
     truth = np.log(np.array([TRUTH[n] for n in names]))
     records, _ = records_for(name, length, args.sample_interval, args.segments, seed=100)
-    problem, _ = _calibrate._problem(records, names, jc.calibration_solver())
+    problem, _ = _calibrate._problem(records, names, jc.calibration.calibration_solver())
     _, _, (jacobian, _, _) = _calibrate._evaluate(truth, problem)
     jacobian = np.asarray(jacobian)
     inner = np.linalg.inv(jacobian.T @ jacobian)
@@ -215,7 +215,7 @@ def linear_draws(name, length, args, names):
     errors, sigmas = [], []
     for draw in range(args.linear_draws):
         records, _ = records_for(name, length, args.sample_interval, args.segments, seed=100 + 10 * draw)
-        problem, _ = _calibrate._problem(records, names, jc.calibration_solver())
+        problem, _ = _calibrate._problem(records, names, jc.calibration.calibration_solver())
         r = np.asarray(residuals_at(problem))
         noise = np.repeat(np.sqrt(np.mean(r.reshape(-1, blocks) ** 2, axis=1)), blocks)
         noisy = jacobian * noise[:, None]

@@ -323,7 +323,7 @@ def segments_study(args):
     import numpy as np
 
     import jaxcable as jc
-    from jaxcable._simulate import vector_field
+    from jaxcable.equations import vector_field
     from jaxcable.examples import seed003_line
 
     duration = args.duration or 0.2

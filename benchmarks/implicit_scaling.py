@@ -35,7 +35,7 @@ import numpy as np
 import optimistix as optx
 
 import jaxcable as jc
-from jaxcable._simulate import vector_field
+from jaxcable.equations import vector_field
 from jaxcable.examples import seed003_line
 
 from _results import append_session

@@ -32,7 +32,7 @@ def jaxcable_statics(path: Path, max_segments: int) -> dict:
         warnings.simplefilter("ignore")
         try:
             scene = jc.read_moordyn(path)
-        except jc.SceneError as error:
+        except jc.io.SceneError as error:
             return {"status": "rejected", "message": str(error).split(": ", 1)[-1]}
     segments = sum(line.segments for line in scene.lines)
     notes = " ".join(scene.notes)

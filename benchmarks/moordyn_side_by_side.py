@@ -8,7 +8,7 @@ by default; MoorDyn's switch is sharp). The MoorDyn v2 input is generated from t
 model (`moordyn_input`): the line type's d, m, EA, BA = 0 (seed 003 has no internal
 damping; MoorDyn 2.7.2 accepts 0), Cd, Ca, CdAx, CaAx copied from jaxcable's
 coefficients (both refer Cd to d·l, CdAx to π·d·l and Ca, CaAx to π d²/4; see
-`jaxcable/_moordyn.py`), a fixed anchor and a coupled fairlead, and MoorDyn's
+`jaxcable/io/_moordyn.py`), a fixed anchor and a coupled fairlead, and MoorDyn's
 explicit midpoint scheme (`tScheme RK2`). The water depth is set 100 m below the
 anchor so that nothing touches MoorDyn's seabed (jaxcable's scene has none).
 
@@ -351,7 +351,7 @@ def part_check(args) -> dict:
     model, env = scene(args.slack_width)
     static = jc.solve_statics(model, env)
     fairlead = np.asarray(model.node_positions[1])
-    amplitude = float(jc.seed003_amplitude(PERIOD))
+    amplitude = float(jc.examples.seed003_amplitude(PERIOD))
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "seed003.txt"
         path.write_text(moordyn_input(model, env, 1e-3))
@@ -422,7 +422,7 @@ def part_work_precision(args) -> dict:
     model, env = scene(args.slack_width)
     static = jc.solve_statics(model, env)
     fairlead = np.asarray(model.node_positions[1])
-    amplitude = float(jc.seed003_amplitude(PERIOD))
+    amplitude = float(jc.examples.seed003_amplitude(PERIOD))
     duration = args.duration
     record = {"settings": {k: getattr(args, k) for k in (
         "slack_width", "duration", "window", "history_duration", "reference_tol", "dtm", "tols", "midpoint_dts", "repeats", "levels")}}
@@ -611,7 +611,7 @@ def part_sweep(args) -> dict:
     model, env = scene(args.slack_width)
     static = jc.solve_statics(model, env)
     fairlead = np.asarray(model.node_positions[1])
-    base = float(jc.seed003_amplitude(PERIOD))
+    base = float(jc.examples.seed003_amplitude(PERIOD))
     wavelength = float(env.gravity) * PERIOD**2 / (2 * np.pi)
     steepness = 2 * base / wavelength * np.linspace(args.span[0], args.span[1], args.cases)
     amplitudes = steepness * wavelength / 2

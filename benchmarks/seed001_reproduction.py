@@ -1,6 +1,6 @@
 """Seed 001 reproduced in full: Zhukov's growing element free and tethered in a wave.
 
-The studies of `jaxcable.examples._seed001_study` at the `FULL` size (60 wave periods of
+The studies of `studies.seed001` at the `FULL` size (60 wave periods of
 4 s, 20 of them settling, output at 144 samples a period):
 
 1. the free element over k₀ = 0.5 … 5000 s²/m² (St = 1.2 … 1.2e-4): its drift against
@@ -19,6 +19,7 @@ benchmarks/results/seed001_reproduction_*.png. Each study's time includes its co
 
 import argparse
 import json
+import sys
 from pathlib import Path
 
 import matplotlib
@@ -27,8 +28,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from jaxcable.examples import _seed001_study as s1  # noqa: E402
-from jaxcable.examples._seed001 import SPECIFIC_DRAG  # noqa: E402
+# The paper studies live in the repository's `studies/` folder, not in the package.
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from studies import seed001 as s1  # noqa: E402
+from jaxcable.examples.seed001 import SPECIFIC_DRAG  # noqa: E402
 
 from _results import append_session  # noqa: E402
 

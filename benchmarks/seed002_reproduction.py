@@ -1,6 +1,6 @@
 """Seed 002 reproduced in full: Bezverkhyy & Korniienko's towed trawl and moored net.
 
-The studies of `jaxcable.examples._seed002_study` and `_seed002_net` at the `FULL` size:
+The studies of `studies.seed002` and `studies.seed002_net` at the `FULL` size:
 
 1. the towed trawl (20 segments on the tow cable, 10 on each branch) through seven speed
    steps at t = 300 s, run to t = 400 s (the falls and the elastic rise to 330 s): the
@@ -19,6 +19,7 @@ benchmarks/results/seed002_reproduction_*.png. Each run's time includes its comp
 
 import argparse
 import json
+import sys
 import time
 from pathlib import Path
 
@@ -27,8 +28,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from jaxcable.examples import _seed002_net_study as s2n  # noqa: E402
-from jaxcable.examples import _seed002_study as s2  # noqa: E402
+# The paper studies live in the repository's `studies/` folder, not in the package.
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from studies import seed002_net as s2n  # noqa: E402
+from studies import seed002 as s2  # noqa: E402
 
 from _results import append_session  # noqa: E402
 

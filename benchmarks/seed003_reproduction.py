@@ -3,7 +3,7 @@
 Bezverkhyy & Korniienko's anchored line (H = 200 m, m = 3 kg/m, F = 0.0003 m²,
 C_n = 15.6, C_τ = 0.78, C_a = 0.4, T_w = 5.6 s, A = 1.573 m) at α = 30°, 45°, 60° with
 C_E1/C_E = 0, 0.05, 0.1, 0.2, read over t = 30–48 s as in their Figs. 2–5
-(`jaxcable.examples._seed003_study`). Each case starts from static equilibrium.
+(`studies.seed003`). Each case starts from static equilibrium.
 
 1. The main study at C_E = 3e7 N (`FULL`: 20 segments, lumped mass, Dopri5 at
    rtol = atol = 1e-8, tension sampled at 200 Hz in the window).
@@ -23,6 +23,7 @@ import argparse
 import json
 import os
 import platform
+import sys
 import time
 from pathlib import Path
 
@@ -33,7 +34,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from jaxcable.examples._seed003_study import (  # noqa: E402
+# The paper studies live in the repository's `studies/` folder, not in the package.
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from studies.seed003 import (  # noqa: E402
     ANGLES,
     FULL,
     RATIOS,

@@ -64,6 +64,7 @@ import numpy as np
 import optimistix as optx
 
 import jaxcable as jc
+from jaxcable.equations import kinetic_energy, potential_energy
 from jaxcable.examples import seed003_line
 
 from _results import append_session
@@ -176,7 +177,7 @@ def build(config):
 @eqx.filter_jit
 def total_energy(model, env, positions, velocities):
     """K + Π (J) at each output time."""
-    return jax.vmap(lambda p, v: jc.kinetic_energy(model, env, p, v) + jc.potential_energy(model, env, p))(
+    return jax.vmap(lambda p, v: kinetic_energy(model, env, p, v) + potential_energy(model, env, p))(
         positions, velocities
     )
 

@@ -27,7 +27,7 @@ import jax
 import numpy as np
 
 import jaxcable as jc
-from jaxcable._simulate import vector_field
+from jaxcable.equations import vector_field
 from jaxcable.examples import seed003_line
 
 from _results import append_session

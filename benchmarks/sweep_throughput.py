@@ -75,7 +75,7 @@ def main():
     import numpy as np
 
     import jaxcable as jc
-    from jaxcable._sweep import sweep
+    from jaxcable import sweep
     from jaxcable.examples import seed003_amplitude, seed003_line
 
     base_model, env = seed003_line(args.segments, mass_matrix=args.mass_matrix)

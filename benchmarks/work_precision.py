@@ -25,7 +25,7 @@ tighter tolerance: that difference is the reference's own error floor.
 Methods: adaptive ones over rtol = atol (1e-3 ... 1e-8), fixed-step ones (diffrax's
 Heun and Midpoint, the RK2 MoorDyn uses, and seed 001's Picard iteration) over steps
 dt = c / |λ|, c = 2 ... 1/16, |λ| the fastest axial eigenvalue (ω_n = 2 √(EA/m) / l, or
-larger where the axial damping is over critical; `jaxcable._advice.stiffest_axial_mode`).
+larger where the axial damping is over critical; `jaxcable.equations.stiffest_axial_mode`).
 A method's sweep stops when a run took more than a third of `--time-cap` (the next,
 tighter one would likely exceed it); skipped points are recorded as such. Runs that fail
 (more steps than `--max-steps`, or `--implicit-max-steps` for implicit methods; step
@@ -55,7 +55,7 @@ import equinox as eqx
 import numpy as np
 
 import jaxcable as jc
-from jaxcable._advice import stiffest_axial_mode
+from jaxcable.equations import stiffest_axial_mode
 from jaxcable.examples import seed003_line
 
 from _results import append_session

@@ -13,7 +13,7 @@ coefficients' covariance is the Gauss–Newton sandwich `A⁻¹ B A⁻¹`, with
 `A = Jᵀ J` and `B = Jᵀ diag(σ²) J` for the scaled residuals' Jacobian `J` (taken in
 forward mode). It is the covariance of the estimator the fit uses, whatever the series'
 noise levels; where they are proportional to the series' RMS, as in
-[`jaxcable.synthetic_record`][], it is also the smallest attainable, `(Jᵀ diag(σ⁻²) J)⁻¹`.
+[`jaxcable.calibration.synthetic_record`][], it is also the smallest attainable, `(Jᵀ diag(σ⁻²) J)⁻¹`.
 (Weighting by the optimum's `1/σ²` while fitting with a common scale per observable
 understated the spread of 16 refits on fresh noise 2.4-fold, measured.) A coefficient
 whose uncertainty is large, or that is strongly correlated with another, is flagged:
@@ -151,7 +151,7 @@ def synthetic_record(
 
     - `rig`: the rig, with the true coefficients.
     - `times`: sample times (s), shape `(samples,)`, strictly increasing.
-    - `inputs`: the rig's inputs at `times` (for [`jaxcable.HorizontalTow`][], the
+    - `inputs`: the rig's inputs at `times` (for [`jaxcable.calibration.HorizontalTow`][], the
         tow speed `"speed"` in m/s).
     - `noise`: the relative noise level; 0 for exact data.
     - `seed`: the random seed.
@@ -162,7 +162,7 @@ def synthetic_record(
 
     **Returns:**
 
-    A [`jaxcable.TowingRecord`][] whose conditions describe the rig (`rig.conditions()`).
+    A [`jaxcable.io.TowingRecord`][] whose conditions describe the rig (`rig.conditions()`).
 
     **Raises:**
 
@@ -221,8 +221,8 @@ def calibrate(
 
     **Arguments:**
 
-    - `tests`: the records, each either a [`jaxcable.TowingRecord`][] whose header names
-        its rig (see [`jaxcable.rig_from_conditions`][]), or a pair `(rig, record)`.
+    - `tests`: the records, each either a [`jaxcable.io.TowingRecord`][] whose header names
+        its rig (see [`jaxcable.calibration.rig_from_conditions`][]), or a pair `(rig, record)`.
         All are fitted jointly.
     - `start`: the coefficients to fit, by name (`"normal_drag"` K_n,
         `"tangential_drag"` K_τ, `"specific_drag"` k₀), with their starting values.

@@ -10,7 +10,7 @@
 
 INPUT is a jaxcable scene (`.toml`), a MoorDyn v2 input file (any other suffix), or the
 name of a bundled example scene (see `jaxcable examples`). A RECORD is a towing record
-(CSV, see `jaxcable.read_record`) whose header names its rig.
+(CSV, see `jaxcable.io.read_record`) whose header names its rig.
 """
 
 import argparse
@@ -25,16 +25,14 @@ import jax
 import numpy as np
 import optax
 
-from . import _output as output
 from ._advice import advise
 from ._calibrate import calibrate, calibration_solver, default_optimizer
 from ._config import SOLVERS
 from ._motion import Harmonic, Sampled
-from ._motion_file import read_motion_file
-from ._records import read_records
-from ._run import load_scene, run_scene
-from ._scene import Scene, SceneError
 from .examples import scene_path, scene_names
+from .io import Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
+from .io._channels import default_channels, parse_channel
+from .io._run import load_scene, run_scene
 
 OPTIMIZERS = {"lbfgs": lambda learning_rate: default_optimizer(), "adam": optax.adam}
 """The `calibrate` command's optimizers by name, each made from `--learning-rate` (which
@@ -142,8 +140,8 @@ def _run(args) -> int:
         print(f"note: {note}", file=sys.stderr)
     print(f"{Path(scene.source).name}" + (f": {scene.title}" if scene.title else ""))
     channels = tuple(args.channels or ())
-    for name in channels or output.default_channels(scene):
-        output.parse_channel(name, scene)  # fail now, not after the simulation
+    for name in channels or default_channels(scene):
+        parse_channel(name, scene)  # fail now, not after the simulation
     settings = scene.run if args.solver is None else dataclasses.replace(scene.run, solver=args.solver)
     run = run_scene(
         scene, duration=duration, dt_out=args.dt_out, solver=settings.solver_config(), progress=not args.no_progress
@@ -155,10 +153,10 @@ def _run(args) -> int:
     for note in run.notes:
         print(f"warning: {note}", file=sys.stderr)
     if args.out is not None:
-        output.write(args.out, run, channels)
+        write_output(args.out, run, channels)
         print(f"wrote {args.out}")
     if args.plot is not None:
-        from ._plots import plot_run
+        from .plot import plot_run
 
         plot_run(run, args.plot, tuple(c for c in channels if not c.upper().endswith(("PX", "PY", "PZ"))))
         print(f"wrote {args.plot}")
@@ -225,7 +223,7 @@ def _info(args) -> int:
     for note in scene.notes:
         print(f"  {note}")
     print("advice:")
-    for line in advise(built, duration=duration).lines():
+    for line in advice_lines(advise(built, duration=duration)):
         print(f"  {line}")
     return 0
 
@@ -284,7 +282,7 @@ def _calibrate(args) -> int:
         args.out.write_text(json.dumps(summary, indent=2) + "\n")
         print(f"wrote {args.out}")
     if args.plot is not None:
-        from ._plots import plot_calibration
+        from .plot import plot_calibration
 
         plot_calibration(result, args.plot)
         print(f"wrote {args.plot}")

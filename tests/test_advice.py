@@ -12,10 +12,11 @@ import scipy.special
 from scipy.optimize import brentq
 
 import jaxcable as jc
+from helpers import catenary_parameter
 from jaxcable import _lagrangian as lag
+from jaxcable.io import advice_lines
 from jaxcable._advice import (
     STABLE_STEP,
-    advice,
     advise,
     polyline_curvature,
     seabed_mode,
@@ -25,17 +26,17 @@ from jaxcable._advice import (
 )
 
 
-def taut_line(mass_matrix: str, damping_ratio: float = 0.0) -> jc.BuiltScene:
+def taut_line(mass_matrix: str, damping_ratio: float = 0.0) -> jc.io.BuiltScene:
     # A straight, stretched line between two anchors: its fastest mode is axial.
-    rope = jc.LineTypeSpec("rope", mass_per_length=2.0, diameter=0.02, axial_stiffness=4e6,
+    rope = jc.io.LineTypeSpec("rope", mass_per_length=2.0, diameter=0.02, axial_stiffness=4e6,
                            axial_damping_ratio=damping_ratio, tangential_added_mass=0.5)
-    points = (jc.PointSpec("a", "fixed", (0.0, 0.0, -50.0)), jc.PointSpec("b", "fixed", (101.0, 0.0, -50.0)))
-    lines = (jc.LineSpec("1", "rope", 0, 1, 100.0, 20),)
-    scene = jc.Scene(points, (rope,), lines, run=jc.RunSettings(mass_matrix=mass_matrix))
+    points = (jc.io.PointSpec("a", "fixed", (0.0, 0.0, -50.0)), jc.io.PointSpec("b", "fixed", (101.0, 0.0, -50.0)))
+    lines = (jc.io.LineSpec("1", "rope", 0, 1, 100.0, 20),)
+    scene = jc.io.Scene(points, (rope,), lines, run=jc.io.RunSettings(mass_matrix=mass_matrix))
     return scene.build()
 
 
-def largest_eigenvalue(built: jc.BuiltScene) -> float:
+def largest_eigenvalue(built: jc.io.BuiltScene) -> float:
     """|λ|max of the first-order system linearised about the equilibrium at rest."""
     model, env = built.model, built.environment
     static = jc.solve_statics(model, env)
@@ -71,7 +72,7 @@ def test_advice_counts_steps_from_the_bound():
     m = 2.0 + 1025.0 * np.pi * 0.01**2 * 0.5
     np.testing.assert_allclose(omega, 2 * np.sqrt(4e6 / m) / 5.0, rtol=1e-12)
     assert magnitude == omega
-    text = " ".join(advice(built, 10.0))
+    text = " ".join(advice_lines(advise(built, duration=10.0)))
     assert f"~{int(np.ceil(10.0 / (STABLE_STEP / magnitude))):,} steps" in text
 
 
@@ -157,7 +158,7 @@ def test_keulegan_carpenter_number_and_inertia_ratio_by_hand():
     # r = π² C_M / (K_n KC) for a solid round section, C_M = 1 + C_a = 2.
     np.testing.assert_allclose(check.inertia_ratio, np.pi**2 * 2 / (1.2 * u * period / d), rtol=1e-6)
     assert check.regime == "drag" and thin.drag_dominates is True
-    assert any("fluid_inertia = false" in line for line in thin.lines())
+    assert any("fluid_inertia = false" in line for line in advice_lines(thin))
 
     # A 1 m pipe with a 0.5 m³ buoy on it: KC ≈ 10, inertia matters.
     d, volume = 1.0, 0.5
@@ -172,7 +173,7 @@ def test_keulegan_carpenter_number_and_inertia_ratio_by_hand():
     u_body = np.pi * height / period * np.cosh(k * (z_body + depth)) / np.sinh(k * depth)
     np.testing.assert_allclose(buoy.speed, u_body, rtol=1e-6)
     np.testing.assert_allclose(buoy.inertia_ratio, 4 * np.pi * volume * 1.5 / (0.3 * u_body * period), rtol=1e-6)
-    assert not any("fluid_inertia = false" in line for line in thick.lines())
+    assert not any("fluid_inertia = false" in line for line in advice_lines(thick))
     # The body splits the line into two chains of the graph.
     assert [d.segments for d in thick.discretisation] == [4, 4]
 
@@ -198,11 +199,6 @@ def test_polyline_curvature_of_a_circle_and_the_segments_it_needs():
     assert segments_needed(length, 1 / radius, tolerance) == 8
     assert radius * (1 - np.cos(step / 2)) < np.sqrt(2) / 8 * chord**2 / radius
     assert segments_needed(length, 0.0, tolerance) == 1
-
-
-def catenary_parameter(span: float, length: float) -> float:
-    """a = H/w of the inextensible catenary of `length` between points level `span` apart."""
-    return brentq(lambda a: 2 * a * np.sinh(span / (2 * a)) - length, 1.0, 1e4, xtol=1e-14)
 
 
 @pytest.fixture(scope="module")
@@ -271,7 +267,7 @@ def test_slack_when_the_support_moves_past_the_stretch():
     result = advise(*taut_weightless_line(2.0))
     towards = [c for c in result.slack if c.displacement[0] < 0]
     assert len(towards) == 1 and towards[0].slack and result.slack_expected is True
-    assert any("slack expected" in line for line in result.lines())
+    assert any("slack expected" in line for line in advice_lines(result))
 
 
 def test_no_slack_when_the_support_moves_less_than_the_stretch():

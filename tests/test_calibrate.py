@@ -14,6 +14,7 @@ import optax
 import pytest
 
 import jaxcable as jc
+from jaxcable.calibration import HorizontalTow, VerticalTow, synthetic_record
 
 TRUTH = {"normal_drag": 1.2, "tangential_drag": 0.01, "specific_drag": 0.5}
 START = {name: 2 * value for name, value in TRUTH.items()}
@@ -25,13 +26,13 @@ NEUTRAL = 1025.0 * math.pi * 0.0173**2 / 4  # kg/m: the default cable's displace
 
 
 def depressor(**kw):
-    return jc.HorizontalTow(**SMALL_TOW, end_mass=100.0, end_volume=0.015, end_drag_area=0.1, **kw)
+    return HorizontalTow(**SMALL_TOW, end_mass=100.0, end_volume=0.015, end_drag_area=0.1, **kw)
 
 
 def streamer():
     # Nearly neutral, with a small drogue: the cable streams almost along the flow,
     # so its tension is mostly tangential drag.
-    return jc.HorizontalTow(
+    return HorizontalTow(
         **SMALL_TOW, cable_mass_per_length=1.05 * NEUTRAL, end_mass=2.0, end_volume=0.0015, end_drag_area=0.05
     )
 
@@ -44,7 +45,7 @@ def within(result, name, tolerance):
 @pytest.fixture(scope="module")
 def vertical_records():
     return [
-        jc.synthetic_record(jc.VerticalTow(leader_lift=lift), np.linspace(0.0, 20.0, 101), seed=i, name=f"lift {lift} N")
+        synthetic_record(VerticalTow(leader_lift=lift), np.linspace(0.0, 20.0, 101), seed=i, name=f"lift {lift} N")
         for i, lift in enumerate([160.0, 220.0, 300.0])
     ]
 
@@ -57,8 +58,8 @@ def k0_fit(vertical_records):
 @pytest.fixture(scope="module")
 def axial_fit():
     records = [
-        jc.synthetic_record(depressor(), TIMES, {"speed": STEP_UP}, seed=10, name="depressor"),
-        jc.synthetic_record(streamer(), TIMES, {"speed": STEP_UP}, seed=11, name="streamer"),
+        synthetic_record(depressor(), TIMES, {"speed": STEP_UP}, seed=10, name="depressor"),
+        synthetic_record(streamer(), TIMES, {"speed": STEP_UP}, seed=11, name="streamer"),
     ]
     start = {k: START[k] for k in ("normal_drag", "tangential_drag")}
     return jc.calibrate(records, start, progress=False)
@@ -67,8 +68,8 @@ def axial_fit():
 @pytest.fixture(scope="module")
 def depressor_fit():
     records = [
-        jc.synthetic_record(depressor(), TIMES, {"speed": STEP_UP}, seed=20, name="depressor up"),
-        jc.synthetic_record(depressor(end_added_mass=0.5), TIMES, {"speed": STEP_DOWN}, seed=21, name="depressor down"),
+        synthetic_record(depressor(), TIMES, {"speed": STEP_UP}, seed=20, name="depressor up"),
+        synthetic_record(depressor(end_added_mass=0.5), TIMES, {"speed": STEP_DOWN}, seed=21, name="depressor down"),
     ]
     start = {k: START[k] for k in ("normal_drag", "tangential_drag")}
     with pytest.warns(UserWarning, match="tangential_drag .* is poorly identified"):
@@ -125,11 +126,11 @@ def test_gradient_matches_central_differences():
     times = np.linspace(0.0, 10.0, 41)
     speed = np.interp(times, [0.0, 4.0, 6.0, 10.0], [1.0, 1.0, 2.0, 2.0])
     records = [
-        jc.synthetic_record(depressor(), times, {"speed": speed}, seed=0, name="h"),
-        jc.synthetic_record(jc.VerticalTow(leader_lift=200.0), times, seed=1, name="v"),
+        synthetic_record(depressor(), times, {"speed": speed}, seed=0, name="h"),
+        synthetic_record(VerticalTow(leader_lift=200.0), times, seed=1, name="v"),
     ]
     names = ("normal_drag", "tangential_drag", "specific_drag")
-    problem, _ = _calibrate._problem(records, names, jc.rig_solver(rtol=1e-10, atol=1e-10))
+    problem, _ = _calibrate._problem(records, names, jc.calibration.rig_solver(rtol=1e-10, atol=1e-10))
     log_values = np.log(np.array([1.5, 0.015, 0.7]))
     loss = eqx.filter_jit(problem.loss)
     step = 1e-4
@@ -158,7 +159,7 @@ def test_gradient_matches_central_differences():
     ],
 )
 def test_calibrate_rejects_bad_arguments(change, message):
-    record = jc.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, conditions={"rig": "vertical_tow"})
+    record = jc.io.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, conditions={"rig": "vertical_tow"})
     arguments = dict(tests=[record], start={"specific_drag": 1.0})
     arguments.update(change)
     with pytest.raises(ValueError, match=message):
@@ -166,13 +167,13 @@ def test_calibrate_rejects_bad_arguments(change, message):
 
 
 def test_calibrate_rejects_records_that_do_not_fit_their_rig():
-    no_speed = jc.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, name="tow.csv")
+    no_speed = jc.io.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, name="tow.csv")
     with pytest.raises(ValueError, match=r"tow.csv has no 'speed' column, which HorizontalTow needs as input"):
         jc.calibrate([(depressor(), no_speed)], {"normal_drag": 1.0}, progress=False)
-    speed_only = jc.TowingRecord(times=[0.0, 1.0], columns={"speed": [1.0, 1.0]}, name="tow.csv")
+    speed_only = jc.io.TowingRecord(times=[0.0, 1.0], columns={"speed": [1.0, 1.0]}, name="tow.csv")
     with pytest.raises(ValueError, match=r"tow.csv measures none of HorizontalTow's observables"):
         jc.calibrate([(depressor(), speed_only)], {"normal_drag": 1.0}, progress=False)
-    headless = jc.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, name="tow.csv")
+    headless = jc.io.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, name="tow.csv")
     with pytest.raises(ValueError, match=r"tow.csv: no 'rig' in the header"):
         jc.calibrate([headless], {"specific_drag": 1.0}, progress=False)
     with pytest.raises(ValueError, match=r"tests\[0\] must pair a towing rig with a record"):
@@ -180,11 +181,11 @@ def test_calibrate_rejects_records_that_do_not_fit_their_rig():
 
 
 def test_synthetic_noise_follows_its_stated_model():
-    rig = jc.VerticalTow(leader_lift=250.0)
+    rig = VerticalTow(leader_lift=250.0)
     times = np.linspace(0.0, 10.0, 2001)
-    clean = jc.synthetic_record(rig, times, noise=0.0)
-    noisy = jc.synthetic_record(rig, times, noise=0.02, seed=3)
-    again = jc.synthetic_record(rig, times, noise=0.02, seed=3)
+    clean = synthetic_record(rig, times, noise=0.0)
+    noisy = synthetic_record(rig, times, noise=0.02, seed=3)
+    again = synthetic_record(rig, times, noise=0.02, seed=3)
     for name in rig.observables:
         rms = np.sqrt(np.mean(clean.columns[name] ** 2))
         deviation = noisy.columns[name] - clean.columns[name]
@@ -193,11 +194,11 @@ def test_synthetic_noise_follows_its_stated_model():
         np.testing.assert_array_equal(noisy.columns[name], again.columns[name])
     assert clean.conditions == rig.conditions()
     with pytest.raises(ValueError, match=r"VerticalTow has no observable 'depth'"):
-        jc.synthetic_record(rig, times, observables=["depth"])
+        synthetic_record(rig, times, observables=["depth"])
     with pytest.raises(ValueError, match=r"HorizontalTow needs input 'speed'"):
-        jc.synthetic_record(depressor(), times)
+        synthetic_record(depressor(), times)
     with pytest.raises(ValueError, match=r"noise must be non-negative, got -0.1"):
-        jc.synthetic_record(rig, times, noise=-0.1)
+        synthetic_record(rig, times, noise=-0.1)
 
 
 def test_command_line_calibrate(vertical_records, tmp_path, capsys):
@@ -208,7 +209,7 @@ def test_command_line_calibrate(vertical_records, tmp_path, capsys):
     paths = []
     for k, record in enumerate(vertical_records):
         paths.append(tmp_path / f"tow{k}.csv")
-        jc.write_record(paths[-1], record, units={"tension": "kN"})
+        jc.io.write_record(paths[-1], record, units={"tension": "kN"})
     out, plot = tmp_path / "fit.json", tmp_path / "fit.png"
     status = main(["calibrate", *map(str, paths), "--fit", "specific_drag=1.0", "--no-progress",
                    "--out", str(out), "--plot", str(plot)])

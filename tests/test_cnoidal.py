@@ -35,8 +35,7 @@ import numpy as np
 import pytest
 from scipy import optimize, special
 
-from jaxcable._cnoidal import Cnoidal, cnoidal_coefficients
-from jaxcable._waves import AbstractWave, Airy
+from jaxcable import AbstractWave, Airy, Cnoidal, cnoidal_coefficients
 
 G = 9.81
 SAMPLES = 2048

@@ -25,6 +25,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
+from helpers import chain_nodes
 from jaxcable import _lagrangian as lagrangian
 
 RHO, G = 1025.0, 9.81
@@ -33,14 +34,9 @@ ENV = jc.Environment(water_density=RHO, gravity=G)
 
 def energy(model, env, result):
     """E = K + Π at every output time, from jaxcable's public energy functions."""
-    kinetic = jax.vmap(lambda x, v: jc.kinetic_energy(model, env, x, v))(result.positions, result.velocities)
-    potential = jax.vmap(lambda x: jc.potential_energy(model, env, x))(result.positions)
+    kinetic = jax.vmap(lambda x, v: jc.equations.kinetic_energy(model, env, x, v))(result.positions, result.velocities)
+    potential = jax.vmap(lambda x: jc.equations.potential_energy(model, env, x))(result.positions)
     return np.asarray(kinetic + potential), np.asarray(kinetic)
-
-
-def chain_nodes(n_segments):
-    """Node indices along a single branch 0 → 1 built by `from_branches`."""
-    return np.concatenate([[0], np.arange(2, n_segments + 1), [1]])
 
 
 # ---------------------------------------------------------------------------------------

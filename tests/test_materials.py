@@ -70,29 +70,29 @@ def test_slack_switch_is_smoothstep_inside_band():
     strain = np.linspace(-0.5 * WIDTH, 1.5 * WIDTH, 401)
     s = np.clip(strain / WIDTH, 0, 1)
     expected = np.where(strain <= 0, 0.0, np.where(strain >= WIDTH, 1.0, 3 * s**2 - 2 * s**3))
-    np.testing.assert_allclose(np.asarray(jc.slack_switch(strain, WIDTH)), expected, rtol=1e-14, atol=0)
+    np.testing.assert_allclose(np.asarray(jc.equations.slack_switch(strain, WIDTH)), expected, rtol=1e-14, atol=0)
     # Exactly 0 at and below zero strain, exactly 1 from the band's top edge upward.
-    assert np.all(np.asarray(jc.slack_switch(strain[strain <= 0], WIDTH)) == 0.0)
-    assert np.all(np.asarray(jc.slack_switch(strain[strain >= WIDTH], WIDTH)) == 1.0)
+    assert np.all(np.asarray(jc.equations.slack_switch(strain[strain <= 0], WIDTH)) == 0.0)
+    assert np.all(np.asarray(jc.equations.slack_switch(strain[strain >= WIDTH], WIDTH)) == 1.0)
 
 
 def test_slack_switch_sharp_is_heaviside():
     strain = np.array([-1.0, -1e-300, 0.0, 1e-300, 1e-12, 1.0])
-    np.testing.assert_array_equal(np.asarray(jc.slack_switch(strain, 0.0)), [0, 0, 0, 1, 1, 1])
+    np.testing.assert_array_equal(np.asarray(jc.equations.slack_switch(strain, 0.0)), [0, 0, 0, 1, 1, 1])
 
 
 def test_slack_switch_per_segment_width():
     strain = np.array([5e-4, 5e-4, 5e-4, -1.0])
     width = np.array([0.0, 1e-3, 2e-3, 1e-3])
     expected = [1.0, 0.5, 3 * 0.25**2 - 2 * 0.25**3, 0.0]
-    np.testing.assert_allclose(np.asarray(jc.slack_switch(strain, width)), expected, rtol=1e-14)
+    np.testing.assert_allclose(np.asarray(jc.equations.slack_switch(strain, width)), expected, rtol=1e-14)
 
 
 @pytest.mark.parametrize("width", [0.0, WIDTH])
 def test_slack_switch_derivative(width):
     """d H/dε = 6 s (1 − s) / w inside the band, 0 outside, finite (no NaN) everywhere,
     including the sharp switch at ε = 0 where the code divides by a masked width."""
-    grad = jax.vmap(jax.grad(jc.slack_switch), in_axes=(0, None))(jnp.asarray(STRAINS), width)
+    grad = jax.vmap(jax.grad(jc.equations.slack_switch), in_axes=(0, None))(jnp.asarray(STRAINS), width)
     if width == 0:
         expected = np.zeros_like(STRAINS)
     else:

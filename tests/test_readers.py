@@ -19,7 +19,7 @@ import pytest
 
 import jaxcable as jc
 from jaxcable._cli import main as cli_main
-from jaxcable._scene import SeabedSpec, WaveSpec
+from jaxcable.io import SeabedSpec, WaveSpec
 
 LOWE_AND_LANGLEY = Path(__file__).parent / "data" / "lowe_and_langley_2006" / "line.txt"
 
@@ -106,7 +106,7 @@ def write_moordyn(tmp_path: Path, name: str = "system.txt", **sections) -> Path:
     return path
 
 
-def segment_damping(built: jc.BuiltScene, line: int) -> np.ndarray:
+def segment_damping(built: jc.io.BuiltScene, line: int) -> np.ndarray:
     """C_v (N·s) of each segment of line `line` (from 0) in the built model."""
     return np.asarray(built.model.line.tension_law.damping())[built.line_segments[line]]
 
@@ -213,11 +213,11 @@ def test_moordyn_option_aliases_and_defaults(tmp_path):
 
 def test_moordyn_bad_option_value_is_located(tmp_path):
     path = write_moordyn(tmp_path, options=("deep  WtrDpth",))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, "deep  WtrDpth", "WtrDpth", "'deep'")
     path = write_moordyn(tmp_path, "negative.txt", options=("-9.81  g",))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, "-9.81  g", "g must be positive")
 
@@ -357,7 +357,7 @@ def test_moordyn_point_below_wtrdpth_lowers_the_seabed(tmp_path):
 )
 def test_moordyn_bad_seabed_options_are_located(tmp_path, row, expected):
     path = write_moordyn(tmp_path, options=(*OPTIONS, row))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, expected)
 
@@ -408,7 +408,7 @@ def test_moordyn_empty_rod_and_body_sections_are_accepted(tmp_path):
 def test_moordyn_rods_are_rejected(tmp_path):
     row = "1    pipe      Free        0    0    -10  0    0    -20  5        -"
     path = write_moordyn(tmp_path, before=[("RODS", _ROD_COLUMNS, (row,))])
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "RODS", "rods", "does not model")
 
@@ -416,7 +416,7 @@ def test_moordyn_rods_are_rejected(tmp_path):
 def test_moordyn_bodies_are_rejected(tmp_path):
     row = "1    Free        0    0    -10  0    0    0    1000  0    0   2.0     0     0"
     path = write_moordyn(tmp_path, before=[("BODIES", _BODY_COLUMNS, (row,))])
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "BODIES", "bodies", "does not model")
 
@@ -425,7 +425,7 @@ def test_moordyn_point_on_a_body_is_rejected(tmp_path):
     row = "3    Body1     10.0    0.0    -5.0    0       0        0      0"
     lines = (LINES[0], "2    chain     1        3        120.0     6        -")
     path = write_moordyn(tmp_path, points=(*POINTS, row), lines=lines)
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column Type", "'Body1'", "body")
 
@@ -433,7 +433,7 @@ def test_moordyn_point_on_a_body_is_rejected(tmp_path):
 def test_moordyn_line_on_a_rod_is_rejected(tmp_path):
     row = "1    chain     1        R1A      250.0     10       -"
     path = write_moordyn(tmp_path, lines=(row,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column AttachB", "rod")
 
@@ -441,7 +441,7 @@ def test_moordyn_line_on_a_rod_is_rejected(tmp_path):
 def test_moordyn_stiffness_table_is_rejected(tmp_path):
     row = "chain  0.1  20.0  ea_curve.dat  -0.5  0  1.2  1.0  0.05  0.0"
     path = write_moordyn(tmp_path, types=(row,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column EA", "'ea_curve.dat'", "table")
 
@@ -449,7 +449,7 @@ def test_moordyn_stiffness_table_is_rejected(tmp_path):
 def test_moordyn_viscoelastic_stiffness_is_rejected(tmp_path):
     row = "chain  0.1  20.0  1.0e9|2.0e9  -0.5  0  1.2  1.0  0.05  0.0"
     path = write_moordyn(tmp_path, types=(row,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "EA", "viscoelastic", "1.0e9|2.0e9")
 
@@ -457,7 +457,7 @@ def test_moordyn_viscoelastic_stiffness_is_rejected(tmp_path):
 def test_moordyn_viv_column_is_rejected_unless_zero(tmp_path):
     row = "chain  0.1  20.0  1.0e9  -0.5  0  1.2  1.0  0.05  0.0  0.8"
     path = write_moordyn(tmp_path, types=(row,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column 11", "vortex-induced vibration")
     # A zero lift coefficient is MoorDyn's "no VIV" and reads as the plain line type.
@@ -478,7 +478,7 @@ def test_moordyn_point_forces_on_free_points_are_body_forces(tmp_path):
     # On a fixed point a force acts on nothing that moves.
     row = "3    Fixed   100.0   0.0   -50.0   10   0.5   0   0   -2000   1.5   0.7"
     path = write_moordyn(tmp_path, "fixed_force.txt", points=(*POINTS, row), lines=lines)
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "FX FY FZ", "fixed point")
 
@@ -490,7 +490,7 @@ def test_moordyn_point_forces_on_free_points_are_body_forces(tmp_path):
 @pytest.mark.parametrize("missing", ["LINE TYPES", "POINTS", "LINES"])
 def test_moordyn_missing_section(tmp_path, missing):
     path = write_moordyn(tmp_path, omit=(missing,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     message = str(error.value)
     assert str(path) in message and f"missing section {missing}" in message, message
@@ -498,17 +498,17 @@ def test_moordyn_missing_section(tmp_path, missing):
 
 def test_moordyn_empty_sections(tmp_path):
     path = write_moordyn(tmp_path, lines=())
-    with pytest.raises(jc.SceneError, match="section LINES has no rows"):
+    with pytest.raises(jc.io.SceneError, match="section LINES has no rows"):
         jc.read_moordyn(path)
     path = write_moordyn(tmp_path, "no_points.txt", points=(), lines=())
-    with pytest.raises(jc.SceneError, match="section POINTS has no rows"):
+    with pytest.raises(jc.io.SceneError, match="section POINTS has no rows"):
         jc.read_moordyn(path)
 
 
 def test_moordyn_unknown_point_type(tmp_path):
     row = "2    Buoy      200.0   0.0    0.0     0       0        0      0"
     path = write_moordyn(tmp_path, points=(POINTS[0], row))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column Type", "unknown point type 'Buoy'", "Fixed", "Vessel", "Free")
 
@@ -516,7 +516,7 @@ def test_moordyn_unknown_point_type(tmp_path):
 def test_moordyn_line_attached_to_a_missing_point(tmp_path):
     row = "1    chain     1        5        250.0     10       -"
     path = write_moordyn(tmp_path, lines=(row,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column AttachB", "point 5 does not exist", "2 points")
 
@@ -524,7 +524,7 @@ def test_moordyn_line_attached_to_a_missing_point(tmp_path):
 def test_moordyn_attachment_that_is_not_a_point(tmp_path):
     row = "1    chain     anchor   2        250.0     10       -"
     path = write_moordyn(tmp_path, lines=(row,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column AttachA", "'anchor'")
 
@@ -533,7 +533,7 @@ def test_moordyn_attachment_that_is_not_a_point(tmp_path):
 def test_moordyn_non_positive_length(tmp_path, length):
     row = f"1    chain     1        2        {length:9} 10       -"
     path = write_moordyn(tmp_path, lines=(row,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column UnstrLen", "positive")
 
@@ -554,7 +554,7 @@ def test_moordyn_non_positive_length(tmp_path, length):
 def test_moordyn_non_numeric_field(tmp_path, section, row, column, token):
     sections = {"types": {"types": (row,)}, "points": {"points": (POINTS[0], row)}, "lines": {"lines": (row,)}}
     path = write_moordyn(tmp_path, **sections[section])
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, column, token)
 
@@ -563,7 +563,7 @@ def test_moordyn_non_numeric_field(tmp_path, section, row, column, token):
 def test_moordyn_segments_must_be_a_positive_integer(tmp_path, segments):
     row = f"1    chain     1        2        250.0     {segments:8} -"
     path = write_moordyn(tmp_path, lines=(row,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column NumSegs", repr(segments))
 
@@ -571,7 +571,7 @@ def test_moordyn_segments_must_be_a_positive_integer(tmp_path, segments):
 def test_moordyn_unknown_line_type(tmp_path):
     row = "1    wire      1        2        250.0     10       -"
     path = write_moordyn(tmp_path, lines=(row,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column LineType", "'wire'", "chain")
 
@@ -579,7 +579,7 @@ def test_moordyn_unknown_line_type(tmp_path):
 def test_moordyn_duplicate_line_type(tmp_path):
     second = "chain   0.2     40.0     2.0e9    -0.5      0        1.2    1.0    0.05   0.0"
     path = write_moordyn(tmp_path, types=(TYPES[0], second))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, second, "'chain'", "already defined")
 
@@ -587,7 +587,7 @@ def test_moordyn_duplicate_line_type(tmp_path):
 def test_moordyn_point_ids_must_be_sequential(tmp_path):
     row = "3    Vessel    200.0   0.0    0.0     0       0        0      0"
     path = write_moordyn(tmp_path, points=(POINTS[0], row))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column ID", "expected 2", "'3'")
 
@@ -595,7 +595,7 @@ def test_moordyn_point_ids_must_be_sequential(tmp_path):
 def test_moordyn_line_ids_must_be_sequential(tmp_path):
     row = "1    chain     1        2        120.0     6        -"
     path = write_moordyn(tmp_path, lines=(LINES[0], row))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "column ID", "expected 2", "'1'")
 
@@ -611,13 +611,13 @@ def test_moordyn_line_ids_must_be_sequential(tmp_path):
 def test_moordyn_short_rows(tmp_path, section, row, needed):
     sections = {"types": {"types": (row,)}, "points": {"points": (POINTS[0], row)}, "lines": {"lines": (row,)}}
     path = write_moordyn(tmp_path, **sections[section])
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, needed)
 
 
 def test_moordyn_missing_file(tmp_path):
-    with pytest.raises(jc.SceneError, match="cannot read"):
+    with pytest.raises(jc.io.SceneError, match="cannot read"):
         jc.read_moordyn(tmp_path / "nowhere.txt")
 
 
@@ -695,7 +695,7 @@ def edited(old: str, new: str, text: str = SCENE) -> str:
 
 def read_scene_error(tmp_path: Path, text: str) -> tuple[pytest.ExceptionInfo, Path]:
     path = write_scene(tmp_path, text)
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_scene(path)
     return error, path
 
@@ -814,7 +814,7 @@ def test_toml_segments_must_be_a_positive_integer(tmp_path, segments):
 def test_toml_both_damping_keys_fail_at_build(tmp_path):
     path = write_scene(tmp_path, edited("axial_damping_ratio = 0.2", "axial_damping_ratio = 0.2\naxial_damping = 50.0"))
     scene = jc.read_scene(path)
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         scene.build()
     # Located at the line type's table: the conflict is between two of its keys.
     assert_located(error, path, "[line_types.rope]", "line_types.rope", "axial_damping (50", "axial_damping_ratio (0.2",
@@ -983,13 +983,13 @@ def test_toml_low_ursell_cnoidal_wave_is_a_note(tmp_path):
 
 def test_water_built_from_python_checks_its_depth():
     # A Water made in Python, without a file: still a SceneError, naming what is missing.
-    water = jc.Water(waves=(WaveSpec("airy", 8.0, height=2.0, where="wave 1"),))
-    with pytest.raises(jc.SceneError, match="wave 1: waves need the water depth"):
+    water = jc.io.Water(waves=(WaveSpec("airy", 8.0, height=2.0, where="wave 1"),))
+    with pytest.raises(jc.io.SceneError, match="wave 1: waves need the water depth"):
         water.environment()
-    with pytest.raises(jc.SceneError, match="give exactly one of height and steepness"):
-        jc.Water(depth=50.0, waves=(WaveSpec("airy", 8.0),)).environment()
-    with pytest.raises(jc.SceneError, match="Seabed.stiffness must be positive"):
-        jc.Water(depth=50.0, seabed=SeabedSpec(stiffness=0.0)).environment()
+    with pytest.raises(jc.io.SceneError, match="give exactly one of height and steepness"):
+        jc.io.Water(depth=50.0, waves=(WaveSpec("airy", 8.0),)).environment()
+    with pytest.raises(jc.io.SceneError, match="Seabed.stiffness must be positive"):
+        jc.io.Water(depth=50.0, seabed=SeabedSpec(stiffness=0.0)).environment()
 
 
 # --------------------------------------------------------------------------------------
@@ -1020,7 +1020,7 @@ def test_motion_file_whitespace_and_csv_agree(tmp_path):
         "motion.csv",
     )
     for path in (spaced, csv):
-        times, positions = jc.read_motion_file(path, 2)
+        times, positions = jc.io.read_motion_file(path, 2)
         np.testing.assert_array_equal(times, expected_times)
         np.testing.assert_array_equal(positions, expected)
         assert positions.shape == (3, 2, 3)
@@ -1028,47 +1028,47 @@ def test_motion_file_whitespace_and_csv_agree(tmp_path):
 
 def test_motion_file_wrong_column_count(tmp_path):
     path = write_motion(tmp_path, "t x y z\n0 1 2 3\n1 1 2\n2 1 2 3\n")
-    with pytest.raises(jc.SceneError) as error:
-        jc.read_motion_file(path, 1)
+    with pytest.raises(jc.io.SceneError) as error:
+        jc.io.read_motion_file(path, 1)
     assert_located(error, path, "1 1 2", "expected 4 columns", "got 3")
     path = write_motion(tmp_path, "0 1 2 3\n1 1 2 3\n", "two_points.txt")
-    with pytest.raises(jc.SceneError) as error:
-        jc.read_motion_file(path, 2)
+    with pytest.raises(jc.io.SceneError) as error:
+        jc.io.read_motion_file(path, 2)
     assert_located(error, path, "0 1 2 3", "expected 7 columns", "2 coupled point")
 
 
 @pytest.mark.parametrize("later", ["1.0", "0.5"])
 def test_motion_file_time_must_increase(tmp_path, later):
     path = write_motion(tmp_path, f"0.0 0 0 0\n1.0 1 0 0\n{later} 2 0 0\n2.0 3 0 0\n")
-    with pytest.raises(jc.SceneError) as error:
-        jc.read_motion_file(path, 1)
+    with pytest.raises(jc.io.SceneError) as error:
+        jc.io.read_motion_file(path, 1)
     assert_located(error, path, f"{later} 2 0 0", "must increase")
 
 
 def test_motion_file_non_numeric_field(tmp_path):
     path = write_motion(tmp_path, "time x y z\n0 0 0 0\n1 0 oops 0\n2 0 0 0\n")
-    with pytest.raises(jc.SceneError) as error:
-        jc.read_motion_file(path, 1)
+    with pytest.raises(jc.io.SceneError) as error:
+        jc.io.read_motion_file(path, 1)
     assert_located(error, path, "oops", "non-numeric")
 
 
 def test_motion_file_non_finite_value(tmp_path):
     path = write_motion(tmp_path, "0 0 0 0\n1 nan 0 0\n2 0 0 0\n")
-    with pytest.raises(jc.SceneError) as error:
-        jc.read_motion_file(path, 1)
+    with pytest.raises(jc.io.SceneError) as error:
+        jc.io.read_motion_file(path, 1)
     assert_located(error, path, "nan", "non-finite")
 
 
 @pytest.mark.parametrize("text", ["", "# only a comment\n", "t x y z\n", "t x y z\n0 1 2 3\n", "0 1 2 3\n"])
 def test_motion_file_needs_two_rows(tmp_path, text):
     path = write_motion(tmp_path, text)
-    with pytest.raises(jc.SceneError, match="at least 2 rows"):
-        jc.read_motion_file(path, 1)
+    with pytest.raises(jc.io.SceneError, match="at least 2 rows"):
+        jc.io.read_motion_file(path, 1)
 
 
 def test_motion_file_missing(tmp_path):
-    with pytest.raises(jc.SceneError, match="cannot read motion file"):
-        jc.read_motion_file(tmp_path / "nowhere.csv", 1)
+    with pytest.raises(jc.io.SceneError, match="cannot read motion file"):
+        jc.io.read_motion_file(tmp_path / "nowhere.csv", 1)
 
 
 def test_with_motion_table_gives_displacements_about_the_points(tmp_path):
@@ -1090,7 +1090,7 @@ def test_with_motion_table_gives_displacements_about_the_points(tmp_path):
         origin = np.asarray(scene.points[k].position)
         for i, t in enumerate(times):
             np.testing.assert_allclose(np.asarray(motion.displacement(t)), positions[i, column] - origin, atol=1e-12)
-    with pytest.raises(jc.SceneError, match="2 coupled point"):
+    with pytest.raises(jc.io.SceneError, match="2 coupled point"):
         scene.with_motion_table(times, positions[:, :1])
 
 
@@ -1168,8 +1168,8 @@ def test_cli_unknown_channel_fails_before_running(tmp_path, capsys):
 def test_motion_file_bad_first_row_is_not_a_header(tmp_path):
     # A header has no numbers in it; a first data row with a typo is an error.
     path = write_motion(tmp_path, "0 200 0 0x\n1 201 0 0\n2 202 0 0\n")
-    with pytest.raises(jc.SceneError, match="line 1: non-numeric"):
-        jc.read_motion_file(path, 1)
+    with pytest.raises(jc.io.SceneError, match="line 1: non-numeric"):
+        jc.io.read_motion_file(path, 1)
 
 
 @pytest.mark.parametrize(
@@ -1182,14 +1182,14 @@ def test_motion_file_bad_first_row_is_not_a_header(tmp_path):
 def test_moordyn_non_finite_numbers_are_located(tmp_path, section, row, column):
     sections = {"points": (POINTS[0], row)} if section == "points" else {"lines": (row,)}
     path = write_moordyn(tmp_path, **sections)
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, column, "not a finite number")
 
 
 def test_moordyn_negative_dtout_is_located(tmp_path):
     path = write_moordyn(tmp_path, options=(*OPTIONS, "-1   dtOut   output interval"))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, "dtOut", "must be positive")
 
@@ -1197,7 +1197,7 @@ def test_moordyn_negative_dtout_is_located(tmp_path):
 def test_moordyn_line_from_a_point_to_itself(tmp_path):
     row = "1    chain     2        2        250.0     10       -"
     path = write_moordyn(tmp_path, lines=(row,))
-    with pytest.raises(jc.SceneError) as error:
+    with pytest.raises(jc.io.SceneError) as error:
         jc.read_moordyn(path)
     assert_located(error, path, row, "to itself")
 
@@ -1207,7 +1207,7 @@ def test_run_past_a_scene_motion_table_fails_before_solving(tmp_path):
     path = write_scene(tmp_path, edited('position = [150.0, 0.0, 0.0]\n',
                                         'position = [150.0, 0.0, 0.0]\nmotion = { type = "table", file = "float.csv" }\n'))
     scene = jc.read_scene(path)
-    with pytest.raises(jc.SceneError, match="covers 0 to 2 s, but the run needs 0 to 10 s"):
+    with pytest.raises(jc.io.SceneError, match="covers 0 to 2 s, but the run needs 0 to 10 s"):
         jc.run_scene(scene)
 
 

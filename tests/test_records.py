@@ -13,7 +13,7 @@ import re
 import numpy as np
 import pytest
 
-from jaxcable._records import (
+from jaxcable.io import (
     COLUMNS,
     UNITS,
     RecordError,

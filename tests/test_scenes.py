@@ -31,6 +31,7 @@ from scipy.io import netcdf_file
 from scipy.optimize import fsolve
 
 import jaxcable as jc
+from helpers import ElasticCatenary
 from jaxcable import examples
 from jaxcable._cli import main
 
@@ -77,7 +78,7 @@ def runs():
     """`runs(name)`: the example's `SceneRun` (statics, then DURATION s), computed once."""
     cache = {}
 
-    def get(name: str) -> jc.SceneRun:
+    def get(name: str) -> jc.io.SceneRun:
         if name not in cache:
             scene = jc.read_scene(examples.scene_path(name))
             cache[name] = jc.run_scene(scene, duration=DURATION, dt_out=DT_OUT)
@@ -91,7 +92,7 @@ def runs():
 # ---------------------------------------------------------------------------------------
 
 
-def expected_channels(name: str, run: jc.SceneRun) -> dict[str, np.ndarray]:
+def expected_channels(name: str, run: jc.io.SceneRun) -> dict[str, np.ndarray]:
     """Every line's FairTen/AnchTen and the scene's own channels, from the run's arrays
     by the MoorDyn definitions: the end segments' tensions, node positions."""
     data = toml(name)
@@ -124,7 +125,7 @@ def test_round_trip_through_every_format(name, runs, tmp_path):
     assert run.times.shape == (int(round(DURATION / DT_OUT)) + 1,)
 
     # CSV: one header row of MoorDyn names, as `np.genfromtxt(..., names=True)` reads.
-    csv = jc.write_output(tmp_path / "run.csv", run, names)
+    csv = jc.io.write_output(tmp_path / "run.csv", run, names)
     assert csv.read_text().splitlines()[0] == ",".join(expected)
     table = np.genfromtxt(csv, delimiter=",", names=True)
     assert table.dtype.names == tuple(expected)
@@ -132,7 +133,7 @@ def test_round_trip_through_every_format(name, runs, tmp_path):
         np.testing.assert_allclose(table[channel], values, rtol=1e-9, atol=1e-9, err_msg=channel)
 
     # MoorDyn's .out: a row of names, a row of units, then whitespace-separated values.
-    out = jc.write_output(tmp_path / "run.out", run, names)
+    out = jc.io.write_output(tmp_path / "run.out", run, names)
     with out.open() as f:
         header, units = f.readline().split(), f.readline().split()
         rows = np.loadtxt(f, ndmin=2)
@@ -142,7 +143,7 @@ def test_round_trip_through_every_format(name, runs, tmp_path):
         np.testing.assert_allclose(rows[:, column], values, rtol=1e-6, atol=1e-9, err_msg=channel)
 
     # .npz: everything, with a JSON table of units.
-    npz = jc.write_output(tmp_path / "run.npz", run, names)
+    npz = jc.io.write_output(tmp_path / "run.npz", run, names)
     with np.load(npz) as archive:
         units = json.loads(str(archive["units"]))
         for key, values, unit in [
@@ -159,7 +160,7 @@ def test_round_trip_through_every_format(name, runs, tmp_path):
             np.testing.assert_array_equal(archive[channel], expected[channel], err_msg=channel)
 
     # NetCDF 3 with units and dimensions on every variable.
-    nc = jc.write_output(tmp_path / "run.nc", run, names)
+    nc = jc.io.write_output(tmp_path / "run.nc", run, names)
     with netcdf_file(nc, "r", mmap=False) as f:
         for key, values, unit, dims in [
             ("time", run.times, "s", ("time",)),
@@ -208,7 +209,7 @@ def test_undriven_net_stays_at_equilibrium(runs):
 # ---------------------------------------------------------------------------------------
 
 
-def node_forces(name: str, run: jc.SceneRun) -> np.ndarray:
+def node_forces(name: str, run: jc.io.SceneRun) -> np.ndarray:
     """Every force on each node at the equilibrium except its support's, shape
     `(nodes, 3)`: segment tensions, wet weights, drag of the current, bodies."""
     data = toml(name)
@@ -288,46 +289,6 @@ def test_statics_node_balance(name, runs):
     free, constrained = np.asarray(model.free_nodes), np.asarray(model.constrained_nodes)
     np.testing.assert_allclose(forces[free], 0.0, rtol=0, atol=1e-7 * scale)
     np.testing.assert_allclose(np.asarray(run.static.reactions), -forces[constrained], rtol=0, atol=1e-7 * scale)
-
-
-class ElasticCatenary:
-    """Irvine's elastic catenary from A to B (unstretched length L, wet weight w per
-    unstretched length, tension law C_E ε + C_E1 ε²), in the vertical plane of A and B.
-
-    With H the horizontal tension and V_A the vertical component at A (upwards along
-    the line from A), the tension at arc s from A has components (H, V_A + w s), and
-    the position is `∫₀ˢ (1 + ε(T)) (H, V) / T ds'`. The integrals are done by
-    Gauss–Legendre on 64 points, exact for these smooth integrands to rounding.
-    """
-
-    def __init__(self, length, w, ea, ea1, span, rise, guess):
-        self.length, self.w, self.ea, self.ea1 = length, w, ea, ea1
-        self.nodes, self.weights = np.polynomial.legendre.leggauss(64)
-        solution, info, ok, message = fsolve(
-            lambda p: np.array(self.position(self.length, *p)) - [span, rise], guess, full_output=True, xtol=1e-13
-        )
-        assert ok == 1, message
-        self.horizontal, self.vertical = solution
-
-    def tension(self, s, horizontal=None, vertical=None):
-        h = self.horizontal if horizontal is None else horizontal
-        v = self.vertical if vertical is None else vertical
-        return np.hypot(h, v + self.w * s)
-
-    def strain(self, tension):
-        if self.ea1 == 0:
-            return tension / self.ea
-        return (-self.ea + np.sqrt(self.ea**2 + 4 * self.ea1 * tension)) / (2 * self.ea1)
-
-    def position(self, s, horizontal=None, vertical=None):
-        h = self.horizontal if horizontal is None else horizontal
-        v = self.vertical if vertical is None else vertical
-        arc = 0.5 * s * (self.nodes + 1)
-        t = self.tension(arc, h, v)
-        stretch = 1 + self.strain(t)
-        x = 0.5 * s * np.sum(self.weights * stretch * h / t)
-        z = 0.5 * s * np.sum(self.weights * stretch * (v + self.w * arc) / t)
-        return x, z
 
 
 STILL_WATER = [n for n in CALM if not np.any(water(toml(n))[2])]
@@ -514,12 +475,12 @@ def test_cli_out_writes_the_scenes_channels(tmp_path, capsys):
 def test_run_settings_name_a_solver_configuration():
     """A scene's solver name and tolerances become the `SolverConfig` that runs it; an
     unknown name fails with the choices, from Python as from a file."""
-    config = jc.RunSettings(solver="kvaerno5", rtol=1e-7, atol=1e-8).solver_config()
+    config = jc.io.RunSettings(solver="kvaerno5", rtol=1e-7, atol=1e-8).solver_config()
     assert isinstance(config.solver, diffrax.Kvaerno5)
     assert float(config.stepsize_controller.rtol) == 1e-7 and float(config.stepsize_controller.atol) == 1e-8
     scene = jc.read_scene(examples.scene_path("seed003_line"))
     bad = scene.replace(run=dataclasses.replace(scene.run, solver="rk4"))
-    with pytest.raises(jc.SceneError, match=r"solver must be one of \('dopri5'.*, got 'rk4'"):
+    with pytest.raises(jc.io.SceneError, match=r"solver must be one of \('dopri5'.*, got 'rk4'"):
         jc.run_scene(bad, duration=0.1)
 
 

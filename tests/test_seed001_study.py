@@ -11,7 +11,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import jaxcable as jc
-from jaxcable.examples import _seed001_study as study
+from studies import seed001 as study
 
 
 @pytest.mark.parametrize("height, depth, z0", [(0.5, 20.0, -3.5), (0.3, 5.0, -2.0)], ids=["deep", "intermediate"])

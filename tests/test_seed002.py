@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from _balance import hand_forces
-from jaxcable.examples._seed002 import (
+from helpers import hand_forces
+from jaxcable.examples.seed002 import (
     BUOY,
     DIVERTER,
     DIVERTER_FORCE,

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from _balance import hand_forces, wet_fraction
-from jaxcable.examples._seed002_net import (
+from helpers import hand_forces, wet_fraction
+from jaxcable.examples.seed002_net import (
     BUOY,
     CORNER_DEPTH,
     HUB,

@@ -7,9 +7,9 @@ mirror each other in the waves' vertical plane."""
 import numpy as np
 import pytest
 
-from jaxcable.examples import _seed002_net as net
-from jaxcable.examples import _seed002_net_study as s
-from jaxcable.examples import _seed002_study as s2
+from jaxcable.examples import seed002_net as net
+from studies import seed002_net as s
+from studies import seed002 as s2
 
 T = net.WAVE_PERIOD
 OMEGA = 2 * np.pi / T

@@ -4,17 +4,16 @@ axial-wave closed form, and the study's measures on series built by hand."""
 import numpy as np
 import pytest
 
-from jaxcable.examples import _seed002_study as s2
-from jaxcable.examples._seed003 import ADDED_MASS, AXIAL_STIFFNESS, MASS_PER_LENGTH
+from studies import seed002 as s2
+from jaxcable.examples.seed003 import ADDED_MASS, AXIAL_STIFFNESS, MASS_PER_LENGTH
 
 
-def test_first_stage_is_the_axial_wave(monkeypatch):
+def test_first_stage_is_the_axial_wave():
     # An elastic tow cable whose end speeds up by Δv carries an axial wave of tension
     # Z Δv cos θ, Z = √(C_E (m + m_a)), until it comes back from the branch point. The
     # front is spread over the 0.02 s step, three of the ten 20 m segments, hence 2 %.
-    monkeypatch.setitem(s2.CASES, "elastic step", ((1.0, 3.0), False, False, "short"))
     config = dict(segments=(10, 5), start=299.0, end=dict(short=300.4), dense=0.4)
-    run = s2.run_trawl("elastic step", config)
+    run = s2.run_trawl("elastic step", config, case=((1.0, 3.0), False, False, "short"))
     measured, predicted = s2.front_jump(run)
     impedance = np.sqrt(AXIAL_STIFFNESS * (MASS_PER_LENGTH + ADDED_MASS))
     assert predicted == pytest.approx(impedance * 2.0 * np.cos(run.front_angle))

@@ -15,37 +15,21 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from scipy.integrate import quad
-from scipy.optimize import fsolve
 
 import jaxcable as jc
-from jaxcable.examples._seed003 import AREA, DEPTH, MASS_PER_LENGTH
-from jaxcable.examples._seed003_study import seed003_case, seed003_study, slack_time, verdict
+from helpers import ElasticCatenary
+from jaxcable.examples.seed003 import AREA, DEPTH, MASS_PER_LENGTH
+from studies.seed003 import seed003_case, seed003_study, slack_time, verdict
 
 RHO, G = 1025.0, 9.81
 N = 20  # one shape for every test here: one compilation of each program
 
 
 def catenary_end_tensions(span, height, length, weight, c_e, c_e1):
-    """Top and bottom tension of an elastic catenary with T = C_E ε + C_E1 ε².
-
-    s is the unstretched arc length from the bottom; H the horizontal tension and V the
-    bottom's vertical force; T(s) = √(H² + (V + w s)²), and each element stretches by
-    1 + ε(T), ε the law's inverse. Span and height close the two equations.
-    """
-
-    def strain(t):
-        return t / c_e if c_e1 == 0 else (-c_e + np.sqrt(c_e**2 + 4 * c_e1 * t)) / (2 * c_e1)
-
-    def closure(p):
-        h, v = p
-        t = lambda s: np.hypot(h, v + weight * s)  # noqa: E731
-        x = quad(lambda s: (1 + strain(t(s))) * h / t(s), 0, length, epsabs=1e-12, epsrel=1e-12)[0]
-        z = quad(lambda s: (1 + strain(t(s))) * (v + weight * s) / t(s), 0, length, epsabs=1e-12, epsrel=1e-12)[0]
-        return [x - span, z - height]
-
-    h, v = fsolve(closure, [weight * length, weight * length / 2], xtol=1e-13)
-    return np.hypot(h, v + weight * length), np.hypot(h, v)
+    """Top and bottom tension of an elastic catenary with T = C_E ε + C_E1 ε², from the
+    bottom (`helpers.ElasticCatenary`)."""
+    catenary = ElasticCatenary(length, weight, c_e, c_e1, span, height, [weight * length, weight * length / 2])
+    return catenary.tension(length), catenary.tension(0.0)
 
 
 @pytest.mark.parametrize("angle", [30.0, 60.0])

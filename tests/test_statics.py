@@ -1,6 +1,6 @@
 """Static equilibrium against closed forms.
 
-References, all computed here and independently of jaxcable:
+References, all independent of jaxcable (the catenaries are in `helpers.py`):
 
 - Irvine's elastic catenary (H. M. Irvine, *Cable Structures*, MIT Press 1981, §2.2):
   the shape of an extensible cable of unstretched length L₀, axial stiffness EA and
@@ -27,77 +27,13 @@ import equinox as eqx
 import numpy as np
 import optimistix as optx
 import pytest
-from scipy.optimize import fsolve
 
 import jaxcable as jc
+from helpers import Irvine, chain_nodes, rigid_top_tension
 
 RHO, G = 1025.0, 9.81
 solve = eqx.filter_jit(jc.solve_statics)
 RHO_ENV = jc.Environment(water_density=RHO, gravity=G)
-
-
-# ---------------------------------------------------------------------------------------
-# Irvine's elastic catenary, written out independently of jaxcable.
-# ---------------------------------------------------------------------------------------
-
-
-class Irvine:
-    """An elastic catenary hanging from A (the origin) to B at horizontal distance
-    `span` and height `height` above A, in A's vertical plane.
-
-    `V` is the vertical force of support B on the cable (upwards positive); the vertical
-    tension component at unstretched coordinate s (from A) is `V − w (L₀ − s)`.
-    """
-
-    def __init__(self, span, height, length, w, ea):
-        self.span, self.height, self.length, self.w, self.ea = span, height, length, w, ea
-
-        def closure(p):
-            x, z = self.xz(length, np.exp(p[0]), p[1] * w * length)
-            return [(x - span) / length, (z - height) / length]
-
-        # Starting point from the shallow parabola: sag d from L ≈ chord + 8 d² / (3 chord).
-        chord = np.hypot(span, height)
-        sag = np.sqrt(3 * chord * max(length - chord, 1e-3 * length) / 8)
-        h0 = w * span**2 / (8 * sag)
-        v0 = w * length / 2 + h0 * height / span
-        p, info, ier, msg = fsolve(closure, [np.log(h0), v0 / (w * length)], xtol=1e-13, full_output=True)
-        assert ier == 1 and np.max(np.abs(closure(p))) < 1e-11, msg
-        self.H, self.V = np.exp(p[0]), p[1] * w * length
-
-    def vertical(self, s, v=None):
-        return (self.V if v is None else v) - self.w * (self.length - s)
-
-    def xz(self, s, h=None, v=None):
-        h = self.H if h is None else h
-        w, ea = self.w, self.ea
-        va = self.vertical(0.0, v)
-        vs = self.vertical(s, v)
-        x = h * s / ea + h / w * (np.arcsinh(vs / h) - np.arcsinh(va / h))
-        z = va * s / ea + w * s**2 / (2 * ea) + h / w * (np.hypot(1, vs / h) - np.hypot(1, va / h))
-        return x, z
-
-    def tension(self, s):
-        return np.hypot(self.H, self.vertical(s))
-
-
-def rigid_top_tension(span, height, length, w):
-    """The inextensible catenary's top tension, to show that elasticity matters."""
-
-    def closure(p):
-        h, v = p
-        va, vb = v - w * length, v
-        x = h / w * (np.arcsinh(vb / h) - np.arcsinh(va / h))
-        z = h / w * (np.hypot(1, vb / h) - np.hypot(1, va / h))
-        return [(x - span) / length, (z - height) / length]
-
-    h, v = fsolve(closure, [w * length, w * length / 2], xtol=1e-12)
-    return np.hypot(h, v)
-
-
-def chain_nodes(n_segments):
-    """Node indices along a single branch 0 → 1 built by `from_branches`."""
-    return np.concatenate([[0], np.arange(2, n_segments + 1), [1]])
 
 
 def hand_tension(model, positions, ea):

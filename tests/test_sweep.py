@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable._sweep import sweep, sweep_grid
+from jaxcable import sweep, sweep_grid
 from jaxcable.examples import seed003_line
 
 T1 = 1.0
@@ -62,7 +62,7 @@ def test_sweep_equals_single_runs(swept, i):
     # rest vanish, relative to a segment's weight (an independent check of the
     # batched statics, which never sees this eagerly built model).
     positions = swept.statics.state.positions[i]
-    forces = jc.generalised_forces(model, env, 0.0, positions, jnp.zeros_like(positions))[model.free_nodes]
+    forces = jc.equations.generalised_forces(model, env, 0.0, positions, jnp.zeros_like(positions))[model.free_nodes]
     weight = float(model.line.mass_per_length[0] * env.gravity * model.segment_length[0])
     assert float(jnp.max(jnp.abs(forces))) < 1e-6 * weight
     assert float(swept.statics.residual[i]) < 1e-6 * weight
@@ -109,8 +109,7 @@ _SHARDED = textwrap.dedent(
     import equinox as eqx
     import jax
     import numpy as np
-    from jaxcable import SolverConfig
-    from jaxcable._sweep import sweep
+    from jaxcable import SolverConfig, sweep
     from jaxcable.examples import seed003_line
 
     assert len(jax.devices()) == 2, jax.devices()

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
+from jaxcable.calibration import HorizontalTow, VerticalTow, rig_from_conditions
 
 RHO, G = 1025.0, 9.81
 
@@ -20,7 +21,7 @@ def test_cable_towed_along_the_flow_carries_its_tangential_drag():
     # behind it, and the drag of each segment goes half to each end node.
     diameter, n = 0.0173, 5
     area = math.pi * diameter**2 / 4
-    rig = jc.HorizontalTow(
+    rig = HorizontalTow(
         cable_length=100.0,
         cable_diameter=diameter,
         cable_mass_per_length=RHO * area,
@@ -39,7 +40,7 @@ def test_cable_towed_along_the_flow_carries_its_tangential_drag():
     )
     times = np.linspace(0.0, 30.0, 61)
     speed = np.interp(times, [0.0, 10.0, 12.0, 30.0], [1.0, 1.0, 2.0, 2.0])
-    observables, result, success = rig.simulate(times, {"speed": speed}, jc.rig_solver(rtol=1e-9, atol=1e-9))
+    observables, result, success = rig.simulate(times, {"speed": speed}, jc.calibration.rig_solver(rtol=1e-9, atol=1e-9))
     assert bool(success)
     c_tau = 0.5 * RHO * 0.01 * math.pi * diameter
     stretched = np.linalg.norm(np.diff(np.asarray(result.positions), axis=1), axis=-1)  # (times, segments)
@@ -55,10 +56,10 @@ def test_steady_tow_starts_in_equilibrium():
     # The start is statics in a current against the tow; simulated as motion through
     # still water at that speed, nothing should change (Galilean invariance of the
     # drag, through two different code paths).
-    rig = jc.HorizontalTow(cable_length=100.0, segments=4, cable_axial_stiffness=2e6, cable_axial_damping=5e3,
-                           end_mass=100.0, end_volume=0.015, end_drag_area=0.1)
+    rig = HorizontalTow(cable_length=100.0, segments=4, cable_axial_stiffness=2e6, cable_axial_damping=5e3,
+                        end_mass=100.0, end_volume=0.015, end_drag_area=0.1)
     times = np.linspace(0.0, 10.0, 11)
-    observables = rig.predict(times, {"speed": np.full(11, 1.5)}, jc.rig_solver(rtol=1e-9, atol=1e-9))
+    observables = rig.predict(times, {"speed": np.full(11, 1.5)}, jc.calibration.rig_solver(rtol=1e-9, atol=1e-9))
     for name in rig.observables:
         values = np.asarray(observables[name])
         np.testing.assert_allclose(values, values[0], rtol=1e-7, err_msg=name)
@@ -67,9 +68,9 @@ def test_steady_tow_starts_in_equilibrium():
 
 @pytest.mark.parametrize("lift", [150.0, 300.0])
 def test_vertical_tow_rises_at_the_speed_where_lift_balances_drag(lift):
-    rig = jc.VerticalTow(leader_lift=lift, element_drag_area=0.01)
+    rig = VerticalTow(leader_lift=lift, element_drag_area=0.01)
     times = np.linspace(0.0, 20.0, 41)
-    observables = rig.predict(times, solver=jc.rig_solver(rtol=1e-9, atol=1e-9))
+    observables = rig.predict(times, solver=jc.calibration.rig_solver(rtol=1e-9, atol=1e-9))
     # Closed form, written out here from the rig's defaults (scallop cage, 8 mm rope):
     element_wet = (25.0 - RHO * 0.012) * G
     tether_area = math.pi * 0.008**2 / 4
@@ -87,10 +88,10 @@ def test_vertical_tow_rises_at_the_speed_where_lift_balances_drag(lift):
 
 
 def test_rig_conditions_round_trip_through_a_record_file(tmp_path):
-    for rig in (jc.HorizontalTow(cable_length=150.0, end_mass=250.0, segments=6), jc.VerticalTow(leader_lift=180.0)):
-        record = jc.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, conditions=rig.conditions())
-        jc.write_record(tmp_path / "r.csv", record)
-        rebuilt = jc.rig_from_conditions(jc.read_record(tmp_path / "r.csv").conditions)
+    for rig in (HorizontalTow(cable_length=150.0, end_mass=250.0, segments=6), VerticalTow(leader_lift=180.0)):
+        record = jc.io.TowingRecord(times=[0.0, 1.0], columns={"tension": [1.0, 2.0]}, conditions=rig.conditions())
+        jc.io.write_record(tmp_path / "r.csv", record)
+        rebuilt = rig_from_conditions(jc.io.read_record(tmp_path / "r.csv").conditions)
         assert type(rebuilt) is type(rig) and rebuilt.segments == rig.segments
         for a, b in zip(jax.tree.leaves(rig), jax.tree.leaves(rebuilt)):
             np.testing.assert_allclose(np.asarray(a), np.asarray(b), rtol=1e-15)
@@ -98,15 +99,15 @@ def test_rig_conditions_round_trip_through_a_record_file(tmp_path):
 
 def test_bad_rigs_fail_at_construction():
     with pytest.raises(ValueError, match=r"VerticalTow.leader_lift = 100.0 N must exceed the weight in water"):
-        jc.VerticalTow(leader_lift=100.0)
+        VerticalTow(leader_lift=100.0)
     with pytest.raises(ValueError, match=r"HorizontalTow.cable_length must be positive, got -1.0"):
-        jc.HorizontalTow(cable_length=-1.0)
+        HorizontalTow(cable_length=-1.0)
     with pytest.raises(ValueError, match=r"HorizontalTow.segments must be a positive integer, got 0"):
-        jc.HorizontalTow(segments=0)
+        HorizontalTow(segments=0)
     with pytest.raises(ValueError, match=r"Body.mass must be non-negative, got -5.0"):
-        jc.HorizontalTow(end_mass=-5.0)
+        HorizontalTow(end_mass=-5.0)
     with pytest.raises(ValueError, match=r"LineType.normal_drag must be finite, got nan"):
-        jc.HorizontalTow(normal_drag=float("nan"))
+        HorizontalTow(normal_drag=float("nan"))
 
 
 @pytest.mark.parametrize(
@@ -121,4 +122,4 @@ def test_bad_rigs_fail_at_construction():
 )
 def test_rig_from_conditions_errors(conditions, message):
     with pytest.raises(ValueError, match=message):
-        jc.rig_from_conditions(conditions, "tow.csv")
+        rig_from_conditions(conditions, "tow.csv")

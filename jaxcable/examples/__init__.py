@@ -1,13 +1,18 @@
-"""Bundled examples: scene files in `scenes/`, and Python builders returning
-`(model, environment)`."""
+"""Bundled examples: scene files in `scenes/`, and the seed papers' scenes as Python
+builders returning `(model, environment)`.
+
+The builders are re-exported here; each paper's constants (its cable, bodies and sea) live in
+its module: `jaxcable.examples.seed001` (growing elements), `.seed002` (the towed trawl),
+`.seed002_net` (the moored net of buoys) and `.seed003` (the anchored line). The studies that
+reproduce the papers are not part of the package: they are in the repository's `studies/`."""
 
 from pathlib import Path
 
 from .._waves import seed003_amplitude as seed003_amplitude
-from ._seed001 import seed001_element as seed001_element
-from ._seed002 import start_tow as start_tow, towed_trawl as towed_trawl
-from ._seed002_net import moored_net as moored_net
-from ._seed003 import seed003_line as seed003_line
+from .seed001 import seed001_element as seed001_element
+from .seed002 import start_tow as start_tow, towed_trawl as towed_trawl
+from .seed002_net import moored_net as moored_net
+from .seed003 import seed003_line as seed003_line
 
 _SCENES = Path(__file__).parent / "scenes"
 

@@ -3,7 +3,7 @@ the vertical branch under buoy 2 (the paper's Figs. 4–5).
 
 Used by `benchmarks/seed002_reproduction.py` and the tests. One run of
 [`jaxcable.simulate`][] from the still-water equilibrium, the 6.4 s waves ramping in
-over the first two periods (`_seed002_net.moored_net`, which states the scene and the
+over the first two periods (`jaxcable.examples.seed002_net.moored_net`, which states the scene and the
 choices the paper leaves open). Everything is measured over the run's last whole wave
 periods, `config["periods"]` of them, once the ramp is long past.
 
@@ -18,8 +18,8 @@ segment. Dropping the viscous term instead would not do: the elastic net chatter
 rounding until buoys 2 and 4 part from each other's mirror image by millimetres.
 
 Where tension is read: Fig. 5's four places on buoy 2's vertical branch, by the segment
-that touches them (`_seed002_net.fig5_segments`). A segment counts as slack at or below
-`_seed002_study.SLACK_TENSION` (0 N): Kelvin–Voigt's viscous term takes a stretched
+that touches them (`jaxcable.examples.seed002_net.fig5_segments`). A segment counts as slack at or below
+`studies.seed002.SLACK_TENSION` (0 N): Kelvin–Voigt's viscous term takes a stretched
 segment briefly below zero when it unloads fast, and that counts too.
 """
 
@@ -28,11 +28,9 @@ import time
 
 import numpy as np
 
-from .._config import SolverConfig
-from .._simulate import simulate
-from .._statics import solve_statics
-from .._waves import airy_wavenumber, seed003_amplitude
-from ._seed002_net import (
+from jaxcable import SolverConfig, airy_wavenumber, simulate, solve_statics
+from jaxcable.examples import seed003_amplitude
+from jaxcable.examples.seed002_net import (
     GRAVITY,
     HUB,
     N_BUOYS,
@@ -47,7 +45,7 @@ from ._seed002_net import (
     fig5_segments,
     moored_net,
 )
-from ._seed002_study import SLACK_TENSION, Snap, series_snaps
+from .seed002 import SLACK_TENSION, Snap, series_snaps
 
 # Study sizes. `segments`: upper, lower, row side, diagonal (`moored_net`); `end`: the
 # run's last time (s), from t = 0; `periods`: the whole wave periods at the end over which
@@ -62,7 +60,7 @@ FULL = dict(
 BUOYS = tuple(range(1, N_BUOYS + 1))
 PLACES = ("under buoy", "above junction", "below junction", "near anchor")
 # A slack spell ends in a snap where the tension then peaks (within
-# `_seed002_study.SNAP_WINDOW`) above this many times the segment's mean: a spike, not
+# `studies.seed002.SNAP_WINDOW`) above this many times the segment's mean: a spike, not
 # the tension merely coming back.
 SNAP_RATIO = 1.5
 # s, the span of the running mean whose largest value is a place's `max_smoothed`: the
@@ -73,7 +71,7 @@ SMOOTH = VISCOUS_RATIO
 @dataclasses.dataclass
 class NetRun:
     """One run: the junctions' positions `junctions` (m), shape `(times, 13, 3)`, node
-    order as in `_seed002_net` (buoys, corners, anchors, hub), and the tension `tension`
+    order as in `jaxcable.examples.seed002_net` (buoys, corners, anchors, hub), and the tension `tension`
     (N) of every segment, shape `(times, segments)`, at `times` (s); `still` and
     `still_tension` the same in the still-water equilibrium the run starts from.
     `places` maps each of `PLACES` to its segment; `branches` each buoy to its vertical

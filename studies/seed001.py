@@ -3,7 +3,7 @@ impulses, and the map of where its tether goes slack.
 
 Used by `notebooks/seed001_growing_elements.ipynb`, `benchmarks/seed001_reproduction.py`
 and the tests. Each study is one [`jaxcable.sweep`][]: over k₀ for the free element, over
-the weight characteristic ρ for the tethered one. See `_seed001.py` for the scenes and
+the weight characteristic ρ for the tethered one. See `jaxcable/examples/seed001.py` for the scenes and
 the definitions of u₀ and ρ.
 """
 
@@ -13,9 +13,8 @@ import time
 import jax
 import numpy as np
 
-from .._config import SolverConfig
-from .._sweep import sweep
-from ._seed001 import (
+from jaxcable import SolverConfig, sweep
+from jaxcable.examples.seed001 import (
     ELEMENT_MASS,
     GRAVITY,
     ORGANISM_MASS,

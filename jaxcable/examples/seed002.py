@@ -13,7 +13,7 @@ Junctions, which keep their indices as nodes: 0 the tow point, 1 the branch poin
 The paper's numbers for F₀, C_E, the bodies and the waves are lost or never given; this
 module's choices, stated here and in the constants below:
 
-- C_E = 3 × 10⁷ N, seed 003's steel cable (`_seed003.py` says why).
+- C_E = 3 × 10⁷ N, seed 003's steel cable (`jaxcable/examples/seed003.py` says why).
 - F₀ = 5 kN on each diverter, along ±y (perpendicular to the tow, fixed in direction).
 - Diverters: 300 kg, 0.1 m³, C_D A = 2 m². A branch-point vehicle (the paper's
   "underwater apparatus"): 500 kg, 0.1 m³, C_D A = 1 m².
@@ -36,7 +36,7 @@ from .._network import Body, Branch, CableNetwork
 from .._state import State
 from .._statics import StaticSolution, solve_statics
 from .._waves import Airy, seed003_amplitude
-from ._seed003 import AXIAL_STIFFNESS, WAVE_PERIOD, seed003_line_type
+from .seed003 import AXIAL_STIFFNESS, WAVE_PERIOD, seed003_line_type
 
 TOW_LENGTH = 200.0  # m
 BRANCH_LENGTH = 100.0  # m, each of the three branches

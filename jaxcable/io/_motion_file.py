@@ -5,7 +5,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._scene import SceneError, is_number, read_text
+from ._parse import is_number, read_text
+from ._scene import SceneError
 
 
 def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndarray]:
@@ -21,7 +22,7 @@ def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndar
 
     **Raises:**
 
-    [`jaxcable.SceneError`][] naming the file and line for a non-numeric field, a row
+    [`jaxcable.io.SceneError`][] naming the file and line for a non-numeric field, a row
     with the wrong number of columns, fewer than two rows, or times that do not
     strictly increase.
     """

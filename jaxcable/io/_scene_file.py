@@ -85,10 +85,11 @@ import tomllib
 import warnings
 from pathlib import Path
 
-from ._config import SOLVERS
-from ._motion import Harmonic, Sampled
+from .._config import SOLVERS
+from .._motion import Harmonic, Sampled
+from .._network import MASS_MATRICES, Body
 from ._motion_file import read_motion_file
-from ._network import MASS_MATRICES, Body
+from ._parse import read_text, unique_names
 from ._scene import (
     POINT_KINDS,
     WAVE_THEORIES,
@@ -103,8 +104,6 @@ from ._scene import (
     Water,
     WaveSpec,
     located,
-    read_text,
-    unique_names,
 )
 
 _TOP = ("title", "water", "waves", "seabed", "simulation", "line_types", "points", "lines", "output")
@@ -125,12 +124,12 @@ _LINE = ("name", "type", "from", "to", "length", "segments")
 
 
 def read_scene(path: str | Path) -> Scene:
-    """Read a jaxcable scene file (TOML) as a [`jaxcable.Scene`][]. The format is in
+    """Read a jaxcable scene file (TOML) as a [`jaxcable.io.Scene`][]. The format is in
     this module's docstring; `jaxcable/examples/scenes/` has complete examples.
 
     **Raises:**
 
-    [`jaxcable.SceneError`][] naming the file, line and key for TOML syntax errors,
+    [`jaxcable.io.SceneError`][] naming the file, line and key for TOML syntax errors,
     unknown or missing keys, values of the wrong type, points or line types that do
     not exist, and values out of range.
     """

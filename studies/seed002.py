@@ -3,8 +3,8 @@ the diverters' paths, and the snap loads.
 
 Used by `notebooks/seed002_branched_systems.ipynb`, `benchmarks/seed002_reproduction.py`
 and the tests. Each case is one run of [`jaxcable.simulate`][] from the steady tow at the
-first speed (`_seed002.steady_tow`), stepping to the second at t = 300 s. See
-`_seed002.py` for the scene and the choices the paper leaves open.
+first speed (`jaxcable.examples.seed002.steady_tow`), stepping to the second at t = 300 s. See
+`jaxcable/examples/seed002.py` for the scene and the choices the paper leaves open.
 
 Where tension is read (the paper's Figs. 7–8), by the segment that touches the point:
 
@@ -19,9 +19,8 @@ import time
 
 import numpy as np
 
-from .._simulate import simulate
-from .._state import State
-from ._seed002 import (
+from jaxcable import State, simulate
+from jaxcable.examples.seed002 import (
     STEP_DURATION,
     STEP_TIME,
     TOW_LENGTH,
@@ -30,8 +29,8 @@ from ._seed002 import (
     steady_tow,
     towed_trawl,
 )
-from .._waves import seed003_amplitude
-from ._seed003 import ADDED_MASS, AXIAL_STIFFNESS, MASS_PER_LENGTH
+from jaxcable.examples import seed003_amplitude
+from jaxcable.examples.seed003 import ADDED_MASS, AXIAL_STIFFNESS, MASS_PER_LENGTH
 
 # Study sizes: the notebook's default and the tests run SMALL, the benchmark FULL. `end`
 # is each case's last time (s); `dense` the span (s) after the step sampled at 1 kHz.
@@ -99,10 +98,13 @@ def _points(model) -> dict[str, int]:
     }
 
 
-def run_trawl(name: str, config: dict = SMALL, progress: bool = False, guess: State | None = None) -> TrawlRun:
+def run_trawl(
+    name: str, config: dict = SMALL, progress: bool = False, guess: State | None = None, case: tuple | None = None
+) -> TrawlRun:
     """Run case `name` of `CASES` at size `config` (`SMALL` or `FULL`). `guess`: the
-    steady tow at the case's first speed from another case, to start statics from."""
-    speeds, viscous, waves, length = CASES[name]
+    steady tow at the case's first speed from another case, to start statics from.
+    `case`: `(speeds, viscous, waves, length)` as in `CASES`, for a case not in it."""
+    speeds, viscous, waves, length = CASES[name] if case is None else case
     start, end = config["start"], config["end"][length]
     options = dict(viscous=viscous, waves=waves, start=start, segments=config["segments"])
     if guess is None:

@@ -63,7 +63,7 @@ here and in the constants below:
     1.06 kN at the anchors, 0.20 kN in the row and 0.27 kN in the diagonal branches;
     the hub sags 0.47 m below the corners; each buoy floats with its centre 0.46 m
     above the still water (0.54 m draft), keeping 7.3 kN of reserve buoyancy.
-    In the waves (`_seed002_net_study.FULL`, 120 s) the segment of buoy 2's vertical
+    In the waves (`studies.seed002_net.FULL`, 120 s) the segment of buoy 2's vertical
     branch next to its anchor goes slack for 2.07 s of every period, then snaps taut
     (11 kN over 0.02 s); the rest of the branch bottoms at 0.08–0.17 kN without going
     slack, and carries the snap's spike. A design tension of 1.0 kN gave the same
@@ -88,7 +88,7 @@ from .._materials import KelvinVoigt
 from .._motion import Fixed
 from .._network import Body, Branch, CableNetwork, LineType
 from .._waves import Airy, seed003_amplitude
-from ._seed003 import AXIAL_STIFFNESS, seed003_line_type
+from .seed003 import AXIAL_STIFFNESS, seed003_line_type
 
 WAVE_PERIOD = 6.4  # s, T_w (the paper's "64c")
 WATER_DEPTH = 30.0  # m, the anchors' depth

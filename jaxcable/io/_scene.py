@@ -1,9 +1,9 @@
 """Scenes: a cable system described as data, as read from a scene or MoorDyn file.
 
-A [`jaxcable.Scene`][] is the description a file gives: named points, line types and
+A [`jaxcable.io.Scene`][] is the description a file gives: named points, line types and
 lines, the water, run settings and output channels. It holds plain Python numbers and
 says where in its file each item came from, so that a bad value is reported against
-the line that wrote it. [`jaxcable.Scene.build`][] turns it into the engine's
+the line that wrote it. [`jaxcable.io.Scene.build`][] turns it into the engine's
 [`jaxcable.CableNetwork`][] and [`jaxcable.Environment`][]; readers
 ([`jaxcable.read_scene`][], [`jaxcable.read_moordyn`][]) and the command line only ever
 produce and consume scenes.
@@ -11,19 +11,18 @@ produce and consume scenes.
 
 import dataclasses
 import warnings
-from collections.abc import Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
-from ._cnoidal import Cnoidal
-from ._config import SOLVERS, SolverConfig
-from ._environment import CurrentProfile, Environment, Seabed
-from ._materials import KelvinVoigt
-from ._motion import AbstractMotion, Fixed, Sampled
-from ._network import Body, Branch, CableNetwork, LineType
-from ._waves import AbstractWave, Airy
+from .._advice import Labels
+from .._cnoidal import Cnoidal
+from .._config import SOLVERS, SolverConfig
+from .._environment import CurrentProfile, Environment, Seabed
+from .._materials import KelvinVoigt
+from .._motion import AbstractMotion, Fixed, Sampled
+from .._network import Body, Branch, CableNetwork, LineType
+from .._waves import AbstractWave, Airy
 
 POINT_KINDS = ("fixed", "coupled", "free")
 WAVE_THEORIES = ("airy", "cnoidal")
@@ -78,7 +77,7 @@ class WaveSpec:
 
         **Raises:**
 
-        [`jaxcable.SceneError`][] at `where` for an unknown theory, neither or both of
+        [`jaxcable.io.SceneError`][] at `where` for an unknown theory, neither or both of
         height and steepness, Wheeler stretching on a cnoidal wave, or a value the wave
         rejects (non-positive, breaking, a period too short for a cnoidal wave).
         """
@@ -126,10 +125,10 @@ class Water:
     - `depth` (m, positive), or `None` for water without a bottom (allowed only without
         waves and seabed).
     - `current`: a uniform current (m/s, a 3-vector); or `current_profile`, a
-        [`jaxcable.CurrentProfileSpec`][] (then `current` must stay zero).
+        [`jaxcable.io.CurrentProfileSpec`][] (then `current` must stay zero).
     - `free_surface`: whether lines are in the water only below z = 0.
-    - `waves`: regular waves, [`jaxcable.WaveSpec`][], superposed.
-    - `seabed`: a [`jaxcable.SeabedSpec`][] at z = −depth, or `None`.
+    - `waves`: regular waves, [`jaxcable.io.WaveSpec`][], superposed.
+    - `seabed`: a [`jaxcable.io.SeabedSpec`][] at z = −depth, or `None`.
     - `fluid_inertia`: whether the waves' acceleration loads lines and bodies.
     - `where`: where in its file the water was described, for errors.
     """
@@ -150,7 +149,7 @@ class Water:
 
         **Raises:**
 
-        [`jaxcable.SceneError`][] naming the item's place in the file for waves or a
+        [`jaxcable.io.SceneError`][] naming the item's place in the file for waves or a
         seabed without a depth, both a uniform current and a profile, or a value out of
         range.
         """
@@ -377,7 +376,7 @@ class Scene:
 
         **Raises:**
 
-        [`jaxcable.SceneError`][] naming the item's place in the file when a value is
+        [`jaxcable.io.SceneError`][] naming the item's place in the file when a value is
         out of range.
         """
         for line in self.lines:
@@ -433,6 +432,7 @@ class BuiltScene:
     - `line_nodes`: per line, the node indices from end A to end B, shape
         `(segments + 1,)`.
     - `line_segments`: per line, the segment indices from end A to end B.
+    - `labels`: the names [`jaxcable.advise`][] gives the lines and points.
     """
 
     scene: Scene
@@ -440,6 +440,19 @@ class BuiltScene:
     environment: Environment
     line_nodes: tuple[np.ndarray, ...] = field(repr=False)
     line_segments: tuple[np.ndarray, ...] = field(repr=False)
+
+    @property
+    def labels(self) -> Labels:
+        """The scene's names for the model's lines, line types and points, for
+        [`jaxcable.advise`][]."""
+        return Labels(
+            tuple(
+                (line.name, nodes, segments)
+                for line, nodes, segments in zip(self.scene.lines, self.line_nodes, self.line_segments)
+            ),
+            tuple(line.line_type for line in self.scene.lines),
+            tuple(point.name for point in self.scene.points),
+        )
 
 
 class located:
@@ -456,29 +469,3 @@ class located:
         if kind is not None and issubclass(kind, ValueError) and not isinstance(error, SceneError):
             raise SceneError(f"{self.where}: {error}") from error
         return False
-
-
-def read_text(path: Path, what: str = "") -> str:
-    """The text of `path`, or a `SceneError` saying why it cannot be read."""
-    try:
-        return path.read_text(encoding="utf-8", errors="replace")
-    except OSError as error:
-        raise SceneError(f"cannot read {what + ' ' if what else ''}{path}: {error.strerror}") from error
-
-
-def is_number(token: str) -> bool:
-    """Whether `token` reads as a float."""
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
-
-
-def unique_names(items: Sequence, what: str, source: str) -> None:
-    """Raise a `SceneError` naming the second definition of a duplicated name."""
-    seen = {}
-    for item in items:
-        if item.name in seen:
-            raise SceneError(f"{item.where}: {what} {item.name!r} is already defined at {seen[item.name]}")
-        seen[item.name] = item.where or source

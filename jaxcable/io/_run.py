@@ -6,14 +6,14 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _output as output
-from ._config import SolverConfig
+from .._config import SolverConfig
+from .._motion import Sampled
+from .._simulate import simulate
+from .._statics import StaticSolution, solve_statics
+from . import _channels
 from ._moordyn import read_moordyn
-from ._motion import Sampled
 from ._scene import BuiltScene, Scene, SceneError
 from ._scene_file import read_scene
-from ._simulate import simulate
-from ._statics import StaticSolution, solve_statics
 
 DEFAULT_DT_OUT = 0.1  # s
 
@@ -32,7 +32,7 @@ class SceneRun:
     Arrays are numpy, indexed by output time first. With a duration of 0 there is one
     output time, 0 s, and the state is the equilibrium.
 
-    - `built`: the [`jaxcable.BuiltScene`][] that ran.
+    - `built`: the [`jaxcable.io.BuiltScene`][] that ran.
     - `static`: its [`jaxcable.StaticSolution`][], the initial state.
     - `times`: (s), shape `(times,)`.
     - `positions`, `velocities`: (m, m/s), shape `(times, nodes, 3)`.
@@ -59,7 +59,7 @@ class SceneRun:
     def channels(self, names: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
         """Output channels by MoorDyn name, `Time` first; the scene's own channels, or
         every line's `FairTen<k>` and `AnchTen<k>`, when `names` is empty."""
-        return output.channels(self, names)
+        return _channels.channels(self.built, self.times, self.tension, self.positions, names)
 
     def peak_tension(self) -> tuple[float, int, int, float]:
         """The peak tension: `(tension (N), line index, segment index along the line
@@ -107,7 +107,7 @@ def run_scene(
 
     **Arguments:**
 
-    - `scene`: the [`jaxcable.Scene`][].
+    - `scene`: the [`jaxcable.io.Scene`][].
     - `duration`: simulated time (s); the scene's `run.duration` by default; 0 solves
         statics only.
     - `dt_out`: output interval (s); the scene's, or 0.1 s.
@@ -117,7 +117,7 @@ def run_scene(
 
     **Raises:**
 
-    [`jaxcable.SceneError`][] for a bad duration or interval, or an unknown solver
+    [`jaxcable.io.SceneError`][] for a bad duration or interval, or an unknown solver
     name in the scene;
     `RuntimeError` if statics or the integration fails.
     """

@@ -35,11 +35,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._config import SolverConfig
-from .._state import State
-from .._statics import solve_statics
-from .._sweep import sweep, sweep_grid
-from ._seed003 import AXIAL_STIFFNESS, WAVE_PERIOD, seed003_line
+from jaxcable import SolverConfig, State, solve_statics, sweep, sweep_grid
+from jaxcable.examples.seed003 import AXIAL_STIFFNESS, WAVE_PERIOD, seed003_line
 
 ANGLES = (30.0, 45.0, 60.0)
 RATIOS = (0.0, 0.05, 0.1, 0.2)

@@ -8,7 +8,7 @@ import numpy as np
 
 if TYPE_CHECKING:
     from ._calibrate import CalibrationResult
-    from ._run import SceneRun
+    from .io._run import SceneRun
 
 
 def _pyplot():

@@ -7,7 +7,7 @@ one: MoorDyn's `Cd` is referred to d·l and `CdAx` to π·d·l, exactly as K_n a
 and `Ca`, `CaAx` are jaxcable's normal and tangential added-mass coefficients on
 π d²/4 — so they are copied, not converted. The column `BA/-zeta` is axial damping in
 N·s when positive and a fraction of critical damping when negative; the reader turns it
-into `axial_damping` or `axial_damping_ratio` (see [`jaxcable.LineTypeSpec`][]).
+into `axial_damping` or `axial_damping_ratio` (see [`jaxcable.io.LineTypeSpec`][]).
 
 The seabed is MoorDyn's: MoorDyn always has one, flat at `WtrDpth` (0 by default),
 which it lowers to the deepest point when a point lies below it (MoorDyn2.cpp, reading
@@ -19,7 +19,7 @@ contact area, so `kBot` and `cBot` (3e6 Pa/m and 3e5 Pa·s/m when absent) are co
 v_s = N / FricDamp, which depends on each node's bed reaction N, so the reader sets
 `friction_speed` from the heaviest line's node weight and says so in a note.
 
-Features jaxcable does not model raise a [`jaxcable.SceneError`][] where leaving them
+Features jaxcable does not model raise a [`jaxcable.io.SceneError`][] where leaving them
 out would change the system (rods, 6-DOF bodies, nonlinear or viscoelastic stiffness
 tables, VIV, constant forces on fixed or coupled points) and are listed in `Scene.notes` where the model is
 still meaningful without them (bending stiffness of a long line, bathymetry files,
@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._network import Body
+from .._network import Body
 from ._scene import (
     LineSpec,
     LineTypeSpec,
@@ -45,11 +45,9 @@ from ._scene import (
     SceneError,
     SeabedSpec,
     Water,
-    is_number,
     located,
-    read_text,
-    unique_names,
 )
+from ._parse import is_number, read_text, unique_names
 
 # Section names as MoorDyn recognises them, most specific first: a header matches the
 # first entry any of whose aliases it contains.
@@ -105,17 +103,17 @@ _WAVES = {"wavekin", "dtwave", "currents", "unifycurrentgrid"}
 
 
 def read_moordyn(path: str | Path) -> Scene:
-    """Read a MoorDyn v2 input file as a [`jaxcable.Scene`][].
+    """Read a MoorDyn v2 input file as a [`jaxcable.io.Scene`][].
 
     Points keep MoorDyn's numbering (point `k` is `scene.points[k - 1]`), as do lines,
     so output channels such as `FairTen1` mean what they mean in MoorDyn. Coupled
     (`Vessel`) points are held at their positions until a motion is given
-    ([`jaxcable.Scene.with_motion_table`][], or `jaxcable run --motion`). The mass matrix
+    ([`jaxcable.io.Scene.with_motion_table`][], or `jaxcable run --motion`). The mass matrix
     is lumped, as MoorDyn's is.
 
     **Raises:**
 
-    [`jaxcable.SceneError`][] naming the file, line number and column for a missing
+    [`jaxcable.io.SceneError`][] naming the file, line number and column for a missing
     section, an unknown point type or line type, a line attached to a point that does
     not exist, a non-positive length, a non-numeric field, or a feature jaxcable does
     not model.

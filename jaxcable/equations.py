@@ -1,0 +1,17 @@
+"""jaxcable.equations: the equations of motion, for users who look under `simulate`.
+
+The Lagrangian's parts and the forces it gives, as pure functions of a model, an
+environment and a state (`_lagrangian.py` derives them), the first-order vector field
+that [`jaxcable.simulate`][] integrates, the smoothed slack switch H(ε) of the tension
+laws, and the stiffest axial mode that limits an explicit step.
+"""
+
+from ._advice import stiffest_axial_mode as stiffest_axial_mode
+from ._lagrangian import (
+    generalised_forces as generalised_forces,
+    kinetic_energy as kinetic_energy,
+    potential_energy as potential_energy,
+    tension as tension,
+)
+from ._materials import slack_switch as slack_switch
+from ._simulate import vector_field as vector_field

@@ -1,0 +1,95 @@
+"""Advice in words: the text `jaxcable info` prints for an [`Advice`][jaxcable.Advice],
+whose numbers the engine computes ([`jaxcable.advise`][])."""
+
+import numpy as np
+
+from .._advice import STABLE_STEP, Advice
+
+
+def advice_lines(advice: Advice) -> list[str]:
+    """An [`Advice`][jaxcable.Advice] in words, one item per line: what `jaxcable info`
+    prints."""
+    text = []
+    for fit in advice.waves:
+        uses = "which it uses" if fit.uses_fitting_theory else f"but the model uses {fit.theory}"
+        fits = {"airy": "Airy fits", "cnoidal": "cnoidal fits", "breaking": "the wave breaks",
+                "none": "neither theory fits well"}[fit.fits]
+        text.append(
+            f"wave {fit.index + 1} ({fit.theory}, H = {fit.height:.3g} m, T = {fit.period:.3g} s): "
+            f"λ = {fit.wavelength:.4g} m, d/λ = {fit.relative_depth:.3g} ({fit.regime} water), "
+            f"U = Hλ²/d³ = {fit.ursell:.3g}, H/d = {fit.height_ratio:.3g}: {fits}"
+            + ("" if fit.fits in ("breaking", "none") else f", {uses}")
+            + f" — {fit.reason}"
+        )
+    for check in advice.inertia:
+        regime = {"drag": "drag dominates", "inertia": "inertia dominates", "both": "drag and inertia both matter"}
+        text.append(
+            f"{check.element} in wave {check.wave + 1}: u = {check.speed:.3g} m/s at z = {check.depth:.3g} m, "
+            f"KC = uT/D = {check.keulegan_carpenter:.3g} (D = {check.diameter:.3g} m), peak inertia/drag "
+            f"= {check.inertia_ratio:.3g}: {regime[check.regime]}"
+        )
+    if advice.drag_dominates is True and advice.fluid_inertia:
+        text.append(
+            "drag dominates everywhere: fluid_inertia = false would lose less than 6 % of the peak wave load "
+            "and save evaluating the water's acceleration"
+        )
+    elif advice.drag_dominates is False and not advice.fluid_inertia:
+        text.append("fluid inertia matters on some element: set fluid_inertia = true")
+    if advice.statics_error is not None:
+        text.append(f"no mean equilibrium, so no check of the segments or of slack: {advice.statics_error}")
+    for d in advice.discretisation:
+        verdict = "enough" if d.needed <= d.segments else f"more needed: about {d.needed}"
+        text.append(
+            f"line {d.line}: {d.segments} segments of {d.length / d.segments:.4g} m, largest curvature "
+            f"{d.curvature:.3g} 1/m, polyline error ≤ √2/8·h²·κ = {d.deviation:.3g} m against {d.tolerance:.3g} m"
+            f" allowed: {d.segments} segments {verdict}"
+            + (" (a lower bound: the curvature is taken from the coarse shape)" if d.needed > d.segments else "")
+        )
+    if advice.rest_min_tension is not None and advice.slack:
+        text.append(
+            f"at rest the tension is {advice.rest_min_tension / 1e3:.4g} to {advice.rest_max_tension / 1e3:.4g} kN"
+        )
+    for c in advice.slack:
+        shift = ", ".join(f"{x:.3g}" for x in c.displacement)
+        if not c.converged:
+            state = "no taut equilibrium: slack"
+        else:
+            state = f"smallest tension {c.min_tension / 1e3:.4g} kN (line {c.line})" + (": slack" if c.slack else "")
+        text.append(f"point {c.point} moved by ({shift}) m: {state}")
+    if advice.slack:
+        if advice.slack_expected:
+            text.append("slack expected, quasi-statically; dynamics (drag, inertia) make it more likely still")
+        else:
+            text.append(
+                "no slack quasi-statically; dynamics (drag, inertia) can still slacken a line that this misses"
+            )
+        for c in advice.slack:
+            if np.isfinite(c.terminal_speed) and c.speed > c.terminal_speed:
+                text.append(
+                    f"point {c.point} moves at up to {c.speed:.3g} m/s, faster than its lines fall sideways "
+                    f"({c.terminal_speed:.3g} m/s, their terminal speed): expect slack and snap loads"
+                )
+                break
+    text.append(
+        f"stiffest axial mode: ω_n = {advice.omega:.4g} rad/s (period {2 * np.pi / advice.omega:.3g} s) at segment "
+        f"{advice.segment}; with damping |λ| = {advice.eigenvalue:.4g} 1/s"
+    )
+    if advice.seabed_eigenvalue > 0:
+        what = {"damping": "its damping", "stiffness": "its stiffness", "friction": "friction below friction_speed"}
+        text.append(
+            f"seabed contact: |λ| = {advice.seabed_eigenvalue:.4g} 1/s from {what[advice.seabed_limit]}"
+            + (", faster than the axial mode" if advice.seabed_eigenvalue > advice.eigenvalue else "")
+        )
+    steps = (
+        f", so {advice.duration:g} s needs at least ~{advice.steps:,} steps" if advice.duration is not None else ""
+    )
+    text.append(
+        f"an explicit solver (dopri5, tsit5) is stable for steps up to about {STABLE_STEP:g}/|λ| = {advice.explicit_step:.3g} s"
+        + steps
+    )
+    if advice.explicit_step < 1e-3:
+        text.append(
+            "that step is short: if the run is slow, fewer segments (--segments) lengthen it in proportion, "
+            "or an implicit solver (--solver kvaerno5) removes the limit at a higher cost per step"
+        )
+    return text

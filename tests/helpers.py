@@ -1,0 +1,169 @@
+"""References the tests share, written out independently of jaxcable: one copy each.
+
+- `Irvine`: Irvine's elastic catenary in closed form (H. M. Irvine, *Cable Structures*,
+  MIT Press 1981, §2.2), for a linear-elastic cable; `rigid_top_tension` and
+  `catenary_parameter` for an inextensible one.
+- `ElasticCatenary`: the same continuum for the tension law C_E ε + C_E1 ε², by
+  quadrature.
+- `hand_forces`, `wet_fraction`: the static force balance of a network's nodes, with
+  numpy, independent of jaxcable's Lagrangian.
+- `chain_nodes`: the node order of a single branch built by `from_branches`.
+"""
+
+import numpy as np
+from scipy.optimize import brentq, fsolve
+
+
+def wet_fraction(body: dict, z):
+    """The submerged share of a body centred at height `z` (m): a floating column of
+    height `body["height"]` is wet below the still-water level z = 0; a point body
+    (no height) always wholly."""
+    height = body.get("height", 0.0)
+    if not height:
+        return np.ones_like(np.asarray(z, dtype=float))
+    return np.clip((height / 2 - np.asarray(z)) / height, 0.0, 1.0)
+
+
+def hand_forces(model, env, positions, bodies: dict, flow=(0.0, 0.0, 0.0)):
+    """`(tension, force)`: Hooke's-law tension (N) of every segment at `positions` (m),
+    and the force (N) on every node at rest there in a uniform current `flow` (m/s).
+
+    On each node: the tensions along the segments that meet there; half of each such
+    segment's submerged weight, and half of its drag, `C_n |u_n| u_n + C_τ |u_τ| u_τ`
+    per stretched length, uniform along the straight segment; for each node in
+    `bodies` (node → a body's `mass`, `volume`, `drag_area` and optional `height`, as
+    `Body` takes them) its weight, the buoyancy and drag of its wet part. At
+    equilibrium the force vanishes on every free node; on a constrained node it is
+    minus the support's reaction.
+    """
+    rho, g = float(env.water_density), float(env.gravity)
+    line = model.line
+    ends = np.asarray(model.segment_nodes)
+    chord = positions[ends[:, 1]] - positions[ends[:, 0]]
+    stretched = np.linalg.norm(chord, axis=1)
+    tau = chord / stretched[:, None]
+    length = np.asarray(model.segment_length)
+    tension = np.asarray(line.tension_law.axial_stiffness) * (stretched / length - 1)
+
+    u = np.asarray(flow, dtype=float)
+    diameter = np.asarray(line.diameter)
+    c_n = 0.5 * rho * np.asarray(line.normal_drag) * diameter
+    c_t = 0.5 * rho * np.asarray(line.tangential_drag) * np.pi * diameter
+    u_t = (tau @ u)[:, None] * tau
+    u_n = u - u_t
+    drag = (c_n * np.linalg.norm(u_n, axis=1))[:, None] * u_n + (c_t * np.linalg.norm(u_t, axis=1))[:, None] * u_t
+    per_end = 0.5 * drag * stretched[:, None]
+    per_end[:, 2] -= 0.5 * (np.asarray(line.mass_per_length) - rho * np.asarray(line.area)) * g * length
+
+    force = np.zeros_like(positions)
+    np.add.at(force, ends[:, 0], tension[:, None] * tau + per_end)
+    np.add.at(force, ends[:, 1], -tension[:, None] * tau + per_end)
+    for node, body in bodies.items():
+        wet = wet_fraction(body, positions[node, 2])
+        force[node, 2] -= (body["mass"] - rho * body["volume"] * wet) * g
+        force[node] += 0.5 * rho * body["drag_area"] * wet * np.linalg.norm(u) * u
+    return tension, force
+
+
+def chain_nodes(n_segments):
+    """Node indices along a single branch 0 → 1 built by `from_branches`."""
+    return np.concatenate([[0], np.arange(2, n_segments + 1), [1]])
+
+
+class Irvine:
+    """An elastic catenary hanging from A (the origin) to B at horizontal distance
+    `span` and height `height` above A, in A's vertical plane.
+
+    `V` is the vertical force of support B on the cable (upwards positive); the vertical
+    tension component at unstretched coordinate s (from A) is `V − w (L₀ − s)`.
+    """
+
+    def __init__(self, span, height, length, w, ea):
+        self.span, self.height, self.length, self.w, self.ea = span, height, length, w, ea
+
+        def closure(p):
+            x, z = self.xz(length, np.exp(p[0]), p[1] * w * length)
+            return [(x - span) / length, (z - height) / length]
+
+        # Starting point from the shallow parabola: sag d from L ≈ chord + 8 d² / (3 chord).
+        chord = np.hypot(span, height)
+        sag = np.sqrt(3 * chord * max(length - chord, 1e-3 * length) / 8)
+        h0 = w * span**2 / (8 * sag)
+        v0 = w * length / 2 + h0 * height / span
+        p, info, ier, msg = fsolve(closure, [np.log(h0), v0 / (w * length)], xtol=1e-13, full_output=True)
+        assert ier == 1 and np.max(np.abs(closure(p))) < 1e-11, msg
+        self.H, self.V = np.exp(p[0]), p[1] * w * length
+
+    def vertical(self, s, v=None):
+        return (self.V if v is None else v) - self.w * (self.length - s)
+
+    def xz(self, s, h=None, v=None):
+        h = self.H if h is None else h
+        w, ea = self.w, self.ea
+        va = self.vertical(0.0, v)
+        vs = self.vertical(s, v)
+        x = h * s / ea + h / w * (np.arcsinh(vs / h) - np.arcsinh(va / h))
+        z = va * s / ea + w * s**2 / (2 * ea) + h / w * (np.hypot(1, vs / h) - np.hypot(1, va / h))
+        return x, z
+
+    def tension(self, s):
+        return np.hypot(self.H, self.vertical(s))
+
+
+def catenary_parameter(span: float, length: float) -> float:
+    """a = H/w of the inextensible catenary of `length` between points level `span` apart."""
+    return brentq(lambda a: 2 * a * np.sinh(span / (2 * a)) - length, 1.0, 1e4, xtol=1e-14)
+
+
+def rigid_top_tension(span, height, length, w):
+    """The inextensible catenary's top tension, to show that elasticity matters."""
+
+    def closure(p):
+        h, v = p
+        va, vb = v - w * length, v
+        x = h / w * (np.arcsinh(vb / h) - np.arcsinh(va / h))
+        z = h / w * (np.hypot(1, vb / h) - np.hypot(1, va / h))
+        return [(x - span) / length, (z - height) / length]
+
+    h, v = fsolve(closure, [w * length, w * length / 2], xtol=1e-12)
+    return np.hypot(h, v)
+
+
+class ElasticCatenary:
+    """Irvine's elastic catenary from A to B (unstretched length L, wet weight w per
+    unstretched length, tension law C_E ε + C_E1 ε²), in the vertical plane of A and B.
+
+    With H the horizontal tension and V_A the vertical component at A (upwards along
+    the line from A), the tension at arc s from A has components (H, V_A + w s), and
+    the position is `∫₀ˢ (1 + ε(T)) (H, V) / T ds'`. The integrals are done by
+    Gauss–Legendre on 64 points, exact for these smooth integrands to rounding.
+    """
+
+    def __init__(self, length, w, ea, ea1, span, rise, guess):
+        self.length, self.w, self.ea, self.ea1 = length, w, ea, ea1
+        self.nodes, self.weights = np.polynomial.legendre.leggauss(64)
+        solution, info, ok, message = fsolve(
+            lambda p: np.array(self.position(self.length, *p)) - [span, rise], guess, full_output=True, xtol=1e-13
+        )
+        assert ok == 1, message
+        self.horizontal, self.vertical = solution
+
+    def tension(self, s, horizontal=None, vertical=None):
+        h = self.horizontal if horizontal is None else horizontal
+        v = self.vertical if vertical is None else vertical
+        return np.hypot(h, v + self.w * s)
+
+    def strain(self, tension):
+        if self.ea1 == 0:
+            return tension / self.ea
+        return (-self.ea + np.sqrt(self.ea**2 + 4 * self.ea1 * tension)) / (2 * self.ea1)
+
+    def position(self, s, horizontal=None, vertical=None):
+        h = self.horizontal if horizontal is None else horizontal
+        v = self.vertical if vertical is None else vertical
+        arc = 0.5 * s * (self.nodes + 1)
+        t = self.tension(arc, h, v)
+        stretch = 1 + self.strain(t)
+        x = 0.5 * s * np.sum(self.weights * stretch * h / t)
+        z = 0.5 * s * np.sum(self.weights * stretch * (v + self.w * arc) / t)
+        return x, z
