@@ -110,6 +110,8 @@ def main():
     import jaxcable as jc
     from jaxcable import _calibrate
 
+    jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
+
     entries = []
     for name in args.sets:
         for length in args.lengths:

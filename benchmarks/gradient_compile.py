@@ -540,6 +540,8 @@ def main():
     _listen()
     import jax
 
+    jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
+
     study = {"gradient": gradient_study, "segments": segments_study, "reuse": reuse_study,
              "solvers": solvers_study}[args.study]
     load_before = load_average()

@@ -32,9 +32,12 @@ import tempfile
 import time
 from pathlib import Path
 
+import jax
 import numpy as np
 
 import jaxcable as jc
+
+jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "lowe_and_langley_2006"
 RESULTS = Path(__file__).resolve().parent / "results" / "lowe_langley.json"

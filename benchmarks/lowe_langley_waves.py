@@ -34,6 +34,8 @@ import jaxcable as jc
 
 from _timing import timed
 
+jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
+
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "lowe_and_langley_2006"
 RESULTS = Path(__file__).resolve().parent / "results" / "lowe_langley_waves.json"
 AMPLITUDE, PERIOD, SETTLE, AFTER = 5.0, 10.0, 20.0, 30.0

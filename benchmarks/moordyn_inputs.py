@@ -22,9 +22,12 @@ import time
 import warnings
 from pathlib import Path
 
+import jax
 import numpy as np
 
 import jaxcable as jc
+
+jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
 
 def jaxcable_statics(path: Path, max_segments: int) -> dict:

@@ -894,6 +894,9 @@ def main():
         os.environ["XLA_FLAGS"] = (
             os.environ.get("XLA_FLAGS", "") + f" --xla_force_host_platform_device_count={args.host_devices}"
         )
+    import jax
+
+    jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
     part = {"check": part_check, "work-precision": part_work_precision, "sweep": part_sweep}[args.part]
     record = part(args)
     append_session(args.out, part=args.part, **record)

@@ -22,6 +22,7 @@ import json
 import sys
 from pathlib import Path
 
+import jax
 import matplotlib
 
 matplotlib.use("Agg")
@@ -34,6 +35,8 @@ from studies import seed001 as s1  # noqa: E402
 from jaxcable.examples.seed001 import SPECIFIC_DRAG  # noqa: E402
 
 from _results import append_session  # noqa: E402
+
+jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
 RESULTS = Path(__file__).parent / "results"
 CAGE_WEIGHTS = (0.5, 2.0, 10.0)

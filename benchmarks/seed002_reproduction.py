@@ -23,6 +23,7 @@ import sys
 import time
 from pathlib import Path
 
+import jax
 import matplotlib
 
 matplotlib.use("Agg")
@@ -34,6 +35,8 @@ from studies import seed002_net as s2n  # noqa: E402
 from studies import seed002 as s2  # noqa: E402
 
 from _results import append_session  # noqa: E402
+
+jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
 RESULTS = Path(__file__).parent / "results"
 

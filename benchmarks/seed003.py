@@ -18,6 +18,7 @@ import argparse
 import json
 from pathlib import Path
 
+import jax
 import diffrax
 import numpy as np
 
@@ -26,6 +27,8 @@ from jaxcable.examples import seed003_line
 
 from _results import append_session
 from _timing import timed
+
+jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
 SOLVERS = {
     "default": jc.default_solver,

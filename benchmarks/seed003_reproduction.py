@@ -47,6 +47,8 @@ from studies.seed003 import (  # noqa: E402
     verdict,
 )
 
+jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
+
 RESULTS = Path(__file__).parent / "results"
 NOTEBOOK = Path(__file__).parent.parent / "notebooks" / "seed003_reproduction.ipynb"
 PAPER_FIGURES = {30.0: "Fig. 2 (C_E1 = 0.1, 0.2 C_E)", 45.0: "Fig. 3 (all four)", 60.0: "Fig. 4 (C_E1 = 0.1, 0.2 C_E)"}

@@ -69,6 +69,8 @@ from jaxcable.examples import seed003_line
 
 from _results import append_session
 
+jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
+
 RESULTS = Path(__file__).parent / "results"
 
 

@@ -33,6 +33,8 @@ from jaxcable.examples import seed003_line
 from _results import append_session
 from _timing import timed
 
+jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
+
 RESULTS = Path(__file__).parent / "results"
 EVALUATIONS = 200
 

@@ -78,6 +78,8 @@ def main():
     from jaxcable import sweep
     from jaxcable.examples import seed003_amplitude, seed003_line
 
+    jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
+
     base_model, env = seed003_line(args.segments, mass_matrix=args.mass_matrix)
     fairlead = int(np.flatnonzero(np.asarray(base_model.constrained_nodes) == 1)[0])
 

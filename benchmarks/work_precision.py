@@ -50,6 +50,7 @@ import statistics
 import time
 from pathlib import Path
 
+import jax
 import diffrax
 import equinox as eqx
 import numpy as np
@@ -60,6 +61,8 @@ from jaxcable.examples import seed003_line
 
 from _results import append_session
 from _timing import timed
+
+jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = Path(__file__).resolve().parent / "results"
