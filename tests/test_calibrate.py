@@ -95,6 +95,7 @@ def test_noise_estimate_matches_the_noise_put_in(k0_fit, vertical_records):
     assert all(r.shape == (101,) for r in pooled)
 
 
+@pytest.mark.slow
 def test_recovers_both_drag_coefficients_with_an_axial_flow_record(axial_fit):
     within(axial_fit, "normal_drag", 0.05)
     within(axial_fit, "tangential_drag", 0.10)
@@ -116,6 +117,7 @@ def test_adam_also_recovers_specific_drag(vertical_records):
     within(result, "specific_drag", 0.05)
 
 
+@pytest.mark.slow
 def test_gradient_matches_central_differences():
     # One joint problem over both rigs, so that every coefficient is loaded; tight
     # tolerances, so that the finite differences see the same discretisation.

@@ -60,6 +60,7 @@ def test_a_misspelt_part_is_an_error_not_all_forces():
         lag.free_accelerations(model, env, 0.0, *_moving_state(model), part="intrenal")
 
 
+@pytest.mark.slow
 def test_kencarp_follows_a_tight_reference():
     """KenCarp4 (axial forces implicit, the rest explicit) on seed 003's line over 2 s
     against Dopri5 at rtol = 1e-10."""

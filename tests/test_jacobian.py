@@ -185,6 +185,7 @@ def test_structured_refuses_what_it_cannot_do(models):
         kvaerno5(NetworkJacobian(consistent))
 
 
+@pytest.mark.slow
 def test_sweep_vmaps_the_structured_solver():
     """A sweep with an implicit solver batches the structured solver (`vmap` over
     cases): each case equals its own `simulate` run."""

@@ -412,6 +412,7 @@ def test_cli_run_bundled_example(runs, tmp_path, capsys):
     assert f"peak tension {peak / 1e3:.3f} kN" in summary
 
 
+@pytest.mark.slow
 def test_cli_info_bundled_example(capsys):
     assert main(["info", "buoy_net"]) == 0
     out = capsys.readouterr().out

@@ -78,6 +78,7 @@ def test_chain_on_the_seabed_matches_the_analytic_catenary(resting_chain):
     np.testing.assert_allclose(z[1 : first_lifted - 1], -DEPTH - sink, rtol=0, atol=0.2 * sink)
 
 
+@pytest.mark.slow
 def test_friction_holds_a_dragged_chain_at_mu_times_its_weight():
     """A chain lying on the bed, pulled along it at a steady speed much faster than the
     friction speed: the pull equals μ times the wet weight on the bed (drag is off)."""

@@ -210,6 +210,7 @@ def small():
     return s.run_net(s.SMALL)
 
 
+@pytest.mark.slow
 def test_small_run_is_mirror_symmetric(small):
     # The scene is its own mirror image in the waves' vertical plane y = 0 (buoys 2 ↔ 4),
     # and the Airy wave along +x is too; so must the motion be, to rounding: the still

@@ -56,6 +56,7 @@ def test_failure_is_reported_without_throw(scene):
     assert result.result == diffrax.RESULTS.max_steps_reached
 
 
+@pytest.mark.slow
 def test_any_diffrax_solver_and_progress(scene, capsys):
     model, env, static = scene
     # Two different solvers integrating the same equations must agree (independent
@@ -84,6 +85,7 @@ def test_statics_state_is_at_rest(scene):
     np.testing.assert_allclose(result.velocities, 0.0, atol=1e-6)
 
 
+@pytest.mark.slow
 def test_fixed_step_blow_up_is_a_failure_not_output():
     """Heun at 20× its stable step on seed 003's line goes non-finite; the result says
     so (and raises with `throw=True`) rather than passing the NaNs on as a success."""

@@ -220,6 +220,7 @@ def y_network():
     return model, static, branches
 
 
+@pytest.mark.slow
 def test_y_branches_are_elastic_catenaries(y_network):
     """Each branch, taken alone between its anchor and the solved junction, is Irvine's
     catenary: its segment tensions match T(s) at the segment midpoints (both ends
