@@ -84,6 +84,7 @@ import math
 import tomllib
 import warnings
 from pathlib import Path
+from typing import Any
 
 from .._config import SOLVERS
 from .._motion import Harmonic, Sampled
@@ -397,25 +398,25 @@ class _Reader:
             raise SceneError(f"{self.where(keys)}: missing required key ({kind})")
         return default, False
 
-    def number(self, table: dict, keys: tuple, default=...):
+    def number(self, table: dict, keys: tuple, default: Any = ...):
         value, given = self._value(table, keys, default, "a number")
         if given and (isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value)):
             raise SceneError(f"{self.where(keys)}: expected a finite number, got {value!r}")
         return float(value) if given else value
 
-    def boolean(self, table: dict, keys: tuple, default=...) -> bool:
+    def boolean(self, table: dict, keys: tuple, default: Any = ...) -> bool:
         value, given = self._value(table, keys, default, "true or false")
         if given and not isinstance(value, bool):
             raise SceneError(f"{self.where(keys)}: expected true or false, got {value!r}")
         return value
 
-    def string(self, table: dict, keys: tuple, default=...) -> str:
+    def string(self, table: dict, keys: tuple, default: Any = ...) -> str:
         value, given = self._value(table, keys, default, "a string")
         if given and not isinstance(value, str):
             raise SceneError(f"{self.where(keys)}: expected a string, got {value!r}")
         return value
 
-    def numbers(self, table: dict, keys: tuple, default=...) -> tuple[float, ...]:
+    def numbers(self, table: dict, keys: tuple, default: Any = ...) -> tuple[float, ...]:
         value, given = self._value(table, keys, default, "a list of numbers")
         if given and not (
             isinstance(value, list)
@@ -425,7 +426,7 @@ class _Reader:
             raise SceneError(f"{self.where(keys)}: expected a list of finite numbers, got {value!r}")
         return tuple(float(v) for v in value) if given else value
 
-    def vector(self, table: dict, keys: tuple, default=...) -> tuple[float, float, float]:
+    def vector(self, table: dict, keys: tuple, default: Any = ...) -> tuple[float, float, float]:
         value, given = self._value(table, keys, default, "[x, y, z]")
         if given and not (
             isinstance(value, list)
