@@ -4,7 +4,8 @@ A single line, a branched system and a net are all the same object: segments are
 edges of a graph, given by `segment_nodes`, and every per-segment or per-node quantity is
 an array whose first axis is indexed by segment or node. Float arrays are ordinary
 pytree leaves, so any of them can be differentiated, swept with `eqx.tree_at`, or
-vmapped; the topology (integer arrays and motions' structure) is never batched.
+vmapped. The topology (a [`Topology`][] of node indices, and motions' structure) is
+static: part of the model's tree structure, known when tracing, never batched.
 """
 
 from collections.abc import Mapping, Sequence
@@ -172,6 +173,59 @@ class Branch(NamedTuple):
     segments: int
 
 
+class Topology:
+    """The graph of a network, as hashable static structure: which nodes each segment
+    joins and which nodes are constrained.
+
+    Held in a static field of [`jaxcable.CableNetwork`][], so it is known when tracing
+    (under `jit`, `vmap` and in sweeps): topology checks run, the structured Jacobian
+    applies, and indexing with it compiles to constant gathers. Two models whose
+    topologies differ have different tree structures, so `jit` recompiles for them and
+    a sweep refuses a topology that depends on its parameters.
+
+    The arrays are read-only numpy copies; equality compares them, and the hash of
+    their bytes is computed once, since `jit` hashes static structure on every call.
+
+    **Arguments:**
+
+    - `n_nodes`: the number of nodes.
+    - `segment_nodes`: the two nodes each segment joins, shape `(segments, 2)`.
+    - `constrained_nodes`: the constrained nodes, increasing, shape `(constrained,)`.
+    """
+
+    __slots__ = ("n_nodes", "segment_nodes", "constrained_nodes", "free_nodes", "_hash")
+
+    def __init__(self, n_nodes: int, segment_nodes: np.ndarray, constrained_nodes: np.ndarray):
+        def frozen(array):
+            array = np.array(array, dtype=np.int32)
+            array.flags.writeable = False
+            return array
+
+        self.n_nodes = int(n_nodes)
+        self.segment_nodes = frozen(np.reshape(segment_nodes, (-1, 2)))
+        self.constrained_nodes = frozen(constrained_nodes)
+        self.free_nodes = frozen(np.setdiff1d(np.arange(self.n_nodes), self.constrained_nodes))
+        self._hash = hash((self.n_nodes, self.segment_nodes.tobytes(), self.constrained_nodes.tobytes()))
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __eq__(self, other) -> bool:
+        return (
+            isinstance(other, Topology)
+            and self._hash == other._hash
+            and self.n_nodes == other.n_nodes
+            and np.array_equal(self.segment_nodes, other.segment_nodes)
+            and np.array_equal(self.constrained_nodes, other.constrained_nodes)
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"Topology(nodes={self.n_nodes}, segments={len(self.segment_nodes)}, "
+            f"constrained={self.constrained_nodes.tolist()})"
+        )
+
+
 class CableNetwork(eqx.Module):
     """A cable system: nodes joined by straight, extensible segments.
 
@@ -204,13 +258,11 @@ class CableNetwork(eqx.Module):
     """
 
     node_positions: Float[Array, "nodes 3"]
-    segment_nodes: Int[Array, "segments 2"]
     segment_length: Float[Array, " segments"]
     line: LineType
     body: Body
-    constrained_nodes: Int[Array, " constrained"]
-    free_nodes: Int[Array, " free"]
     motions: tuple[AbstractMotion, ...]
+    topology: Topology = eqx.field(static=True)
     mass_matrix: str = eqx.field(static=True)
     drag_points: int = eqx.field(static=True)
 
@@ -253,7 +305,6 @@ class CableNetwork(eqx.Module):
             s = loops[0]
             raise ValueError(f"CableNetwork.segment_nodes[{s}] joins node {edges[s, 0]} to itself")
         n_segments = edges.shape[0]
-        self.segment_nodes = jnp.asarray(edges, dtype=jnp.int32)
 
         self.segment_length = checks.float_array("CableNetwork.segment_length", segment_length, (n_segments,))
         checks.positive("CableNetwork.segment_length", self.segment_length)
@@ -265,8 +316,7 @@ class CableNetwork(eqx.Module):
                 raise ValueError(f"CableNetwork.constraints has node {k}, out of range for {n_nodes} nodes")
             if not isinstance(constraints[k], AbstractMotion):
                 raise ValueError(f"CableNetwork.constraints[{k}] must be a motion, got {constraints[k]!r}")
-        self.constrained_nodes = jnp.asarray(constrained, dtype=jnp.int32)
-        self.free_nodes = jnp.asarray(sorted(set(range(n_nodes)) - set(constrained)), dtype=jnp.int32)
+        self.topology = Topology(n_nodes, edges, np.asarray(constrained, dtype=np.int32))
         self.motions = tuple(constraints[k] for k in constrained)
 
         bodies = dict(bodies or {})
@@ -278,12 +328,27 @@ class CableNetwork(eqx.Module):
         self.body = _scatter_bodies(bodies, n_nodes)
 
     @property
+    def segment_nodes(self) -> Int[np.ndarray, "segments 2"]:
+        """The two nodes each segment joins, shape `(segments, 2)` (static, numpy)."""
+        return self.topology.segment_nodes
+
+    @property
+    def constrained_nodes(self) -> Int[np.ndarray, " constrained"]:
+        """The constrained nodes, increasing, in the order of `motions` (static, numpy)."""
+        return self.topology.constrained_nodes
+
+    @property
+    def free_nodes(self) -> Int[np.ndarray, " free"]:
+        """The free nodes, increasing, shape `(free,)` (static, numpy)."""
+        return self.topology.free_nodes
+
+    @property
     def n_nodes(self) -> int:
-        return self.node_positions.shape[0]
+        return self.topology.n_nodes
 
     @property
     def n_segments(self) -> int:
-        return self.segment_nodes.shape[0]
+        return self.topology.segment_nodes.shape[0]
 
     @classmethod
     def from_branches(
@@ -430,10 +495,8 @@ def _scatter_bodies(bodies: Mapping[int, Body], n_nodes: int) -> Body:
 
 def check_held(model: CableNetwork) -> None:
     """Raise `ValueError` unless every connected part of the graph has a constrained
-    node: a part that nothing holds has no static equilibrium. Topology traced inside
-    `jit` cannot be inspected and is not checked."""
-    if not (checks.is_concrete(model.segment_nodes) and checks.is_concrete(model.constrained_nodes)):
-        return
+    node: a part that nothing holds has no static equilibrium. The topology is static,
+    so this runs under `jit` and `vmap` too, when tracing."""
     edges = np.asarray(model.segment_nodes)
     constrained = np.asarray(model.constrained_nodes)
     labels = np.arange(model.n_nodes)

@@ -159,10 +159,42 @@ def test_auto_applies_only_where_it_holds(models):
     assert isinstance(chosen.root_finder.linear_solver, NetworkJacobian)
     # Consistent mass, explicit solvers and a user's own linear solver are left alone.
     assert with_network_jacobian(stiff, consistent, "auto") is stiff
-    assert with_network_jacobian(diffrax.Dopri5(), model, "auto") is not None
+    explicit = diffrax.Dopri5()
+    assert with_network_jacobian(explicit, model, "auto") is explicit
     own = diffrax.Kvaerno5(root_finder=diffrax.VeryChord(rtol=1e-6, atol=1e-6, linear_solver=lx.LU()))
     assert with_network_jacobian(own, model, "auto") is own
     assert with_network_jacobian(stiff, model, "dense") is stiff
+
+
+def test_auto_is_structured_under_jit(models, implicit_runs):
+    """With the model traced (an argument of `jit`), "auto" still picks the structured
+    solver, with the colouring and order of the eager one, and the run equals diffrax's
+    dense one."""
+    import equinox as eqx
+    from jaxcable._jacobian import with_network_jacobian
+
+    model, _ = models["line"]
+    eager = NetworkJacobian(model)
+    chosen = []
+
+    @eqx.filter_jit
+    def pick(model):
+        solver = with_network_jacobian(jc.stiff_solver(), model, "auto").root_finder.linear_solver
+        chosen.append(solver)
+        return model.node_positions
+
+    pick(model)
+    assert type(chosen[0]) is NetworkJacobian
+    assert (chosen[0].colours, chosen[0].order, chosen[0].group) == (eager.colours, eager.order, eager.group)
+
+    line, env = seed003_line(6, mass_matrix="lumped")
+    static = jc.solve_statics(line, env)
+    ts = np.linspace(0.0, 2.0, 21)
+    run = eqx.filter_jit(
+        lambda m: jc.simulate(m, env, 2.0, ts=ts, initial=static.state, solver=diffrax.Kvaerno5(), rtol=1e-8, atol=1e-8)
+    )(line)
+    dense = implicit_runs["dense"]
+    np.testing.assert_allclose(run.tension, dense.tension, rtol=1e-6, atol=1e-6 * float(np.max(np.abs(dense.tension))))
 
 
 def test_structured_refuses_what_it_cannot_do(models):

@@ -179,9 +179,18 @@ def _int_topology(n, stiffness_scale):
 
 
 def _batched_topology(stiffness_scale):
+    # The topology is static: a constructor given traced segment indices cannot take them.
     model, env = build(stiffness_scale, 1.0)
     nodes = model.segment_nodes + jnp.asarray(0 * stiffness_scale).astype(model.segment_nodes.dtype)
-    return eqx.tree_at(lambda m: m.segment_nodes, model, nodes), env
+    constraints = dict(zip(model.constrained_nodes.tolist(), model.motions))
+    rebuilt = jc.CableNetwork(model.node_positions, nodes, model.segment_length, model.line, constraints)
+    return rebuilt, env
+
+
+def _integer_leaf(stiffness_scale):
+    model, env = build(stiffness_scale, 1.0)
+    counts = jnp.round(model.segment_length * stiffness_scale).astype(jnp.int32)
+    return eqx.tree_at(lambda m: m.segment_length, model, counts), env
 
 
 def _tracer_dependent_structure(stiffness_scale):
@@ -218,7 +227,8 @@ GOOD = {"stiffness_scale": [1.0, 2.0], "stretch": [1.0, 1.0]}
         (dict(devices=[]), "devices must not be empty"),
         (dict(devices=["cpu"]), "devices must be JAX devices"),
         (dict(build=_int_topology, parameters={"n": [4.0, 5.0], "stiffness_scale": [1.0, 2.0]}), "used the value of parameter 'n' in Python"),
-        (dict(build=_batched_topology, parameters={"stiffness_scale": [1.0, 2.0]}), "\\.segment_nodes, an integer"),
+        (dict(build=_batched_topology, parameters={"stiffness_scale": [1.0, 2.0]}), "used the value of parameter 'stiffness_scale'"),
+        (dict(build=_integer_leaf, parameters={"stiffness_scale": [1.0, 2.0]}), "\\.segment_length, an integer"),
         (dict(build=_tracer_dependent_structure, parameters={"stiffness_scale": [1.0, 2.0]}), "different structure when traced"),
         (dict(build=_not_a_model, parameters={"stiffness_scale": [1.0, 2.0]}), "must return \\(CableNetwork, Environment\\)"),
     ],
