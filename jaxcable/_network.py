@@ -80,18 +80,27 @@ class LineType(eqx.Module):
         self.tangential_added_mass = checks.float_array(
             "LineType.tangential_added_mass", tangential_added_mass
         )
+        checks.enforce(self.conditions())
+
+    def conditions(self) -> list[checks.Condition]:
+        """What the fields require, checked at construction on concrete values and, on
+        traced or swept ones, by `simulate`, `solve_statics` and `sweep`."""
+        law = self.tension_law
+        out = []
         for name in ("mass_per_length", "diameter", "area"):
-            checks.positive(f"LineType.{name}", getattr(self, name))
+            out += [checks.finite(f"LineType.{name}", getattr(self, name)), checks.sign(f"LineType.{name}", getattr(self, name))]
         for name in ("normal_drag", "tangential_drag", "normal_added_mass", "tangential_added_mass"):
-            checks.positive(f"LineType.{name}", getattr(self, name), allow_zero=True)
-        law = tension_law
-        checks.float_array("LineType.tension_law.axial_stiffness", law.axial_stiffness)
-        checks.positive("LineType.tension_law.axial_stiffness", law.axial_stiffness)
-        checks.float_array("LineType.tension_law.quadratic_stiffness", law.quadratic_stiffness())
-        checks.float_array("LineType.tension_law.damping", law.damping())
-        checks.positive("LineType.tension_law.damping", law.damping(), allow_zero=True)
-        checks.float_array("LineType.tension_law.slack_width", law.slack_width)
-        checks.positive("LineType.tension_law.slack_width", law.slack_width, allow_zero=True)
+            value = getattr(self, name)
+            out += [checks.finite(f"LineType.{name}", value), checks.sign(f"LineType.{name}", value, allow_zero=True)]
+        return out + [
+            checks.finite("LineType.tension_law.axial_stiffness", law.axial_stiffness),
+            checks.sign("LineType.tension_law.axial_stiffness", law.axial_stiffness),
+            checks.finite("LineType.tension_law.quadratic_stiffness", law.quadratic_stiffness()),
+            checks.finite("LineType.tension_law.damping", law.damping()),
+            checks.sign("LineType.tension_law.damping", law.damping(), allow_zero=True),
+            checks.finite("LineType.tension_law.slack_width", law.slack_width),
+            checks.sign("LineType.tension_law.slack_width", law.slack_width, allow_zero=True),
+        ]
 
 
 class Body(eqx.Module):
@@ -150,11 +159,18 @@ class Body(eqx.Module):
         )
         self.added_mass = checks.float_array("Body.added_mass", added_mass)
         self.height = checks.float_array("Body.height", height)
-        for name in ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height"):
-            checks.positive(f"Body.{name}", getattr(self, name), allow_zero=True)
         self.force = checks.float_array("Body.force", force)
+        checks.enforce(self.conditions())
         if self.force.shape[-1:] != (3,):
             raise ValueError(f"Body.force must be a 3-vector (N), got shape {self.force.shape}")
+
+    def conditions(self) -> list[checks.Condition]:
+        """What the fields require (see [`jaxcable.LineType`][]'s)."""
+        out = []
+        for name in ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height"):
+            value = getattr(self, name)
+            out += [checks.finite(f"Body.{name}", value), checks.sign(f"Body.{name}", value, allow_zero=True)]
+        return out + [checks.finite("Body.force", self.force)]
 
 
 class Branch(NamedTuple):
@@ -250,7 +266,13 @@ class CableNetwork(eqx.Module):
 
     `ValueError` naming the field and value for non-finite input, non-positive lengths,
     masses, stiffnesses or diameters, node indices out of range, a segment joining a
-    node to itself, mismatched shapes, or an unknown option.
+    node to itself, mismatched shapes, or an unknown option. Float values that are
+    traced here (a model built inside `jit` or `vmap`) are checked by the same
+    `conditions()` where they are used: [`jaxcable.simulate`][] and
+    [`jaxcable.solve_statics`][] by `eqx.error_if`, [`jaxcable.sweep`][] per case.
+
+    The graph is static: `topology`, a hashable [`Topology`][], with `segment_nodes`,
+    `constrained_nodes` and `free_nodes` as numpy integer arrays.
 
     A part of the network that no constrained node holds is allowed: it moves freely
     (a free ascent, a drifting buoy), and only [`jaxcable.solve_statics`][], which has
@@ -326,6 +348,20 @@ class CableNetwork(eqx.Module):
             if not isinstance(b, Body):
                 raise ValueError(f"CableNetwork.bodies[{k}] must be a Body, got {b!r}")
         self.body = _scatter_bodies(bodies, n_nodes)
+
+    def conditions(self) -> list[checks.Condition]:
+        """Every float field's requirements, its line's, bodies' and motions': checked
+        at construction on concrete values; [`jaxcable.simulate`][] and
+        [`jaxcable.solve_statics`][] guard traced ones, and [`jaxcable.sweep`][] checks
+        each case's."""
+        return [
+            checks.finite("CableNetwork.node_positions", self.node_positions),
+            checks.finite("CableNetwork.segment_length", self.segment_length),
+            checks.sign("CableNetwork.segment_length", self.segment_length),
+            *self.line.conditions(),
+            *self.body.conditions(),
+            *(c for motion in self.motions for c in motion.conditions()),
+        ]
 
     @property
     def segment_nodes(self) -> Int[np.ndarray, "segments 2"]:

@@ -6,7 +6,6 @@ import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
 import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float
 
@@ -201,21 +200,24 @@ def simulate(
 
     **Raises:**
 
+    `ValueError` naming the field and value for a bad input (a model's field edited
+    with `eqx.tree_at`, say, t1 ≤ t0, or `ts` outside [t0, t1]); with a traced model or
+    times (inside `jit`), `equinox.EquinoxRuntimeError` naming the field instead.
     With `throw=True`, an error carrying diffrax's message when the solve fails (too
     many steps, step size collapse). Non-finite states are rejected steps, not output;
     with a fixed step, which cannot reject, a state that goes non-finite fails the
     solve (`diffrax.RESULTS.nonfinite`).
     """
-    if checks.is_concrete(t0) and checks.is_concrete(t1) and not t1 > t0:
-        raise ValueError(f"simulate: t1 must be greater than t0, got t0={t0}, t1={t1}")
+    t0, t1 = jnp.asarray(t0, dtype=float), jnp.asarray(t1, dtype=float)
+    later = checks.Condition(
+        "simulate: t1", ~(t1 > t0), t1, "must be greater than t0",
+        lambda: f"simulate: t1 must be greater than t0, got t0={float(t0)}, t1={float(t1)}",
+    )
+    t1 = checks.check(t1, [later])
     ts = jnp.linspace(t0, t1, 201) if ts is None else jnp.asarray(ts, dtype=float)
     if ts.ndim != 1 or ts.size == 0:
         raise ValueError(f"simulate: ts must be a non-empty 1-D array, got shape {ts.shape}")
-    if checks.is_concrete(ts):
-        # Through numpy: indexing a jax array inside a user's `jit` would give a tracer.
-        first, last = np.asarray(ts)[[0, -1]]
-        if not (first >= t0 and last <= t1):
-            raise ValueError(f"simulate: ts must lie within [t0, t1] = [{t0}, {t1}], got [{first}, {last}]")
+    ts = checks.check(ts, [checks.Condition("simulate: ts", (ts < t0) | (ts > t1), ts, "must lie within [t0, t1]")])
     initial_positions = model.node_positions if initial is None else initial.positions
     initial_velocities = jnp.zeros_like(initial_positions) if initial is None else initial.velocities
     if initial_positions.shape != model.node_positions.shape:
@@ -223,12 +225,16 @@ def simulate(
             f"simulate: initial.positions must have shape {model.node_positions.shape}, "
             f"got {initial_positions.shape}"
         )
+    # Constructors checked concrete inputs; a model built or edited (`eqx.tree_at`)
+    # with other values, or traced, is checked here, so that a bad value is named
+    # rather than turning into NaNs mid-solve.
+    initial_positions = checks.check(initial_positions, model.conditions() + env.conditions())
     return _simulate(
         model,
         env,
         (initial_positions, initial_velocities),
-        jnp.asarray(t0, dtype=float),
-        jnp.asarray(t1, dtype=float),
+        t0,
+        t1,
         ts,
         with_network_jacobian(default_solver() if solver is None else solver, model, jacobian),
         step_controller(rtol, atol, stepsize_controller),
@@ -248,10 +254,11 @@ def step_controller(
     tolerance."""
     if stepsize_controller is not None:
         return stepsize_controller
-    for name, value in (("rtol", rtol), ("atol", atol)):
-        if checks.is_concrete(value) and not float(value) > 0:
-            raise ValueError(f"{name} must be positive, got {value}")
-    return diffrax.PIDController(rtol=jnp.asarray(rtol, dtype=float), atol=jnp.asarray(atol, dtype=float))
+    rtol, atol = (
+        checks.check(value, [checks.sign(name, value)])
+        for name, value in (("rtol", jnp.asarray(rtol, dtype=float)), ("atol", jnp.asarray(atol, dtype=float)))
+    )
+    return diffrax.PIDController(rtol=rtol, atol=atol)
 
 
 @eqx.filter_jit

@@ -1,6 +1,7 @@
 """The simulation's contract: shapes, failure reporting, progress, solver choice."""
 
 import diffrax
+import equinox as eqx
 import numpy as np
 import pytest
 
@@ -41,7 +42,7 @@ def test_result_shapes_and_constrained_nodes(scene):
 
 def test_failure_raises_by_default(scene):
     model, env, static = scene
-    with pytest.raises(Exception, match="maximum number of solver steps"):
+    with pytest.raises(eqx.EquinoxRuntimeError, match="maximum number of solver steps"):
         jc.simulate(model, env, 1.0, initial=static.state, max_steps=5)
 
 
@@ -86,7 +87,25 @@ def test_fixed_step_blow_up_is_a_failure_not_output():
     run = jc.simulate(model, env, 5.0, throw=False, **fixed)
     assert not bool(run.success)
     assert run.result == diffrax.RESULTS.nonfinite
-    with pytest.raises(Exception, match="non-finite"):
+    with pytest.raises(eqx.EquinoxRuntimeError, match="simulate: the state became non-finite"):
         jc.simulate(model, env, 5.0, **fixed)
     stable = jc.simulate(model, env, 0.5, throw=False, **{**fixed, "dt0": 1e-3})
     assert bool(stable.success)
+
+
+def test_bad_values_are_named_eagerly_and_under_jit(scene):
+    """A stiffness made negative after construction, or bad times, are refused naming
+    the field: with the value eagerly, by `eqx.error_if` when traced."""
+    model, env, static = scene
+    law = model.line.tension_law
+    bad = eqx.tree_at(lambda m: m.line.tension_law.axial_stiffness, model, -law.axial_stiffness)
+    with pytest.raises(ValueError, match="LineType.tension_law.axial_stiffness must be positive, got -"):
+        jc.simulate(bad, env, 1.0, initial=static.state)
+    with pytest.raises(eqx.EquinoxRuntimeError, match="LineType.tension_law.axial_stiffness must be positive"):
+        eqx.filter_jit(lambda m: jc.simulate(m, env, 1.0, initial=static.state))(bad)
+    with pytest.raises(ValueError, match="simulate: t1 must be greater than t0, got t0=0.0, t1=0.0"):
+        jc.simulate(model, env, 0.0, initial=static.state)
+    with pytest.raises(eqx.EquinoxRuntimeError, match="simulate: t1 must be greater than t0"):
+        eqx.filter_jit(lambda t1: jc.simulate(model, env, t1, ts=[0.0], initial=static.state))(0.0)
+    with pytest.raises(ValueError, match=r"simulate: ts must lie within \[t0, t1\], got 2.0 at index 1"):
+        jc.simulate(model, env, 1.0, ts=[0.0, 2.0], initial=static.state)

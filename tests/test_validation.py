@@ -65,7 +65,7 @@ def test_non_positive_stiffness():
 
 
 def test_non_positive_length_names_the_segment():
-    with pytest.raises(ValueError, match=r"CableNetwork.segment_length\[1\] must be positive, got 0.0"):
+    with pytest.raises(ValueError, match=r"CableNetwork.segment_length must be positive, got 0.0 at index 1"):
         network(segment_length=[1.0, 0.0])
 
 
