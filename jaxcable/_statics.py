@@ -108,8 +108,7 @@ def _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance, t
     by `jax.lax.cond` on traced residuals."""
     if env.seabed is None:
         descended = jnp.asarray(False)
-        done = jnp.asarray(False)
-        found = (start, jnp.asarray(jnp.inf), jnp.asarray(0, jnp.int32))
+        found = _solve(model, env, start, t, rtol, atol, max_steps, True)
     else:
         # Where the starting shape dips below the bed, the bed lifts it and its
         # segments go slack, and contact kinks the forces: Levenberg–Marquardt crawled
@@ -125,8 +124,11 @@ def _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance, t
         )
         remaining, _ = _remaining(model, env, start, t)
         done = descended & (remaining <= force_tolerance)
-        found = (start, remaining, descent_steps)
-    found = jax.lax.cond(done, lambda: found, lambda: _solve(model, env, start, t, rtol, atol, max_steps, ~done))
+        found = jax.lax.cond(
+            done,
+            lambda: (start, remaining, descent_steps),
+            lambda: _solve(model, env, start, t, rtol, atol, max_steps, ~done),
+        )
     retry = (found[1] > force_tolerance) & ~descended
 
     def again():
