@@ -1,14 +1,26 @@
-"""Input checks shared by every constructor.
+"""Input checks, one implementation of each, for concrete, traced and batched values.
 
-They run on concrete values only: a model built inside `jax.grad` or `jax.vmap` holds
-tracers, whose values cannot be inspected, and was checked when it was built eagerly.
-Each message names the field and the offending value.
+A check is a [`Condition`][]: a field's name, the mask of its entries that break it,
+their values, and what the field requires. The same conditions serve three places:
+
+- `enforce`: at construction, on concrete values, a `ValueError` naming the field, the
+    entry and the value. A model built inside `jit` or `vmap` holds tracers, whose
+    values are not known there; their conditions are left to:
+- `guard`: `eqx.error_if` on the traced values, naming the field, which
+    [`jaxcable.simulate`][] and [`jaxcable.solve_statics`][] apply to their inputs;
+- `violations`: in a sweep, whose leaves carry a leading case axis, which condition
+    each case breaks first and with which value, so that the sweep reports the case.
 """
 
+import warnings
+from collections.abc import Callable, Sequence
+from typing import NamedTuple
+
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, ArrayLike
+from jaxtyping import Array, ArrayLike, Bool, Float
 
 
 class Float64Error(RuntimeError):
@@ -30,8 +42,109 @@ def require_float64() -> None:
         )
 
 
-def is_concrete(value) -> bool:
-    return not isinstance(value, jax.core.Tracer)
+class Condition(NamedTuple):
+    """`name`'s entries must not be `bad`: `value` (shaped like `bad`) has the entries
+    shown in messages, and `requirement` says what the field requires ("must be
+    positive"). `detail`, if given, makes a fuller message from concrete values (a
+    limit that only numpy can compute, say) for `enforce`."""
+
+    name: str
+    bad: Bool[ArrayLike, "..."]
+    value: ArrayLike
+    requirement: str
+    detail: Callable[[], str] | None = None
+
+
+def finite(name: str, value: ArrayLike) -> Condition:
+    return Condition(name, ~jnp.isfinite(value), value, "must be finite")
+
+
+def sign(name: str, value: ArrayLike, allow_zero: bool = False) -> Condition:
+    """Positive (or, with `allow_zero`, non-negative) entries; NaN breaks it too."""
+    kept = value >= 0 if allow_zero else value > 0
+    return Condition(name, ~kept, value, "must be " + ("non-negative" if allow_zero else "positive"))
+
+
+def increasing(name: str, values: Float[ArrayLike, " samples"]) -> Condition:
+    """Strictly increasing along the last axis: an entry breaks it if it is not above
+    the one before."""
+    values = jnp.asarray(values)
+    rising = jnp.diff(values, axis=-1) > 0
+    bad = jnp.concatenate([jnp.zeros_like(rising[..., :1]), ~rising], axis=-1)
+    return Condition(name, bad, values, "must be strictly increasing")
+
+
+def _traced(condition: Condition) -> bool:
+    return any(isinstance(x, jax.core.Tracer) for x in (condition.bad, condition.value))
+
+
+def enforce(conditions: Sequence[Condition]) -> None:
+    """Raise `ValueError` for the first concrete condition broken, naming the field, the
+    entry (for an array) and its value. Traced conditions are `guard`'s."""
+    for c in conditions:
+        if _traced(c):
+            continue
+        bad = np.asarray(c.bad)
+        if np.any(bad):
+            raise ValueError(_message(c))
+
+
+def warn(conditions: Sequence[Condition], stacklevel: int) -> None:
+    """Warn for each concrete condition broken (advice, not an error: a traced value,
+    which cannot be inspected, gets none)."""
+    for c in conditions:
+        if not _traced(c) and np.any(np.asarray(c.bad)):
+            warnings.warn(_message(c), stacklevel=stacklevel + 1)
+
+
+def _message(c: Condition) -> str:
+    if c.detail is not None:
+        return c.detail()
+    bad = np.asarray(c.bad)
+    index = tuple(np.argwhere(bad)[0])
+    value = np.broadcast_to(np.asarray(c.value), bad.shape)[index]
+    where = f" at index {', '.join(map(str, index))}" if index else ""
+    return f"{c.name} {c.requirement}, got {value}{where}"
+
+
+def guard(x, conditions: Sequence[Condition]):
+    """`x`, with an `eqx.error_if` for each traced condition, raising (at run time)
+    `EquinoxRuntimeError` naming the field if any entry breaks it."""
+    for c in conditions:
+        if _traced(c):
+            x = eqx.error_if(x, jnp.any(c.bad), f"{c.name} {c.requirement}")
+    return x
+
+
+def check(x, conditions: Sequence[Condition]):
+    """`enforce` the concrete conditions now and `guard` `x` with the traced ones."""
+    enforce(conditions)
+    return guard(x, conditions)
+
+
+def violations(conditions: Sequence[Condition]) -> tuple[Bool[Array, " conditions"], Float[Array, " conditions"]]:
+    """Whether each condition is broken, and its first bad value (NaN where none):
+    traceable, for `vmap` over a sweep's cases."""
+    broken, first = [], []
+    for c in conditions:
+        bad = jnp.ravel(jnp.asarray(c.bad))
+        value = jnp.ravel(jnp.broadcast_to(jnp.asarray(c.value, dtype=float), jnp.shape(c.bad)))
+        broken.append(jnp.any(bad))
+        first.append(jnp.where(jnp.any(bad), value[jnp.argmax(bad)], jnp.nan))
+    if not conditions:
+        return jnp.zeros(0, bool), jnp.zeros(0)
+    return jnp.stack(broken), jnp.stack(first)
+
+
+def first_violation(
+    conditions: Sequence[Condition], broken: Bool[np.ndarray, " conditions"], values: Float[np.ndarray, " conditions"]
+) -> str | None:
+    """The message for the first of `conditions` broken, from `violations`' output for
+    one case; `None` if none is."""
+    for c, is_broken, value in zip(conditions, broken, values):
+        if is_broken:
+            return f"{c.name} {c.requirement}, got {value}"
+    return None
 
 
 def float_array(name: str, value: ArrayLike, shape: tuple[int, ...] | None = None) -> Array:
@@ -41,11 +154,9 @@ def float_array(name: str, value: ArrayLike, shape: tuple[int, ...] | None = Non
     and [`jaxcable.Float64Error`][] if JAX's float64 is off.
     """
     require_float64()
-    if is_concrete(value):
-        array = np.asarray(value, dtype=float)
-        if not np.all(np.isfinite(array)):
-            bad = array[~np.isfinite(array)].ravel()[0] if array.ndim else array
-            raise ValueError(f"{name} must be finite, got {bad}")
+    if not isinstance(value, jax.core.Tracer):
+        value = np.asarray(value, dtype=float)
+    enforce([finite(name, value)])
     array = jnp.asarray(value, dtype=float)
     if shape is not None:
         if array.ndim != 0 and array.shape != shape:
@@ -55,16 +166,9 @@ def float_array(name: str, value: ArrayLike, shape: tuple[int, ...] | None = Non
 
 
 def positive(name: str, value: Array, allow_zero: bool = False) -> None:
-    """Raise `ValueError` if any entry of `value` is not positive (or negative)."""
-    if not is_concrete(value):
-        return
-    array = np.asarray(value)
-    bad = array < 0 if allow_zero else array <= 0
-    if np.any(bad):
-        index = np.argwhere(bad)[0]
-        where = f"[{', '.join(map(str, index))}]" if array.ndim else ""
-        kind = "non-negative" if allow_zero else "positive"
-        raise ValueError(f"{name}{where} must be {kind}, got {array[tuple(index)]}")
+    """Raise `ValueError` if any concrete entry of `value` is not positive (or
+    negative, with `allow_zero`)."""
+    enforce([sign(name, value, allow_zero)])
 
 
 def option(name: str, value: str, allowed: tuple[str, ...]) -> str:

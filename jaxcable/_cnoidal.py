@@ -20,7 +20,6 @@ the paper's "harmonic superposition" (its eqs. 32–33).
 """
 
 import functools
-import warnings
 
 import jax
 import jax.numpy as jnp
@@ -152,6 +151,9 @@ def cnoidal_coefficients(
     return scale[..., None] * n * jnp.exp(n * decay[..., None]) / -jnp.expm1(2 * n * decay[..., None])
 
 
+_NO_ROOT = "must give a first-order cnoidal wave that does not break: use Airy"
+
+
 class Cnoidal(AbstractWave):
     """A first-order cnoidal wave (Korteweg–de Vries) in shallow water.
 
@@ -215,11 +217,7 @@ class Cnoidal(AbstractWave):
         for name, value in fields.items():
             setattr(self, name, value)
         ratio = self.height / self.depth
-        if checks.is_concrete(ratio) and ratio > BREAKING_RATIO:
-            raise ValueError(
-                f"Cnoidal.height must be at most {BREAKING_RATIO} times the depth (the breaking limit), "
-                f"got {float(self.height)} m in {float(self.depth)} m of water (H/d = {float(ratio):.4g})"
-            )
+        checks.enforce([self._unbroken()])
         period_number = self.period * jnp.sqrt(self.gravity / self.depth)
         airy_length = 2 * jnp.pi / airy_wavenumber(self.period, self.depth, self.gravity)
         # Airy's Ursell number is near the root; 1.6 H/d is right of the branch's
@@ -227,20 +225,39 @@ class Cnoidal(AbstractWave):
         floor = 1.6 * ratio
         start = jax.lax.stop_gradient(jnp.maximum(_ursell_to_s(ratio * (airy_length / self.depth) ** 2), floor))
         s = _solve(_given_height, ratio, period_number, start)
-        if checks.is_concrete(s) and np.isnan(s):
+
+        def too_short():
             minimum = _branch_minimum(_given_height, ratio, floor)
-            raise ValueError(
+            return (
                 f"Cnoidal.period must give T √(g/d) ≥ {minimum:.4g}, the least of first-order cnoidal "
                 f"waves at H/d = {float(ratio):.4g}, got {float(self.period)} s (T √(g/d) = "
                 f"{float(period_number):.4g}): use Airy"
             )
+
+        checks.enforce([checks.Condition("Cnoidal.period", jnp.isnan(s), self.period, _NO_ROOT, too_short)])
         self.m, self.m1, self.K, self.E = _elliptic_parameter(s)
-        if checks.is_concrete(s) and self.ursell < URSELL_MINIMUM:
-            warnings.warn(
-                f"Cnoidal wave of Ursell number {float(self.ursell):.3g} < {URSELL_MINIMUM}: "
-                "linear (Airy) theory fits better",
-                stacklevel=4,  # the caller's line, past equinox's two construction frames
-            )
+        ursell = checks.Condition(
+            "Cnoidal", self.ursell < URSELL_MINIMUM, self.ursell, "",
+            lambda: f"Cnoidal wave of Ursell number {float(self.ursell):.3g} < {URSELL_MINIMUM}: linear (Airy) theory fits better",
+        )
+        checks.warn([ursell], stacklevel=4)  # the caller's line, past equinox's two construction frames
+
+    def _unbroken(self) -> checks.Condition:
+        ratio = self.height / self.depth
+        return checks.Condition(
+            "Cnoidal.height",
+            ratio > BREAKING_RATIO,
+            self.height,
+            f"must be at most {BREAKING_RATIO} times the depth (the breaking limit)",
+            lambda: (
+                f"Cnoidal.height must be at most {BREAKING_RATIO} times the depth (the breaking limit), "
+                f"got {float(self.height)} m in {float(self.depth)} m of water (H/d = {float(ratio):.4g})"
+            ),
+        )
+
+    def conditions(self) -> list[checks.Condition]:
+        # A period with no first-order cnoidal wave leaves m NaN.
+        return AbstractWave.conditions(self) + [self._unbroken(), checks.Condition("Cnoidal.period", jnp.isnan(self.m), self.period, _NO_ROOT)]
 
     @classmethod
     def from_steepness(cls, steepness, period, depth, **kwargs) -> "Cnoidal":
@@ -271,20 +288,23 @@ class Cnoidal(AbstractWave):
         start = jax.lax.stop_gradient(jnp.maximum(_ursell_to_s(steepness * (airy_length / depth) ** 3), floor))
         s = _solve(_height_of_steepness, steepness, period_number, start)
         height = _height_of_steepness(s, steepness) * depth
-        if checks.is_concrete(s):
+        def problem():
             if np.isnan(s) and period_number < (minimum := _branch_minimum(_height_of_steepness, steepness, floor)):
-                raise ValueError(
+                return (
                     f"Cnoidal.period must give T √(g/d) ≥ {minimum:.4g}, the least of first-order cnoidal "
                     f"waves of steepness {float(steepness):.4g}, got {float(period)} s (T √(g/d) = "
                     f"{float(period_number):.4g}): use Airy"
                 )
-            # Past the breaking height, T √(g/d) levels off towards 2/steepness as
-            # m → 1, and may have no root at all: either way the wave would break.
-            if np.isnan(s) or height / depth > BREAKING_RATIO:
-                raise ValueError(
-                    f"Cnoidal.steepness {float(steepness):.4g} at a period of {float(period)} s in "
-                    f"{float(depth)} m of water gives a breaking wave (H/d > {BREAKING_RATIO})"
-                )
+            return (
+                f"Cnoidal.steepness {float(steepness):.4g} at a period of {float(period)} s in "
+                f"{float(depth)} m of water gives a breaking wave (H/d > {BREAKING_RATIO})"
+            )
+
+        # Past the breaking height, T √(g/d) levels off towards 2/steepness as m → 1,
+        # and may have no root at all: either way the wave would break. Traced, the
+        # NaN height that no root leaves is caught by the wave's own conditions.
+        broken = jnp.isnan(s) | (height / depth > BREAKING_RATIO)
+        checks.enforce([checks.Condition("Cnoidal.steepness", broken, steepness, _NO_ROOT, problem)])
         return cls(height, period, depth, **kwargs)
 
     @property

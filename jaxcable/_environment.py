@@ -11,7 +11,6 @@ import dataclasses
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
@@ -53,14 +52,17 @@ class CurrentProfile(eqx.Module):
             raise ValueError(
                 f"CurrentProfile.speeds must have the shape of heights {self.heights.shape}, got {self.speeds.shape}"
             )
-        if checks.is_concrete(self.heights):
-            steps = np.diff(np.asarray(self.heights))
-            if np.any(steps <= 0):
-                i = int(np.argmax(steps <= 0))
-                raise ValueError(
-                    f"CurrentProfile.heights must be strictly increasing, got {float(self.heights[i])} "
-                    f"then {float(self.heights[i + 1])}"
-                )
+        checks.enforce([checks.increasing("CurrentProfile.heights", self.heights)])
+
+    def conditions(self) -> list[checks.Condition]:
+        """What the fields require: checked at construction on concrete values and, on
+        traced or swept ones, by `simulate`, `solve_statics` and `sweep`."""
+        return [
+            checks.finite("CurrentProfile.heights", self.heights),
+            checks.increasing("CurrentProfile.heights", self.heights),
+            checks.finite("CurrentProfile.speeds", self.speeds),
+            checks.finite("CurrentProfile.heading", self.heading),
+        ]
 
     def velocity(self, position: Float[Array, "*batch 3"]) -> Float[Array, "*batch 3"]:
         """The current velocity (m/s) at `position` (m)."""
@@ -113,6 +115,16 @@ class Seabed(eqx.Module):
         checks.positive("Seabed.damping", self.damping, allow_zero=True)
         checks.positive("Seabed.friction", self.friction, allow_zero=True)
         checks.positive("Seabed.friction_speed", self.friction_speed)
+
+    def conditions(self) -> list[checks.Condition]:
+        """What the fields require (see [`jaxcable.Environment`][]'s)."""
+        out = [checks.finite(f"Seabed.{f}", getattr(self, f)) for f in ("stiffness", "damping", "friction", "friction_speed")]
+        return out + [
+            checks.sign("Seabed.stiffness", self.stiffness),
+            checks.sign("Seabed.damping", self.damping, allow_zero=True),
+            checks.sign("Seabed.friction", self.friction, allow_zero=True),
+            checks.sign("Seabed.friction_speed", self.friction_speed),
+        ]
 
 
 class Environment(eqx.Module):
@@ -208,13 +220,8 @@ class Environment(eqx.Module):
                 raise ValueError(f"Environment.waves[{i}] must be a wave (Airy, Cnoidal), got {type(wave).__name__}")
             if self.depth is None:
                 raise ValueError("Environment.waves need the water depth: give Environment.depth")
-            for field in ("depth", "gravity"):
-                mine, theirs = getattr(self, field), getattr(wave, field)
-                if checks.is_concrete(mine) and checks.is_concrete(theirs) and not np.isclose(mine, theirs, rtol=1e-12):
-                    raise ValueError(
-                        f"Environment.waves[{i}].{field} is {float(theirs)}, but Environment.{field} is {float(mine)}"
-                    )
         self.waves = waves
+        checks.enforce(self._wave_conditions())
         self.wave_ramp = checks.float_array("Environment.wave_ramp", wave_ramp, ())
         checks.positive("Environment.wave_ramp", self.wave_ramp, allow_zero=True)
         self.wave_start = checks.float_array("Environment.wave_start", wave_start, ())
@@ -223,6 +230,43 @@ class Environment(eqx.Module):
         if seabed is not None and self.depth is None:
             raise ValueError("Environment.seabed needs the water depth: give Environment.depth")
         self.seabed = seabed
+
+    def _wave_conditions(self) -> list[checks.Condition]:
+        """Each wave's depth and gravity are the environment's."""
+        out = []
+        for i, wave in enumerate(self.waves):
+            for field in ("depth", "gravity"):
+                mine, theirs = getattr(self, field), getattr(wave, field)
+                differ = ~jnp.isclose(mine, theirs, rtol=1e-12, atol=0.0)
+                out.append(checks.Condition(f"Environment.waves[{i}].{field}", differ, theirs, f"must equal Environment.{field}"))
+        return out
+
+    def conditions(self) -> list[checks.Condition]:
+        """Every float field's requirements, its current's, waves' and seabed's: checked
+        at construction on concrete values; [`jaxcable.simulate`][] and
+        [`jaxcable.solve_statics`][] guard traced ones, and [`jaxcable.sweep`][] checks
+        each case's."""
+        out = [
+            checks.finite("Environment.water_density", self.water_density),
+            checks.sign("Environment.water_density", self.water_density),
+            checks.finite("Environment.gravity", self.gravity),
+            checks.sign("Environment.gravity", self.gravity),
+            checks.finite("Environment.wave_ramp", self.wave_ramp),
+            checks.sign("Environment.wave_ramp", self.wave_ramp, allow_zero=True),
+            checks.finite("Environment.wave_start", self.wave_start),
+        ]
+        if isinstance(self.current, CurrentProfile):
+            out += self.current.conditions()
+        else:
+            out.append(checks.finite("Environment.current", self.current))
+        if self.depth is not None:
+            out += [checks.finite("Environment.depth", self.depth), checks.sign("Environment.depth", self.depth)]
+        for wave in self.waves:
+            out += wave.conditions()
+        out += self._wave_conditions()
+        if self.seabed is not None:
+            out += self.seabed.conditions()
+        return out
 
     def without_waves(self) -> "Environment":
         """The same water without its waves: still, or with the current alone."""

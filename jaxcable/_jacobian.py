@@ -57,13 +57,13 @@ class NetworkJacobian(lx.AbstractLinearSolver):
 
     **Arguments:**
 
-    - `model`: a [`jaxcable.CableNetwork`][] with `mass_matrix="lumped"` and concrete
-        (not traced) topology.
+    - `model`: a [`jaxcable.CableNetwork`][] with `mass_matrix="lumped"`. Its topology
+        is static, so this may be built inside `jit` or `vmap` (from a traced model).
 
     **Raises:**
 
     `ValueError` if the model's mass matrix is consistent (its stage Jacobian is
-    dense) or its topology is traced.
+    dense).
     """
 
     nodes: int = eqx.field(static=True)
@@ -79,10 +79,8 @@ class NetworkJacobian(lx.AbstractLinearSolver):
                 f"{model.mass_matrix!r}: a consistent mass matrix's inverse couples every node, "
                 "so the stage Jacobian is dense"
             )
-        if not (checks.is_concrete(model.segment_nodes) and checks.is_concrete(model.free_nodes)):
-            raise ValueError("NetworkJacobian needs the model's topology as concrete arrays, not traced ones")
-        edges = _free_edges(np.asarray(model.segment_nodes), np.asarray(model.free_nodes), model.n_nodes)
-        n = int(model.free_nodes.shape[0])
+        edges = _free_edges(model.segment_nodes, model.free_nodes, model.n_nodes)
+        n = len(model.free_nodes)
         neighbours = _neighbours(n, edges)
         self.nodes = n
         self.colours = tuple(int(c) for c in _distance2_colouring(neighbours))
@@ -305,15 +303,13 @@ def _reverse_cuthill_mckee(neighbours: list[list[int]]) -> np.ndarray:
 def with_network_jacobian(solver: diffrax.AbstractSolver, model: CableNetwork) -> diffrax.AbstractSolver:
     """`solver` with [`jaxcable.NetworkJacobian`][] in its root finder where it applies: an
     implicit solver whose Newton-type root finder has lineax's automatic linear solver,
-    on a lumped-mass model with concrete topology. A linear solver the user chose
+    on a lumped-mass model (under `jit` and in sweeps too: the topology is static). A linear solver the user chose
     (`lineax.LU()` for a dense solve, or `NetworkJacobian(model)` itself) is kept."""
     root_finder = getattr(solver, "root_finder", None)
     if (
         isinstance(solver, diffrax.AbstractImplicitSolver)
         and isinstance(getattr(root_finder, "linear_solver", None), lx.AutoLinearSolver)
         and model.mass_matrix == "lumped"
-        and checks.is_concrete(model.segment_nodes)
-        and checks.is_concrete(model.free_nodes)
     ):
         return eqx.tree_at(lambda s: s.root_finder.linear_solver, solver, NetworkJacobian(model))
     return solver

@@ -34,6 +34,11 @@ class AbstractMotion(eqx.Module):
         (r, v), (_, a) = jax.jvp(velocity, (t,), (jnp.ones_like(t),))
         return r, v, a
 
+    def conditions(self) -> list[checks.Condition]:
+        """What the fields require: checked at construction on concrete values and, on
+        traced or swept ones, by `simulate`, `solve_statics` and `sweep`."""
+        return []
+
 
 def ramp_factor(t: Float[ArrayLike, ""], ramp: Float[ArrayLike, ""]) -> Float[Array, ""]:
     """The smoothstep f = u³(6u² − 15u + 10), u = t / ramp, rising from 0 at t = 0 to 1 at
@@ -92,6 +97,18 @@ class Harmonic(AbstractMotion):
         self.ramp = checks.float_array("Harmonic.ramp", ramp, ())
         checks.positive("Harmonic.ramp", self.ramp, allow_zero=True)
 
+    def conditions(self):
+        return [
+            checks.finite("Harmonic.amplitude", self.amplitude),
+            checks.finite("Harmonic.period", self.period),
+            checks.sign("Harmonic.period", self.period),
+            # A zero direction, normalised under tracing, comes out NaN.
+            checks.finite("Harmonic.direction", self.direction),
+            checks.finite("Harmonic.phase", self.phase),
+            checks.finite("Harmonic.ramp", self.ramp),
+            checks.sign("Harmonic.ramp", self.ramp, allow_zero=True),
+        ]
+
     def displacement(self, t):
         omega = 2 * jnp.pi / self.period
         return ramp_factor(t, self.ramp) * self.amplitude * jnp.sin(omega * t + self.phase) * self.direction
@@ -125,11 +142,17 @@ class Sampled(AbstractMotion):
                 f"Sampled.displacements must have shape ({times.shape[0]}, 3) to match "
                 f"Sampled.times, got {displacements.shape}"
             )
-        if checks.is_concrete(times) and not bool(jnp.all(jnp.diff(times) > 0)):
-            raise ValueError("Sampled.times must be strictly increasing")
+        checks.enforce([checks.increasing("Sampled.times", times)])
         self.times = times
         self.displacements = displacements
         self.curvatures = _natural_spline_curvatures(times, displacements)
+
+    def conditions(self):
+        return [
+            checks.finite("Sampled.times", self.times),
+            checks.increasing("Sampled.times", self.times),
+            checks.finite("Sampled.displacements", self.displacements),
+        ]
 
     def displacement(self, t):
         ts, ys, ms = self.times, self.displacements, self.curvatures
@@ -190,8 +213,7 @@ class Towing(AbstractMotion):
         speeds = checks.float_array("Towing.speeds", speeds)
         if speeds.shape != times.shape:
             raise ValueError(f"Towing.speeds must have shape {times.shape} to match Towing.times, got {speeds.shape}")
-        if checks.is_concrete(times) and not bool(jnp.all(jnp.diff(times) > 0)):
-            raise ValueError("Towing.times must be strictly increasing")
+        checks.enforce([checks.increasing("Towing.times", times)])
         direction = checks.float_array("Towing.direction", direction)
         if direction.shape != (3,):
             raise ValueError(f"Towing.direction must have shape (3,), got {direction.shape}")
@@ -203,6 +225,14 @@ class Towing(AbstractMotion):
         # The distance run at each sample: the trapezoid rule is exact for linear speed.
         steps = 0.5 * (speeds[1:] + speeds[:-1]) * jnp.diff(times)
         self.distances = jnp.concatenate([jnp.zeros(1), jnp.cumsum(steps)])
+
+    def conditions(self):
+        return [
+            checks.finite("Towing.times", self.times),
+            checks.increasing("Towing.times", self.times),
+            checks.finite("Towing.speeds", self.speeds),
+            checks.finite("Towing.direction", self.direction),
+        ]
 
     def displacement(self, t):
         ts, vs = self.times, self.speeds

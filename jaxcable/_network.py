@@ -4,7 +4,8 @@ A single line, a branched system and a net are all the same object: segments are
 edges of a graph, given by `segment_nodes`, and every per-segment or per-node quantity is
 an array whose first axis is indexed by segment or node. Float arrays are ordinary
 pytree leaves, so any of them can be differentiated, swept with `eqx.tree_at`, or
-vmapped; the topology (integer arrays and motions' structure) is never batched.
+vmapped. The topology (a [`Topology`][] of node indices, and motions' structure) is
+static: part of the model's tree structure, known when tracing, never batched.
 """
 
 from collections.abc import Mapping, Sequence
@@ -79,18 +80,27 @@ class LineType(eqx.Module):
         self.tangential_added_mass = checks.float_array(
             "LineType.tangential_added_mass", tangential_added_mass
         )
+        checks.enforce(self.conditions())
+
+    def conditions(self) -> list[checks.Condition]:
+        """What the fields require, checked at construction on concrete values and, on
+        traced or swept ones, by `simulate`, `solve_statics` and `sweep`."""
+        law = self.tension_law
+        out = []
         for name in ("mass_per_length", "diameter", "area"):
-            checks.positive(f"LineType.{name}", getattr(self, name))
+            out += [checks.finite(f"LineType.{name}", getattr(self, name)), checks.sign(f"LineType.{name}", getattr(self, name))]
         for name in ("normal_drag", "tangential_drag", "normal_added_mass", "tangential_added_mass"):
-            checks.positive(f"LineType.{name}", getattr(self, name), allow_zero=True)
-        law = tension_law
-        checks.float_array("LineType.tension_law.axial_stiffness", law.axial_stiffness)
-        checks.positive("LineType.tension_law.axial_stiffness", law.axial_stiffness)
-        checks.float_array("LineType.tension_law.quadratic_stiffness", law.quadratic_stiffness())
-        checks.float_array("LineType.tension_law.damping", law.damping())
-        checks.positive("LineType.tension_law.damping", law.damping(), allow_zero=True)
-        checks.float_array("LineType.tension_law.slack_width", law.slack_width)
-        checks.positive("LineType.tension_law.slack_width", law.slack_width, allow_zero=True)
+            value = getattr(self, name)
+            out += [checks.finite(f"LineType.{name}", value), checks.sign(f"LineType.{name}", value, allow_zero=True)]
+        return out + [
+            checks.finite("LineType.tension_law.axial_stiffness", law.axial_stiffness),
+            checks.sign("LineType.tension_law.axial_stiffness", law.axial_stiffness),
+            checks.finite("LineType.tension_law.quadratic_stiffness", law.quadratic_stiffness()),
+            checks.finite("LineType.tension_law.damping", law.damping()),
+            checks.sign("LineType.tension_law.damping", law.damping(), allow_zero=True),
+            checks.finite("LineType.tension_law.slack_width", law.slack_width),
+            checks.sign("LineType.tension_law.slack_width", law.slack_width, allow_zero=True),
+        ]
 
 
 class Body(eqx.Module):
@@ -149,11 +159,18 @@ class Body(eqx.Module):
         )
         self.added_mass = checks.float_array("Body.added_mass", added_mass)
         self.height = checks.float_array("Body.height", height)
-        for name in ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height"):
-            checks.positive(f"Body.{name}", getattr(self, name), allow_zero=True)
         self.force = checks.float_array("Body.force", force)
+        checks.enforce(self.conditions())
         if self.force.shape[-1:] != (3,):
             raise ValueError(f"Body.force must be a 3-vector (N), got shape {self.force.shape}")
+
+    def conditions(self) -> list[checks.Condition]:
+        """What the fields require (see [`jaxcable.LineType`][]'s)."""
+        out = []
+        for name in ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height"):
+            value = getattr(self, name)
+            out += [checks.finite(f"Body.{name}", value), checks.sign(f"Body.{name}", value, allow_zero=True)]
+        return out + [checks.finite("Body.force", self.force)]
 
 
 class Branch(NamedTuple):
@@ -170,6 +187,59 @@ class Branch(NamedTuple):
     line: LineType
     length: float
     segments: int
+
+
+class Topology:
+    """The graph of a network, as hashable static structure: which nodes each segment
+    joins and which nodes are constrained.
+
+    Held in a static field of [`jaxcable.CableNetwork`][], so it is known when tracing
+    (under `jit`, `vmap` and in sweeps): topology checks run, the structured Jacobian
+    applies, and indexing with it compiles to constant gathers. Two models whose
+    topologies differ have different tree structures, so `jit` recompiles for them and
+    a sweep refuses a topology that depends on its parameters.
+
+    The arrays are read-only numpy copies; equality compares them, and the hash of
+    their bytes is computed once, since `jit` hashes static structure on every call.
+
+    **Arguments:**
+
+    - `n_nodes`: the number of nodes.
+    - `segment_nodes`: the two nodes each segment joins, shape `(segments, 2)`.
+    - `constrained_nodes`: the constrained nodes, increasing, shape `(constrained,)`.
+    """
+
+    __slots__ = ("n_nodes", "segment_nodes", "constrained_nodes", "free_nodes", "_hash")
+
+    def __init__(self, n_nodes: int, segment_nodes: np.ndarray, constrained_nodes: np.ndarray):
+        def frozen(array):
+            array = np.array(array, dtype=np.int32)
+            array.flags.writeable = False
+            return array
+
+        self.n_nodes = int(n_nodes)
+        self.segment_nodes = frozen(np.reshape(segment_nodes, (-1, 2)))
+        self.constrained_nodes = frozen(constrained_nodes)
+        self.free_nodes = frozen(np.setdiff1d(np.arange(self.n_nodes), self.constrained_nodes))
+        self._hash = hash((self.n_nodes, self.segment_nodes.tobytes(), self.constrained_nodes.tobytes()))
+
+    def __hash__(self) -> int:
+        return self._hash
+
+    def __eq__(self, other) -> bool:
+        return (
+            isinstance(other, Topology)
+            and self._hash == other._hash
+            and self.n_nodes == other.n_nodes
+            and np.array_equal(self.segment_nodes, other.segment_nodes)
+            and np.array_equal(self.constrained_nodes, other.constrained_nodes)
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"Topology(nodes={self.n_nodes}, segments={len(self.segment_nodes)}, "
+            f"constrained={self.constrained_nodes.tolist()})"
+        )
 
 
 class CableNetwork(eqx.Module):
@@ -196,7 +266,13 @@ class CableNetwork(eqx.Module):
 
     `ValueError` naming the field and value for non-finite input, non-positive lengths,
     masses, stiffnesses or diameters, node indices out of range, a segment joining a
-    node to itself, mismatched shapes, or an unknown option.
+    node to itself, mismatched shapes, or an unknown option. Float values that are
+    traced here (a model built inside `jit` or `vmap`) are checked by the same
+    `conditions()` where they are used: [`jaxcable.simulate`][] and
+    [`jaxcable.solve_statics`][] by `eqx.error_if`, [`jaxcable.sweep`][] per case.
+
+    The graph is static: `topology`, a hashable [`Topology`][], with `segment_nodes`,
+    `constrained_nodes` and `free_nodes` as numpy integer arrays.
 
     A part of the network that no constrained node holds is allowed: it moves freely
     (a free ascent, a drifting buoy), and only [`jaxcable.solve_statics`][], which has
@@ -204,13 +280,11 @@ class CableNetwork(eqx.Module):
     """
 
     node_positions: Float[Array, "nodes 3"]
-    segment_nodes: Int[Array, "segments 2"]
     segment_length: Float[Array, " segments"]
     line: LineType
     body: Body
-    constrained_nodes: Int[Array, " constrained"]
-    free_nodes: Int[Array, " free"]
     motions: tuple[AbstractMotion, ...]
+    topology: Topology = eqx.field(static=True)
     mass_matrix: str = eqx.field(static=True)
     drag_points: int = eqx.field(static=True)
 
@@ -253,7 +327,6 @@ class CableNetwork(eqx.Module):
             s = loops[0]
             raise ValueError(f"CableNetwork.segment_nodes[{s}] joins node {edges[s, 0]} to itself")
         n_segments = edges.shape[0]
-        self.segment_nodes = jnp.asarray(edges, dtype=jnp.int32)
 
         self.segment_length = checks.float_array("CableNetwork.segment_length", segment_length, (n_segments,))
         checks.positive("CableNetwork.segment_length", self.segment_length)
@@ -265,8 +338,7 @@ class CableNetwork(eqx.Module):
                 raise ValueError(f"CableNetwork.constraints has node {k}, out of range for {n_nodes} nodes")
             if not isinstance(constraints[k], AbstractMotion):
                 raise ValueError(f"CableNetwork.constraints[{k}] must be a motion, got {constraints[k]!r}")
-        self.constrained_nodes = jnp.asarray(constrained, dtype=jnp.int32)
-        self.free_nodes = jnp.asarray(sorted(set(range(n_nodes)) - set(constrained)), dtype=jnp.int32)
+        self.topology = Topology(n_nodes, edges, np.asarray(constrained, dtype=np.int32))
         self.motions = tuple(constraints[k] for k in constrained)
 
         bodies = dict(bodies or {})
@@ -277,13 +349,42 @@ class CableNetwork(eqx.Module):
                 raise ValueError(f"CableNetwork.bodies[{k}] must be a Body, got {b!r}")
         self.body = _scatter_bodies(bodies, n_nodes)
 
+    def conditions(self) -> list[checks.Condition]:
+        """Every float field's requirements, its line's, bodies' and motions': checked
+        at construction on concrete values; [`jaxcable.simulate`][] and
+        [`jaxcable.solve_statics`][] guard traced ones, and [`jaxcable.sweep`][] checks
+        each case's."""
+        return [
+            checks.finite("CableNetwork.node_positions", self.node_positions),
+            checks.finite("CableNetwork.segment_length", self.segment_length),
+            checks.sign("CableNetwork.segment_length", self.segment_length),
+            *self.line.conditions(),
+            *self.body.conditions(),
+            *(c for motion in self.motions for c in motion.conditions()),
+        ]
+
+    @property
+    def segment_nodes(self) -> Int[np.ndarray, "segments 2"]:
+        """The two nodes each segment joins, shape `(segments, 2)` (static, numpy)."""
+        return self.topology.segment_nodes
+
+    @property
+    def constrained_nodes(self) -> Int[np.ndarray, " constrained"]:
+        """The constrained nodes, increasing, in the order of `motions` (static, numpy)."""
+        return self.topology.constrained_nodes
+
+    @property
+    def free_nodes(self) -> Int[np.ndarray, " free"]:
+        """The free nodes, increasing, shape `(free,)` (static, numpy)."""
+        return self.topology.free_nodes
+
     @property
     def n_nodes(self) -> int:
-        return self.node_positions.shape[0]
+        return self.topology.n_nodes
 
     @property
     def n_segments(self) -> int:
-        return self.segment_nodes.shape[0]
+        return self.topology.segment_nodes.shape[0]
 
     @classmethod
     def from_branches(
@@ -430,10 +531,8 @@ def _scatter_bodies(bodies: Mapping[int, Body], n_nodes: int) -> Body:
 
 def check_held(model: CableNetwork) -> None:
     """Raise `ValueError` unless every connected part of the graph has a constrained
-    node: a part that nothing holds has no static equilibrium. Topology traced inside
-    `jit` cannot be inspected and is not checked."""
-    if not (checks.is_concrete(model.segment_nodes) and checks.is_concrete(model.constrained_nodes)):
-        return
+    node: a part that nothing holds has no static equilibrium. The topology is static,
+    so this runs under `jit` and `vmap` too, when tracing."""
     edges = np.asarray(model.segment_nodes)
     constrained = np.asarray(model.constrained_nodes)
     labels = np.arange(model.n_nodes)

@@ -7,6 +7,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks, _lagrangian as lag
@@ -130,22 +131,25 @@ def simulate(
 
     **Raises:**
 
-    `ValueError` naming the argument for bad times, a bad `initial`, or a `solver`
-    that is not a [`jaxcable.SolverConfig`][]. With `throw=True`, an error carrying
-    diffrax's message when the solve fails (too many steps, step size collapse).
-    Non-finite states are rejected steps, not output; with a fixed step, which cannot
-    reject, a state that goes non-finite fails the solve (`diffrax.RESULTS.nonfinite`).
+    `ValueError` naming the field and value for a bad input (a model's field edited
+    with `eqx.tree_at`, say, t1 ≤ t0, or `ts` outside [t0, t1]), or a `solver` that is not a
+    [`jaxcable.SolverConfig`][]; with a traced model or
+    times (inside `jit`), `equinox.EquinoxRuntimeError` naming the field instead.
+    With `throw=True`, an error carrying diffrax's message when the solve fails (too
+    many steps, step size collapse). Non-finite states are rejected steps, not output;
+    with a fixed step, which cannot reject, a state that goes non-finite fails the
+    solve (`diffrax.RESULTS.nonfinite`).
     """
-    if checks.is_concrete(t0) and checks.is_concrete(t1) and not t1 > t0:
-        raise ValueError(f"simulate: t1 must be greater than t0, got t0={t0}, t1={t1}")
+    t0, t1 = jnp.asarray(t0, dtype=float), jnp.asarray(t1, dtype=float)
+    later = checks.Condition(
+        "simulate: t1", ~(t1 > t0), t1, "must be greater than t0",
+        lambda: f"simulate: t1 must be greater than t0, got t0={float(t0)}, t1={float(t1)}",
+    )
+    t1 = checks.check(t1, [later])
     ts = jnp.linspace(t0, t1, 201) if ts is None else jnp.asarray(ts, dtype=float)
     if ts.ndim != 1 or ts.size == 0:
         raise ValueError(f"simulate: ts must be a non-empty 1-D array, got shape {ts.shape}")
-    if checks.is_concrete(ts):
-        # Through numpy: indexing a jax array inside a user's `jit` would give a tracer.
-        first, last = np.asarray(ts)[[0, -1]]
-        if not (first >= t0 and last <= t1):
-            raise ValueError(f"simulate: ts must lie within [t0, t1] = [{t0}, {t1}], got [{first}, {last}]")
+    ts = checks.check(ts, [checks.Condition("simulate: ts", (ts < t0) | (ts > t1), ts, "must lie within [t0, t1]")])
     initial_positions = model.node_positions if initial is None else initial.positions
     initial_velocities = jnp.zeros_like(initial_positions) if initial is None else initial.velocities
     if initial_positions.shape != model.node_positions.shape:
@@ -153,12 +157,16 @@ def simulate(
             f"simulate: initial.positions must have shape {model.node_positions.shape}, "
             f"got {initial_positions.shape}"
         )
+    # Constructors checked concrete inputs; a model built or edited (`eqx.tree_at`)
+    # with other values, or traced, is checked here, so that a bad value is named
+    # rather than turning into NaNs mid-solve.
+    initial_positions = checks.check(initial_positions, model.conditions() + env.conditions())
     return _simulate(
         model,
         env,
         (initial_positions, initial_velocities),
-        jnp.asarray(t0, dtype=float),
-        jnp.asarray(t1, dtype=float),
+        t0,
+        t1,
         ts,
         for_model(as_config("simulate", solver), model),
         diffrax.TqdmProgressMeter() if progress else diffrax.NoProgressMeter(),

@@ -1,6 +1,7 @@
 """Static equilibrium under gravity, buoyancy and a steady current."""
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import optimistix as optx
 from jaxtyping import Array, Float, Int
@@ -59,13 +60,18 @@ def solve_statics(
     with every segment slightly stretched (as [`jaxcable.CableNetwork.from_branches`][]
     makes for a straight taut line), or from a sagged guess.
 
-    If that solve leaves a large residual (outside `jit` and `vmap`, where the values
-    can be inspected), the free nodes first descend the potential energy by BFGS from
-    the initial positions, current drag aside, and Levenberg–Marquardt starts again
-    from there. Energy descent always makes progress where a hanging part must swing
-    or straighten a long way, as below a weight or a free end, which
-    Levenberg–Marquardt on the forces was seen to stall on (MoorDyn's `lifting.txt`
-    and `hanging_lines.txt` examples).
+    If that solve leaves a large residual, the free nodes first descend the potential
+    energy by BFGS from the initial positions, current drag aside, and
+    Levenberg–Marquardt starts again from there. Energy descent always makes progress
+    where a hanging part must swing or straighten a long way, as below a weight or a
+    free end, which Levenberg–Marquardt on the forces was seen to stall on (MoorDyn's
+    `lifting.txt` and `hanging_lines.txt` examples). With a seabed that the starting
+    shape dips below, the descent goes first instead.
+
+    These decisions are taken in the compiled solve (`jax.lax.cond` on the residual),
+    so the same path runs eagerly, under `jit` and under `vmap`. Under `vmap` a `cond`
+    runs both branches for every case; the fallback's objective is zero for a case that
+    does not need it, so its loops stop at once unless some case does need it.
 
     **Arguments:**
 
@@ -84,55 +90,68 @@ def solve_statics(
 
     **Raises:**
 
-    `ValueError` if a part of the network has no constrained node; with `throw=True`,
-    `RuntimeError` if no equilibrium is found.
+    `ValueError` if a part of the network has no constrained node (the topology is
+    static, so under `jit` too), or naming the field and value of a bad input (a model
+    edited with `eqx.tree_at`, say; `equinox.EquinoxRuntimeError` naming the field
+    where the model is traced). With `throw=True`, `equinox.EquinoxRuntimeError` (a
+    `RuntimeError`) if no equilibrium is found, eagerly and under `jit` alike.
     """
     check_held(model)
     start = model.node_positions if initial is None else initial.positions
-    descended = False
-    if env.seabed is not None and _reaches_bed(model, env, start):
+    start = checks.check(start, model.conditions() + env.conditions())
+    return _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance, throw)
+
+
+@eqx.filter_jit
+def _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance, throw) -> StaticSolution:
+    """The whole solve, compiled once per topology and option set, its fallbacks decided
+    by `jax.lax.cond` on traced residuals."""
+    if env.seabed is None:
+        descended = jnp.asarray(False)
+        found = _solve(model, env, start, t, rtol, atol, max_steps, True)
+    else:
         # Where the starting shape dips below the bed, the bed lifts it and its
         # segments go slack, and contact kinks the forces: Levenberg–Marquardt crawled
         # there (955 iterations for a 60-segment chain lying on the bottom, against 56
         # for the same chain hanging free, measured). Energy descent minds neither, so
         # it goes first, and often finishes the job.
-        start, descent_steps = _descend(model, env, start, t, 40 * max_steps)
-        descended = True
-        remaining, scale = _remaining(model, env, start, t)
-        if checks.is_concrete(remaining) and remaining <= force_tolerance:
-            return _solution(model, env, t, start, remaining, scale, optx.RESULTS.successful, descent_steps)
-    solution, positions, remaining, scale = _solve(model, env, start, t, rtol, atol, max_steps)
-    if checks.is_concrete(remaining) and remaining > force_tolerance and not descended:
-        retry = _solve(model, env, _descend(model, env, start, t, 10 * max_steps)[0], t, rtol, atol, max_steps)
-        if retry[2] < remaining:
-            solution, positions, remaining, scale = retry
+        descended = jnp.min(start[model.free_nodes, 2], initial=jnp.inf) < -env.depth
+        start, descent_steps = jax.lax.cond(
+            descended,
+            lambda x: _descend(model, env, x, t, 40 * max_steps, descended),
+            lambda x: (x, jnp.asarray(0, jnp.int32)),
+            start,
+        )
+        remaining, _ = _remaining(model, env, start, t)
+        done = descended & (remaining <= force_tolerance)
+        found = jax.lax.cond(
+            done,
+            lambda: (start, remaining, descent_steps),
+            lambda: _solve(model, env, start, t, rtol, atol, max_steps, ~done),
+        )
+    retry = (found[1] > force_tolerance) & ~descended
+
+    def again():
+        moved, _ = _descend(model, env, start, t, 10 * max_steps, retry)
+        second = _solve(model, env, moved, t, rtol, atol, max_steps, retry)
+        return jax.tree.map(lambda a, b: jnp.where(second[1] < found[1], a, b), second, found)
+
+    positions, remaining, steps = jax.lax.cond(retry, again, lambda: found)
     # Levenberg–Marquardt stops when its steps vanish, which also happens on a slack
     # guess with no stiffness at all; only a small force residual means equilibrium.
     # Conversely a small residual is equilibrium even where contact's kinks kept its
     # steps from vanishing.
     result = optx.RESULTS.where(remaining <= force_tolerance, optx.RESULTS.successful, optx.RESULTS.nonlinear_divergence)
     if throw:
-        failed = result != optx.RESULTS.successful
-        message = (
-            "solve_statics found no equilibrium: the largest force left on a free node is "
-            "{} N after {} iterations. Start from positions where every segment is taut, "
-            "or raise max_steps."
+        remaining = eqx.error_if(
+            remaining,
+            result != optx.RESULTS.successful,
+            f"solve_statics found no equilibrium: the largest force left on a free node is above "
+            f"force_tolerance ({force_tolerance}) times the heaviest segment's weight after "
+            f"max_steps ({max_steps}) iterations. Start from positions where every segment is "
+            "taut, or raise max_steps; with throw=False the solution's `residual` reports the force.",
         )
-        if checks.is_concrete(failed):
-            if bool(failed):
-                raise RuntimeError(message.format(float(remaining * scale), int(solution.stats["num_steps"])))
-        else:
-            remaining = eqx.error_if(remaining, failed, message.format("a large", "its"))
-    return _solution(model, env, t, positions, remaining, scale, result, solution.stats["num_steps"])
-
-
-def _reaches_bed(model, env, positions) -> bool:
-    """Whether any free node starts below the seabed; `True` when that cannot be known
-    (traced positions), so that the robust path is taken."""
-    lowest = jnp.min(positions[model.free_nodes, 2], initial=jnp.inf)
-    if not (checks.is_concrete(lowest) and checks.is_concrete(env.depth)):
-        return True
-    return bool(lowest < -env.depth)
+    return _solution(model, env, t, positions, remaining, _force_scale(model, env), result, steps)
 
 
 @eqx.filter_jit
@@ -171,45 +190,50 @@ def _remaining(model, env, positions, t):
     return jnp.max(jnp.abs(_free_forces(model, env, t, positions[model.free_nodes])), initial=0.0) / scale, scale
 
 
-@eqx.filter_jit
-def _solve(model, env, start, t, rtol, atol, max_steps):
-    """The Levenberg–Marquardt solve, compiled once per topology and option set.
+def _solve(model, env, start, t, rtol, atol, max_steps, active):
+    """The Levenberg–Marquardt solve.
 
-    Returns the optimistix solution, the node positions, the largest residual force on a
-    free node relative to `scale`, and `scale` (N): the heaviest segment's dry weight.
+    Returns the node positions, the largest residual force on a free node relative to
+    the heaviest segment's dry weight, and the iterations taken. Where `active` is
+    false (a case of a `vmap` that runs this branch only because another case needs
+    it) the residual is zero, so the loop stops at once.
     """
     zeros_free = jnp.zeros((model.free_nodes.shape[0], 3))
     scale = _force_scale(model, env)
+    weight = jnp.where(active, 1.0, 0.0)
 
     def residual(free_positions, _):
         return _free_forces(model, env, t, free_positions) / scale
 
     solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
-    solution = optx.least_squares(residual, solver, start[model.free_nodes], max_steps=max_steps, throw=False)
+    solution = optx.least_squares(
+        lambda x, args: weight * residual(x, args), solver, start[model.free_nodes], max_steps=max_steps, throw=False
+    )
     positions, _ = lag.full_state(model, t, solution.value, zeros_free)
     remaining = jnp.max(jnp.abs(residual(solution.value, None)), initial=0.0)
-    return solution, positions, remaining, scale
+    return positions, remaining, jnp.asarray(solution.stats["num_steps"], jnp.int32)
 
 
-@eqx.filter_jit
-def _descend(model, env, start, t, max_steps):
+def _descend(model, env, start, t, max_steps, active):
     """Node positions after descending the potential energy Π (BFGS) from `start`, and
     the steps taken.
 
     Only a starting point for `_solve`, so it stops at `max_steps` without complaint.
     Π is scaled by the heaviest segment's dry weight times the network's length, so
-    that the tolerances are relative.
+    that the tolerances are relative. Where `active` is false, Π is taken as zero and
+    the loop stops at once (see `_solve`).
     """
     free = model.free_nodes
     zeros_free = jnp.zeros((free.shape[0], 3))
     weight = jnp.max(model.line.mass_per_length * env.gravity * model.segment_length)
     scale = jnp.maximum(weight * jnp.sum(model.segment_length), 1e-12)
+    on = jnp.where(active, 1.0, 0.0)
 
     def energy(free_positions, _):
         positions, _ = lag.full_state(model, t, free_positions, zeros_free)
-        return lag.potential_energy(model, env, positions) / scale
+        return on * (lag.potential_energy(model, env, positions) / scale)
 
     solver = optx.BFGS(rtol=1e-10, atol=1e-10)
     solution = optx.minimise(energy, solver, start[free], max_steps=max_steps, throw=False)
     positions, _ = lag.full_state(model, t, solution.value, zeros_free)
-    return positions, solution.stats["num_steps"]
+    return positions, jnp.asarray(solution.stats["num_steps"], jnp.int32)

@@ -76,7 +76,8 @@ class SweepResult(eqx.Module):
     - `success`: `True` for a case whose statics (if any) and dynamics both succeeded,
         shape `(cases,)`.
     - `status`: one human-readable line per case: `"successful"`, diffrax's message,
-        or `"statics failed: ..."`.
+        `"statics failed: ..."`, or `"invalid input: ..."` naming the case, the field
+        and the value.
     """
 
     parameters: dict[str, Float[Array, " cases"]]
@@ -178,6 +179,14 @@ def sweep(
     [`jaxcable.simulate`][] would, with `throw=False`, so a case that fails is reported
     in its `status` and leaves the others' results untouched.
 
+    Every case's model and water are checked as their constructors check concrete
+    values (the traced build cannot), by the same conditions. A case that breaks one (a
+    negative stiffness, say) is not integrated: it reports `"invalid input: case i:
+    <field> must be ..., got <value>"` in its `status`, `inf` outputs and
+    `diffrax.RESULTS.nonfinite_input`. So that the batch computes only with valid
+    values, its leaves are replaced by those of the first valid case before the
+    batch runs; the other cases are unchanged and equal their single runs.
+
     The cases are split across `devices` by sharding. When their number is not
     a multiple of the device count the batch is padded by repeating the last case, and
     the padding is dropped from the result. The returned arrays stay split by case
@@ -220,9 +229,9 @@ def sweep(
         `t0` to `t1` by default.
     - `initial`: where each case starts. `"statics"` (default): its own static
         equilibrium, solved inside the batch by [`jaxcable.solve_statics`][] with
-        constrained nodes at their positions at `t0`; a case whose statics fails is
-        reported as failed and not integrated. Inside the batch there is no BFGS
-        fallback, so start from taut shapes. `"rest"`: `model.node_positions` at rest.
+        constrained nodes at their positions at `t0` (with the same fallbacks as a
+        single call); a case whose statics fails is reported as failed and not
+        integrated. `"rest"`: `model.node_positions` at rest.
         A [`jaxcable.State`][]: positions and velocities of shape `(nodes, 3)` shared by
         all cases, or `(cases, nodes, 3)`, one per case.
     - `solver`: a [`jaxcable.SolverConfig`][], as for [`jaxcable.simulate`][]
@@ -241,8 +250,9 @@ def sweep(
     is not 1-D, empty, not finite, of a different length from the others, or not a
     keyword `build` takes; if `build` does not return `(CableNetwork, Environment)`,
     uses a parameter's value in Python, or returns a topology that depends on the
-    parameters; and for bad times, `initial`, `solver` or `devices`. Errors raised by
-    `build` on the first case propagate, with a note naming the case.
+    parameters; if every case's values are invalid (naming the first); and for bad
+    times, `initial`, `solver` or `devices`. Errors raised by `build` on the first case
+    propagate, with a note naming the case.
     """
     values = _check_parameters(parameters)
     n_cases = len(next(iter(values.values())))
@@ -263,10 +273,17 @@ def sweep(
 
     reference = _build_first(build, values)
     batched, unbatched = _build_batch(build, values, reference)
+    invalid = _invalid_cases(batched, unbatched, reference)
+    if len(invalid) == n_cases:
+        raise ValueError(f"sweep: every case is invalid; {invalid[0]}")
+    if invalid:
+        bad = np.asarray(sorted(invalid))
+        good = next(i for i in range(n_cases) if i not in invalid)
+        batched = jax.tree.map(lambda x: x.at[bad].set(x[good]), batched)
 
     # Per-case inputs carry the case axis and are split across devices; shared inputs
     # (the topology among them) are replicated.
-    per_case = {"model": batched}
+    per_case = {"model": batched, "valid": np.asarray([i not in invalid for i in range(n_cases)])}
     shared = {
         "model": unbatched,
         "t0": np.asarray(t0, dtype=float),
@@ -309,7 +326,7 @@ def sweep(
         simulation=simulation,
         statics=statics,
         success=success,
-        status=_status(simulation, statics),
+        status=_status(simulation, statics, invalid),
     )
 
 
@@ -331,32 +348,43 @@ def _run(per_case, shared, mode, mesh):
         shared = eqx.combine(shared, shared_static)
         model, env = eqx.combine(case["model"], shared["model"])
         t0, t1, ts = shared["t0"], shared["t1"], shared["ts"]
+        valid = case["valid"]
         statics = None
+        ok = valid
         if mode == "statics":
             statics = solve_statics(model, env, t=t0, throw=False)
             start = (statics.state.positions, statics.state.velocities)
-            ok = statics.result == optx.RESULTS.successful
-            # A case without equilibrium is not integrated: with t1 = t0 diffrax takes
-            # no step, so it cannot hold the batch's loop (or its max_steps) hostage.
-            t1 = jnp.where(ok, t1, t0)
-            ts = jnp.where(ok, ts, t0)
-        elif mode == "rest":
+            ok = valid & (statics.result == optx.RESULTS.successful)
+        # A case that is invalid or without equilibrium is not integrated: with t1 = t0
+        # diffrax takes no step, so it cannot hold the batch's loop (or its max_steps)
+        # hostage.
+        t1 = jnp.where(ok, t1, t0)
+        ts = jnp.where(ok, ts, t0)
+        if mode == "rest":
             start = (model.node_positions, jnp.zeros_like(model.node_positions))
-        else:
+        elif mode == "state":
             start = case["initial"] if "initial" in case else shared["initial"]
         simulation = _simulate(model, env, start, t0, t1, ts, shared["solver"], diffrax.NoProgressMeter(), False)
+        # No state was integrated: inf throughout, as diffrax marks outputs past a
+        # failure, and the statics' code promoted to diffrax's enumeration (or, for an
+        # invalid case, `nonfinite_input`) so that `simulation.success` is False too.
+        arrays = ("times", "positions", "velocities", "strain", "tension", "reactions")
+        simulation = eqx.tree_at(
+            lambda s: [getattr(s, a) for a in arrays],
+            simulation,
+            [jnp.where(ok, getattr(simulation, a), jnp.inf) for a in arrays],
+        )
+        failure = diffrax.RESULTS.nonfinite_input
         if statics is not None:
-            # No state was integrated: inf throughout, as diffrax marks outputs past a
-            # failure, and the statics' code promoted to diffrax's enumeration so that
-            # `simulation.success` is False too.
-            arrays = ("times", "positions", "velocities", "strain", "tension", "reactions")
-            simulation = eqx.tree_at(
-                lambda s: [getattr(s, a) for a in arrays],
-                simulation,
-                [jnp.where(ok, getattr(simulation, a), jnp.inf) for a in arrays],
+            failure = diffrax.RESULTS.where(valid, diffrax.RESULTS.promote(statics.result), failure)
+            # An invalid case's statics are its substitute's: not to be read as its own.
+            floats, rest = eqx.partition(statics, eqx.is_inexact_array)
+            statics = eqx.combine(jax.tree.map(lambda x: jnp.where(valid, x, jnp.inf), floats), rest)
+            statics = eqx.tree_at(
+                lambda s: s.result, statics, optx.RESULTS.where(valid, statics.result, optx.RESULTS.nonfinite_input)
             )
-            result = diffrax.RESULTS.where(ok, simulation.result, diffrax.RESULTS.promote(statics.result))
-            simulation = eqx.tree_at(lambda s: s.result, simulation, result)
+        result = diffrax.RESULTS.where(ok, simulation.result, failure)
+        simulation = eqx.tree_at(lambda s: s.result, simulation, result)
         return simulation, statics, simulation.result == diffrax.RESULTS.successful
 
     outputs = jax.vmap(one, in_axes=(0, None))(per_case, shared)
@@ -374,19 +402,22 @@ def _place(tree, where):
     return eqx.combine(jax.device_put(arrays, where), rest)
 
 
-def _status(simulation: SimulationResult, statics: StaticSolution | None) -> tuple[str, ...]:
+def _status(simulation: SimulationResult, statics: StaticSolution | None, invalid: dict[int, str]) -> tuple[str, ...]:
     """One line per case, from the result codes fetched to the host once."""
     host = jax.tree.map(np.asarray, (simulation.result, simulation.stats, statics))
     result, stats, statics = host
     lines = []
     for i in range(len(np.asarray(stats["num_steps"]))):
+        if i in invalid:
+            lines.append(invalid[i])
+            continue
         if statics is not None:
             static_result = jax.tree.map(lambda x: np.asarray(x[i]), statics.result)
             if static_result != optx.RESULTS.successful:
                 lines.append(
                     f"statics failed: {optx.RESULTS[static_result]} The largest force left on a free "
-                    f"node is {statics.residual[i]:.4g} N after {statics.steps[i]} iterations. (Inside a sweep statics "
-                    "has no BFGS fallback: start from taut shapes, or pass a State from solve_statics.)"
+                    f"node is {statics.residual[i]:.4g} N after {statics.steps[i]} iterations. Start from taut "
+                    "shapes, or pass a State from solve_statics."
                 )
                 continue
         case_result = jax.tree.map(lambda x: np.asarray(x[i]), result)
@@ -507,6 +538,29 @@ def _culprits(build, values) -> str:
     if not names:
         return "a swept parameter"
     return ("parameter " if len(names) == 1 else "parameters ") + ", ".join(names)
+
+
+def _invalid_cases(batched, unbatched, reference) -> dict[int, str]:
+    """The cases whose values break a condition of their model or water, each with its
+    status line naming the case, the field and the value.
+
+    The conditions are the constructors' own (`conditions()` of the model and the
+    water), evaluated per case under `vmap` on the batched leaves, which are concrete
+    here; the first case's concrete build gives their names and order.
+    """
+    conditions = reference[0].conditions() + reference[1].conditions()
+
+    def one(case):
+        model, env = eqx.combine(case, unbatched)
+        return checks.violations(model.conditions() + env.conditions())
+
+    broken, first = jax.tree.map(np.asarray, jax.vmap(one)(batched))
+    invalid = {}
+    for i in range(broken.shape[0]):
+        message = checks.first_violation(conditions, broken[i], first[i])
+        if message is not None:
+            invalid[i] = f"invalid input: case {i}: {message}"
+    return invalid
 
 
 def _build_batch(build, values, reference):

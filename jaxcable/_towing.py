@@ -440,13 +440,20 @@ class VerticalTow(AbstractTowingRig):
         checks.positive("VerticalTow.tether_length", self.tether_length)
         self.start_depth = checks.float_array("VerticalTow.start_depth", start_depth, ())
         checks.positive("VerticalTow.start_depth", self.start_depth)
-        if checks.is_concrete(lift) and checks.is_concrete(self.element.mass):
-            hanging = float(self.hanging_weight())
-            if float(lift) <= hanging:
-                raise ValueError(
-                    f"VerticalTow.leader_lift = {float(lift)} N must exceed the weight in water of the "
-                    f"element and tether, {hanging:.6g} N, or nothing rises"
-                )
+        hanging = self.hanging_weight()
+        rises = checks.Condition(
+            "VerticalTow.leader_lift",
+            lift <= hanging,
+            lift,
+            "must exceed the weight in water of the element and tether, or nothing rises",
+            lambda: (
+                f"VerticalTow.leader_lift = {float(lift)} N must exceed the weight in water of the "
+                f"element and tether, {float(hanging):.6g} N, or nothing rises"
+            ),
+        )
+        # Traced (a rig built inside `jit`), the check rides on the leader, which every
+        # model of the rig holds.
+        self.leader = checks.check(self.leader, [rises])
 
     def hanging_weight(self) -> Float[Array, ""]:
         """The element's and the tether's weight in water (N)."""

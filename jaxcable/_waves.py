@@ -60,6 +60,14 @@ class AbstractWave(eqx.Module):
     gravity: eqx.AbstractVar[Float[Array, ""]]
     heading: eqx.AbstractVar[Float[Array, ""]]
 
+    def conditions(self) -> list[checks.Condition]:
+        """What the fields require: checked at construction on concrete values and, on
+        traced or swept ones, by `simulate`, `solve_statics` and `sweep`."""
+        name = type(self).__name__
+        fields = ("height", "period", "depth", "gravity", "heading", "phase")
+        out = [checks.finite(f"{name}.{field}", getattr(self, field)) for field in fields]
+        return out + [checks.sign(f"{name}.{field}", getattr(self, field)) for field in fields[:4]]
+
     @property
     @abc.abstractmethod
     def wavelength(self) -> Float[Array, ""]:

@@ -177,6 +177,39 @@ def test_auto_applies_only_where_it_holds(models):
     assert with_network_jacobian(structured, model) is structured
 
 
+def test_auto_is_structured_under_jit(models, implicit_runs):
+    """With the model traced (an argument of `jit`), the automatic choice still picks the
+    structured solver, with the colouring and order of the eager one, and the run equals diffrax's
+    dense one."""
+    import equinox as eqx
+    from jaxcable._jacobian import with_network_jacobian
+
+    model, _ = models["line"]
+    eager = NetworkJacobian(model)
+    chosen = []
+
+    @eqx.filter_jit
+    def pick(model):
+        solver = with_network_jacobian(jc.stiff_solver(), model).root_finder.linear_solver
+        chosen.append(solver)
+        return model.node_positions
+
+    pick(model)
+    assert type(chosen[0]) is NetworkJacobian
+    assert (chosen[0].colours, chosen[0].order, chosen[0].group) == (eager.colours, eager.order, eager.group)
+
+    line, env = seed003_line(6, mass_matrix="lumped")
+    static = jc.solve_statics(line, env)
+    ts = np.linspace(0.0, 2.0, 21)
+    run = eqx.filter_jit(
+        lambda m: jc.simulate(
+            m, env, 2.0, ts=ts, initial=static.state, solver=jc.SolverConfig(diffrax.Kvaerno5(), rtol=1e-8, atol=1e-8)
+        )
+    )(line)
+    dense = implicit_runs["dense"]
+    np.testing.assert_allclose(run.tension, dense.tension, rtol=1e-6, atol=1e-6 * float(np.max(np.abs(dense.tension))))
+
+
 def test_structured_refuses_what_it_cannot_do(models):
     """Asking for the structured solver on a consistent-mass model is an error, not a
     silent dense solve."""

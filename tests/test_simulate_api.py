@@ -4,6 +4,7 @@ import logging
 import re
 
 import diffrax
+import equinox as eqx
 import jax
 import numpy as np
 import pytest
@@ -45,7 +46,7 @@ def test_result_shapes_and_constrained_nodes(scene):
 
 def test_failure_raises_by_default(scene):
     model, env, static = scene
-    with pytest.raises(Exception, match="maximum number of solver steps"):
+    with pytest.raises(eqx.EquinoxRuntimeError, match="maximum number of solver steps"):
         jc.simulate(model, env, 1.0, initial=static.state, solver=jc.SolverConfig(max_steps=5))
 
 
@@ -97,7 +98,7 @@ def test_fixed_step_blow_up_is_a_failure_not_output():
     run = jc.simulate(model, env, 5.0, initial=static.state, solver=heun(0.05), throw=False)
     assert not bool(run.success)
     assert run.result == diffrax.RESULTS.nonfinite
-    with pytest.raises(Exception, match="non-finite"):
+    with pytest.raises(eqx.EquinoxRuntimeError, match="simulate: the state became non-finite"):
         jc.simulate(model, env, 5.0, initial=static.state, solver=heun(0.05))
     stable = jc.simulate(model, env, 0.5, initial=static.state, solver=heun(1e-3), throw=False)
     assert bool(stable.success)
@@ -166,3 +167,21 @@ def test_presets_are_configurations():
     assert float(config.stepsize_controller.rtol) == 1e-7 and float(config.stepsize_controller.atol) == 1e-6
     assert isinstance(jc.SOLVERS["picard"]().solver, jc.PicardTrapezoid)
     assert jc.SolverConfig().max_steps == 1_000_000
+
+
+def test_bad_values_are_named_eagerly_and_under_jit(scene):
+    """A stiffness made negative after construction, or bad times, are refused naming
+    the field: with the value eagerly, by `eqx.error_if` when traced."""
+    model, env, static = scene
+    law = model.line.tension_law
+    bad = eqx.tree_at(lambda m: m.line.tension_law.axial_stiffness, model, -law.axial_stiffness)
+    with pytest.raises(ValueError, match="LineType.tension_law.axial_stiffness must be positive, got -"):
+        jc.simulate(bad, env, 1.0, initial=static.state)
+    with pytest.raises(eqx.EquinoxRuntimeError, match="LineType.tension_law.axial_stiffness must be positive"):
+        eqx.filter_jit(lambda m: jc.simulate(m, env, 1.0, initial=static.state))(bad)
+    with pytest.raises(ValueError, match="simulate: t1 must be greater than t0, got t0=0.0, t1=0.0"):
+        jc.simulate(model, env, 0.0, initial=static.state)
+    with pytest.raises(eqx.EquinoxRuntimeError, match="simulate: t1 must be greater than t0"):
+        eqx.filter_jit(lambda t1: jc.simulate(model, env, t1, ts=[0.0], initial=static.state))(0.0)
+    with pytest.raises(ValueError, match=r"simulate: ts must lie within \[t0, t1\], got 2.0 at index 1"):
+        jc.simulate(model, env, 1.0, ts=[0.0, 2.0], initial=static.state)

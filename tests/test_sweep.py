@@ -21,11 +21,15 @@ from jaxcable.examples import seed003_line
 T1 = 1.0
 TS = np.linspace(0.0, T1, 21)
 # Cases 0 and 1 take 122 and 169 steps; case 2, a hundred times stiffer, needs 1,163
-# (explicit steps are stability-limited there), so it runs out of steps. Case 3's
-# segments are 5 % longer than the straight guess: every segment is slack, Levenberg–
-# Marquardt has no stiffness to move it, and inside the batch there is no fallback.
+# (explicit steps are stability-limited there), so it runs out of steps. Case 3 is 10⁸
+# times stiffer and stretched 0.1 %: its tensions are so large that rounding leaves
+# forces above the statics' tolerance (a segment's weight × 1e-6), so no equilibrium
+# is found. Case 4's stiffness is negative, which its constructor, under vmap, could
+# not see. Case 5's segments are 5 % longer than the straight guess: every segment is
+# slack, Levenberg–Marquardt has no stiffness to move it, and the energy descent that
+# it falls back on (inside the batch as in a single call) finds the equilibrium.
 MAX_STEPS = 400
-CASES = {"stiffness_scale": [1.0, 2.0, 100.0, 1.0], "stretch": [1.0, 0.999, 1.0, 1.05]}
+CASES = {"stiffness_scale": [1.0, 2.0, 100.0, 1e8, -1.0, 1.0], "stretch": [1.0, 0.999, 1.0, 0.999, 1.0, 1.05]}
 
 
 @functools.cache
@@ -55,7 +59,7 @@ def case(i):
     return {k: v[i] for k, v in CASES.items()}
 
 
-@pytest.mark.parametrize("i", [0, 1])
+@pytest.mark.parametrize("i", [0, 1, 5])
 def test_sweep_equals_single_runs(swept, i):
     model, env = build(**case(i))
     # The equilibrium found inside the batch is one: the forces on the free nodes at
@@ -76,14 +80,16 @@ def test_sweep_equals_single_runs(swept, i):
     np.testing.assert_allclose(one.times, TS)
     assert int(one.stats["num_steps"]) == int(single.stats["num_steps"])
     np.testing.assert_allclose(swept.peak_tension[i], np.max(single.tension), rtol=1e-8)
+    # Eager statics, which finds case 5 only by its fallback, finds the same.
+    np.testing.assert_allclose(positions, jc.solve_statics(model, env).state.positions, rtol=1e-9, atol=1e-9)
     # The two cases really differ (a build that ignored its parameters would not).
     assert abs(float(swept.peak_tension[1] / swept.peak_tension[0]) - 1) > 0.5
 
 
 def test_failures_are_reported_per_case(swept):
-    assert swept.n_cases == 4
-    np.testing.assert_array_equal(swept.success, [True, True, False, False])
-    np.testing.assert_array_equal(swept.failed, [2, 3])
+    assert swept.n_cases == 6
+    np.testing.assert_array_equal(swept.success, [True, True, False, False, False, True])
+    np.testing.assert_array_equal(swept.failed, [2, 3, 4])
     assert swept.status[:2] == ("successful", "successful")
     assert swept.status[2].startswith("The maximum number of solver steps was reached")
     assert f"after {MAX_STEPS} steps" in swept.status[2]
@@ -98,10 +104,25 @@ def test_failures_are_reported_per_case(swept):
     assert bool(swept.case(3).result == diffrax.RESULTS.nonlinear_divergence)
     assert int(swept.simulation.stats["num_steps"][3]) == 0
     assert np.all(np.isinf(np.asarray(swept.simulation.tension[3])))
-    assert np.all(np.isnan(np.asarray(swept.peak_tension[2:])))
-    assert "statics failed" in swept.summary().splitlines()[-1]
-    with pytest.raises(IndexError, match="out of range for 4 cases"):
-        swept.case(4)
+    assert np.all(np.isnan(np.asarray(swept.peak_tension[2:5])))
+    assert "statics failed" in swept.summary().splitlines()[-3]
+    # Case 4's values are invalid: reported with the field and value, never integrated,
+    # inf throughout, its statics too (they were computed with a valid case's values).
+    law = base()[0].line.tension_law
+    assert swept.status[4] == (
+        f"invalid input: case 4: LineType.tension_law.axial_stiffness must be positive, got {-float(law.axial_stiffness[0])}"
+    )
+    assert bool(swept.case(4).result == diffrax.RESULTS.nonfinite_input)
+    assert int(swept.simulation.stats["num_steps"][4]) == 0
+    assert np.all(np.isinf(np.asarray(swept.simulation.tension[4])))
+    assert np.all(np.isinf(np.asarray(swept.statics.tension[4])))
+    with pytest.raises(IndexError, match="out of range for 6 cases"):
+        swept.case(6)
+
+
+def test_every_case_invalid_is_an_error():
+    with pytest.raises(ValueError, match="every case is invalid; invalid input: case 0: LineType.tension_law.axial_stiffness must be positive"):
+        sweep(build, {"stiffness_scale": [-1.0, -2.0], "stretch": [1.0, 1.0]}, T1, ts=TS)
 
 
 _SHARDED = textwrap.dedent(
@@ -182,9 +203,18 @@ def _int_topology(n, stiffness_scale):
 
 
 def _batched_topology(stiffness_scale):
+    # The topology is static: a constructor given traced segment indices cannot take them.
     model, env = build(stiffness_scale, 1.0)
     nodes = model.segment_nodes + jnp.asarray(0 * stiffness_scale).astype(model.segment_nodes.dtype)
-    return eqx.tree_at(lambda m: m.segment_nodes, model, nodes), env
+    constraints = dict(zip(model.constrained_nodes.tolist(), model.motions))
+    rebuilt = jc.CableNetwork(model.node_positions, nodes, model.segment_length, model.line, constraints)
+    return rebuilt, env
+
+
+def _integer_leaf(stiffness_scale):
+    model, env = build(stiffness_scale, 1.0)
+    counts = jnp.round(model.segment_length * stiffness_scale).astype(jnp.int32)
+    return eqx.tree_at(lambda m: m.segment_length, model, counts), env
 
 
 def _tracer_dependent_structure(stiffness_scale):
@@ -221,7 +251,8 @@ GOOD = {"stiffness_scale": [1.0, 2.0], "stretch": [1.0, 1.0]}
         (dict(devices=[]), "devices must not be empty"),
         (dict(devices=["cpu"]), "devices must be JAX devices"),
         (dict(build=_int_topology, parameters={"n": [4.0, 5.0], "stiffness_scale": [1.0, 2.0]}), "used the value of parameter 'n' in Python"),
-        (dict(build=_batched_topology, parameters={"stiffness_scale": [1.0, 2.0]}), "\\.segment_nodes, an integer"),
+        (dict(build=_batched_topology, parameters={"stiffness_scale": [1.0, 2.0]}), "used the value of parameter 'stiffness_scale'"),
+        (dict(build=_integer_leaf, parameters={"stiffness_scale": [1.0, 2.0]}), "\\.segment_length, an integer"),
         (dict(build=_tracer_dependent_structure, parameters={"stiffness_scale": [1.0, 2.0]}), "different structure when traced"),
         (dict(build=_not_a_model, parameters={"stiffness_scale": [1.0, 2.0]}), "must return \\(CableNetwork, Environment\\)"),
     ],

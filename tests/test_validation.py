@@ -2,6 +2,8 @@
 
 import math
 
+import equinox as eqx
+import jax
 import numpy as np
 import pytest
 
@@ -63,7 +65,7 @@ def test_non_positive_stiffness():
 
 
 def test_non_positive_length_names_the_segment():
-    with pytest.raises(ValueError, match=r"CableNetwork.segment_length\[1\] must be positive, got 0.0"):
+    with pytest.raises(ValueError, match=r"CableNetwork.segment_length must be positive, got 0.0 at index 1"):
         network(segment_length=[1.0, 0.0])
 
 
@@ -117,6 +119,11 @@ def test_unheld_part_of_the_network_has_no_statics():
         jc.solve_statics(free_pair, env)
     with pytest.raises(ValueError, match=r"no constrained node"):
         jc.solve_statics(network(constraints={}), env)
+    # The topology is static, so the check holds when the model is traced too.
+    with pytest.raises(ValueError, match=r"nodes \[2, 3\] form a part of the network with no constrained node"):
+        eqx.filter_jit(jc.solve_statics)(free_pair, env)
+    with pytest.raises(ValueError, match=r"nodes \[2, 3\] form a part"):
+        jax.vmap(lambda m: jc.solve_statics(m, env).residual)(jax.tree.map(lambda x: x[None], free_pair))
 
 
 def test_mismatched_shapes():

@@ -130,7 +130,7 @@ def test_wave_input_errors():
         jc.Airy(1.0, np.nan, 20.0)
     with pytest.raises(ValueError, match="give Environment.depth"):
         jc.Environment(waves=jc.Airy(1.0, 8.0, 20.0))
-    with pytest.raises(ValueError, match=r"Environment.waves\[0\].depth is 20.0, but Environment.depth is 30.0"):
+    with pytest.raises(ValueError, match=r"Environment.waves\[0\].depth must equal Environment.depth, got 20.0"):
         jc.Environment(depth=30.0, waves=[jc.Airy(1.0, 8.0, 20.0)])
     with pytest.raises(ValueError, match="Environment.seabed needs the water depth"):
         jc.Environment(seabed=jc.Seabed())
