@@ -196,19 +196,23 @@ def _solve(model, env, start, t, rtol, atol, max_steps, active):
     Returns the node positions, the largest residual force on a free node relative to
     the heaviest segment's dry weight, and the iterations taken. Where `active` is
     false (a case of a `vmap` that runs this branch only because another case needs
-    it) the residual is zero, so the loop stops at once.
+    it) the problem is `x − start = 0` instead, solved where it starts, so the loop
+    stops at once. Not a zero residual: its Jacobian would be singular, and the
+    implicit derivative's linear solve, which runs for every case under `vmap`,
+    would raise.
     """
     zeros_free = jnp.zeros((model.free_nodes.shape[0], 3))
     scale = _force_scale(model, env)
-    weight = jnp.where(active, 1.0, 0.0)
+    x0 = start[model.free_nodes]
 
     def residual(free_positions, _):
         return _free_forces(model, env, t, free_positions) / scale
 
+    def problem(free_positions, args):
+        return jnp.where(active, residual(free_positions, args), free_positions - x0)
+
     solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
-    solution = optx.least_squares(
-        lambda x, args: weight * residual(x, args), solver, start[model.free_nodes], max_steps=max_steps, throw=False
-    )
+    solution = optx.least_squares(problem, solver, x0, max_steps=max_steps, throw=False)
     positions, _ = lag.full_state(model, t, solution.value, zeros_free)
     remaining = jnp.max(jnp.abs(residual(solution.value, None)), initial=0.0)
     return positions, remaining, jnp.asarray(solution.stats["num_steps"], jnp.int32)
@@ -220,20 +224,24 @@ def _descend(model, env, start, t, max_steps, active):
 
     Only a starting point for `_solve`, so it stops at `max_steps` without complaint.
     Π is scaled by the heaviest segment's dry weight times the network's length, so
-    that the tolerances are relative. Where `active` is false, Π is taken as zero and
-    the loop stops at once (see `_solve`).
+    that the tolerances are relative. Where `active` is false, the objective is
+    `½ |x − start|²` instead, whose minimum is the start, so the loop stops at once
+    (and, as in `_solve`, its implicit derivative stays well posed).
     """
     free = model.free_nodes
     zeros_free = jnp.zeros((free.shape[0], 3))
     weight = jnp.max(model.line.mass_per_length * env.gravity * model.segment_length)
     scale = jnp.maximum(weight * jnp.sum(model.segment_length), 1e-12)
-    on = jnp.where(active, 1.0, 0.0)
+    x0 = start[free]
 
     def energy(free_positions, _):
         positions, _ = lag.full_state(model, t, free_positions, zeros_free)
-        return on * (lag.potential_energy(model, env, positions) / scale)
+        return lag.potential_energy(model, env, positions) / scale
+
+    def objective(free_positions, args):
+        return jnp.where(active, energy(free_positions, args), 0.5 * jnp.sum((free_positions - x0) ** 2))
 
     solver = optx.BFGS(rtol=1e-10, atol=1e-10)
-    solution = optx.minimise(energy, solver, start[free], max_steps=max_steps, throw=False)
+    solution = optx.minimise(objective, solver, x0, max_steps=max_steps, throw=False)
     positions, _ = lag.full_state(model, t, solution.value, zeros_free)
     return positions, jnp.asarray(solution.stats["num_steps"], jnp.int32)

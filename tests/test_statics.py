@@ -406,7 +406,7 @@ def test_failed_statics_raises_the_same_error_eagerly_and_under_jit():
     assert float(quiet.residual) > 1e-3 * W * LENGTH / n
     # The residual it reports is the force on the free nodes at its positions.
     positions = quiet.state.positions
-    forces = jc.generalised_forces(model, env, 0.0, positions, np.zeros_like(positions))[model.free_nodes]
+    forces = jc.equations.generalised_forces(model, env, 0.0, positions, np.zeros_like(positions))[model.free_nodes]
     np.testing.assert_allclose(float(quiet.residual), float(np.max(np.abs(forces))), rtol=1e-9)
 
 
