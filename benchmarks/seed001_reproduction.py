@@ -52,7 +52,10 @@ def main():
         return
 
     free = s1.free_study(**s1.FULL)
-    print(f"free: {free.run_s:.1f} s; drift / Stokes {np.round(free.drift_ratio, 4)} at St {np.round(free.inertia_number, 5)}", flush=True)
+    print(
+        f"free: {free.run_s:.1f} s; drift / Stokes {np.round(free.drift_ratio, 4)} at St {np.round(free.inertia_number, 5)}",
+        flush=True,
+    )
     tethered = s1.tethered_study(**s1.FULL)
     cage = s1.tethered_study(CAGE_WEIGHTS, specific_drag=SPECIFIC_DRAG, **s1.FULL)
     print(f"tethered: {tethered.run_s:.1f} s, the cage: {cage.run_s:.1f} s", flush=True)
@@ -75,8 +78,14 @@ def main():
             "lift_m": (study.positions[:, :, 2].mean(axis=1) - study.static_depth).tolist(),
             "never_slack_from": s1.never_slack_from(study),
             "impulse_fits": {
-                str(rho): {"duration_s": float(f.times[-1] - f.times[0]), "sine": f.sine, "sine_rms": f.sine_rms,
-                           "parabola": f.parabola, "parabola_rms": f.parabola_rms, "rectangle_rms": f.rectangle_rms}
+                str(rho): {
+                    "duration_s": float(f.times[-1] - f.times[0]),
+                    "sine": f.sine,
+                    "sine_rms": f.sine_rms,
+                    "parabola": f.parabola,
+                    "parabola_rms": f.parabola_rms,
+                    "rectangle_rms": f.rectangle_rms,
+                }
                 for rho, f in fits.items()
             },
         }

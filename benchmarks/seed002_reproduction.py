@@ -97,9 +97,16 @@ def net(out: str) -> None:
         heave={b: vars(h) for b, h in s2n.heave(run).items()},
         drift={b: vars(d) for b, d in s2n.drift(run).items()},
         places={
-            name: {"still_N": p.still, "min_N": p.min, "max_N": p.max, "max_20ms_N": p.max_smoothed, "mean_N": p.mean,
-                   "slack_spells": len(p.spells), "slack_fraction": p.slack_fraction,
-                   "snap_peaks_N": [x.peak for x in p.spells]}
+            name: {
+                "still_N": p.still,
+                "min_N": p.min,
+                "max_N": p.max,
+                "max_20ms_N": p.max_smoothed,
+                "mean_N": p.mean,
+                "slack_spells": len(p.spells),
+                "slack_fraction": p.slack_fraction,
+                "snap_peaks_N": [x.peak for x in p.spells],
+            }
             for name, p in s2n.places(run).items()
         },
         verdict=verdict,

@@ -96,7 +96,9 @@ def main():
 
 def report(path: Path):
     sessions = json.loads(path.read_text())
-    print("| N | field (µs) | Euler step (µs) | Euler step − field | Dopri5 step, 1 output (µs) | Dopri5 step, 20 Hz (µs) | Dopri5 step − 6 fields | session |")
+    print(
+        "| N | field (µs) | Euler step (µs) | Euler step − field | Dopri5 step, 1 output (µs) | Dopri5 step, 20 Hz (µs) | Dopri5 step − 6 fields | session |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for session in sessions:
         for r in session["rows"]:

@@ -47,7 +47,9 @@ class CurrentProfile(eqx.Module):
         self.speeds = checks.float_array("CurrentProfile.speeds", speeds)
         self.heading = checks.float_array("CurrentProfile.heading", heading, ())
         if self.heights.ndim != 1 or self.heights.shape[0] < 2:
-            raise ValueError(f"CurrentProfile.heights must be 1-D with at least 2 points, got shape {self.heights.shape}")
+            raise ValueError(
+                f"CurrentProfile.heights must be 1-D with at least 2 points, got shape {self.heights.shape}"
+            )
         if self.speeds.shape != self.heights.shape:
             raise ValueError(
                 f"CurrentProfile.speeds must have the shape of heights {self.heights.shape}, got {self.speeds.shape}"
@@ -118,7 +120,10 @@ class Seabed(eqx.Module):
 
     def conditions(self) -> list[checks.Condition]:
         """What the fields require (see [`jaxcable.Environment`][]'s)."""
-        out = [checks.finite(f"Seabed.{f}", getattr(self, f)) for f in ("stiffness", "damping", "friction", "friction_speed")]
+        out = [
+            checks.finite(f"Seabed.{f}", getattr(self, f))
+            for f in ("stiffness", "damping", "friction", "friction_speed")
+        ]
         return out + [
             checks.sign("Seabed.stiffness", self.stiffness),
             checks.sign("Seabed.damping", self.damping, allow_zero=True),
@@ -238,7 +243,11 @@ class Environment(eqx.Module):
             for field in ("depth", "gravity"):
                 mine, theirs = getattr(self, field), getattr(wave, field)
                 differ = ~jnp.isclose(mine, theirs, rtol=1e-12, atol=0.0)
-                out.append(checks.Condition(f"Environment.waves[{i}].{field}", differ, theirs, f"must equal Environment.{field}"))
+                out.append(
+                    checks.Condition(
+                        f"Environment.waves[{i}].{field}", differ, theirs, f"must equal Environment.{field}"
+                    )
+                )
         return out
 
     def conditions(self) -> list[checks.Condition]:
@@ -294,7 +303,9 @@ class Environment(eqx.Module):
             velocity = velocity + wave.velocity(position, t)
         return velocity
 
-    def water_acceleration(self, position: Float[Array, "*batch 3"], t: Float[ArrayLike, ""]) -> Float[Array, "*batch 3"]:
+    def water_acceleration(
+        self, position: Float[Array, "*batch 3"], t: Float[ArrayLike, ""]
+    ) -> Float[Array, "*batch 3"]:
         """The water's local acceleration ∂u/∂t (m/s²) at `position` (m) and time `t` (s):
         the waves', through their ramp; the current is steady."""
         acceleration = jnp.zeros(jnp.shape(position))

@@ -68,7 +68,10 @@ def line_inertia(
     - `tangential_coefficient`: c_τ = ρ F (1 + C_aτ) (kg/m).
     """
     a_tangential = jnp.sum(fluid_acceleration * tangent, axis=-1, keepdims=True) * tangent
-    return normal_coefficient[..., None] * (fluid_acceleration - a_tangential) + tangential_coefficient[..., None] * a_tangential
+    return (
+        normal_coefficient[..., None] * (fluid_acceleration - a_tangential)
+        + tangential_coefficient[..., None] * a_tangential
+    )
 
 
 def body_drag(

@@ -84,7 +84,9 @@ class NetworkJacobian(lx.AbstractLinearSolver):
         neighbours = _neighbours(n, edges)
         self.nodes = n
         self.colours = tuple(int(c) for c in _distance2_colouring(neighbours))
-        self.pairs = tuple((int(i), int(j)) for i, j in np.concatenate([np.stack([np.arange(n)] * 2, 1), edges, edges[:, ::-1]]))
+        self.pairs = tuple(
+            (int(i), int(j)) for i, j in np.concatenate([np.stack([np.arange(n)] * 2, 1), edges, edges[:, ::-1]])
+        )
         order = _reverse_cuthill_mckee(neighbours)
         position = np.argsort(order)
         bandwidth = int(np.max(np.abs(position[edges[:, 0]] - position[edges[:, 1]]))) if len(edges) else 1
@@ -137,7 +139,9 @@ class NetworkJacobian(lx.AbstractLinearSolver):
         _, (lower, inverse, coupling), layout = state
         b, groups = self.group, lower.shape[0]
         r = layout.to_nodes(vector)
-        r = jnp.concatenate([r[np.asarray(self.order, dtype=int)], jnp.zeros((groups * b - self.nodes, layout.width), r.dtype)])
+        r = jnp.concatenate(
+            [r[np.asarray(self.order, dtype=int)], jnp.zeros((groups * b - self.nodes, layout.width), r.dtype)]
+        )
         r = r.reshape(groups, -1)
 
         def forward(previous, inputs):
@@ -187,7 +191,9 @@ class _Layout(eqx.Module):
         leaves = jax.tree.leaves(structure)
         if not leaves or any(leaf.shape[:1] != (nodes,) for leaf in leaves):
             shapes = [leaf.shape for leaf in leaves]
-            raise ValueError(f"NetworkJacobian: every unknown must have the {nodes} free nodes as its first axis, got shapes {shapes}")
+            raise ValueError(
+                f"NetworkJacobian: every unknown must have the {nodes} free nodes as its first axis, got shapes {shapes}"
+            )
         self.structure = structure
         self.nodes = nodes
 

@@ -199,7 +199,9 @@ def lumped_blocks(model: CableNetwork, env: Environment, positions) -> Float[Arr
     """The 3 × 3 blocks of the lumped mass matrix (kg), shape `(nodes, 3, 3)`, whichever
     matrix the model uses: they are also the consistent solve's preconditioner."""
     blocks = _segment_blocks(model, env, positions, _SHAPE_WEIGHTS["lumped"])
-    return _scatter(model, blocks[:, 0, 0], blocks[:, 1, 1]) + _body_mass(model, env, positions)[:, None, None] * jnp.eye(3)
+    return _scatter(model, blocks[:, 0, 0], blocks[:, 1, 1]) + _body_mass(model, env, positions)[
+        :, None, None
+    ] * jnp.eye(3)
 
 
 def kinetic_energy(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, ""]:
@@ -263,7 +265,9 @@ def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, 
     coefficient = (0.5 * rho * body.drag_area + body.specific_drag * body.organism_mass * env.gravity) * wet
     forces = forces + body_drag(env.water_velocity(positions, t) - velocities, coefficient)
     if env.has_fluid_acceleration:
-        forces = forces + (rho * body.volume * (1 + body.added_mass) * wet)[..., None] * env.water_acceleration(positions, t)
+        forces = forces + (rho * body.volume * (1 + body.added_mass) * wet)[..., None] * env.water_acceleration(
+            positions, t
+        )
     if env.seabed is not None:
         forces = forces + seabed_forces(model, env, positions, velocities)
     return forces
@@ -387,7 +391,10 @@ def free_accelerations(model: CableNetwork, env: Environment, t, free_positions,
             lx.FunctionLinearOperator(consistent, structure, psd),
             rhs,
             lx.CG(rtol=0.0, atol=0.0, max_steps=_CG_ITERATIONS),
-            options={"preconditioner": lx.FunctionLinearOperator(lumped_inverse, structure, psd), "y0": jax.lax.stop_gradient(a_free)},
+            options={
+                "preconditioner": lx.FunctionLinearOperator(lumped_inverse, structure, psd),
+                "y0": jax.lax.stop_gradient(a_free),
+            },
             # A non-finite state gives non-finite accelerations, which diffrax rejects
             # as a failed step, rather than an error from deep inside the solve.
             throw=False,

@@ -71,13 +71,9 @@ class AbstractTensionLaw(eqx.Module):
 
     def elastic_tension(self, strain: Float[Array, "*segments"]) -> Array:
         """The elastic part `(C_E ε + C_E1 ε²) H(ε)` (N)."""
-        return _switched_polynomial(
-            strain, self.axial_stiffness, self.quadratic_stiffness(), self.slack_width
-        )
+        return _switched_polynomial(strain, self.axial_stiffness, self.quadratic_stiffness(), self.slack_width)
 
-    def tension(
-        self, strain: Float[Array, "*segments"], strain_rate: Float[Array, "*segments"]
-    ) -> Array:
+    def tension(self, strain: Float[Array, "*segments"], strain_rate: Float[Array, "*segments"]) -> Array:
         """The full tension `T(ε, ε̇)` (N), including damping."""
         viscous = self.damping() * strain_rate * slack_switch(strain, self.slack_width)
         return self.elastic_tension(strain) + viscous
@@ -149,9 +145,7 @@ class NonlinearElastic(AbstractTensionLaw):
     quadratic_coefficient: Float[Array, "*segments"]
     slack_width: Float[Array, "*segments"]
 
-    def __init__(
-        self, axial_stiffness: ArrayLike, quadratic_stiffness: ArrayLike, slack_width: ArrayLike = 1e-5
-    ):
+    def __init__(self, axial_stiffness: ArrayLike, quadratic_stiffness: ArrayLike, slack_width: ArrayLike = 1e-5):
         self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
         self.quadratic_coefficient = jnp.asarray(quadratic_stiffness, dtype=float)
         self.slack_width = jnp.asarray(slack_width, dtype=float)

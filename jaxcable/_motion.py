@@ -81,9 +81,7 @@ class Harmonic(AbstractMotion):
     phase: Float[Array, ""]
     ramp: Float[Array, ""]
 
-    def __init__(
-        self, amplitude: ArrayLike, period: ArrayLike, direction=(1.0, 0.0, 0.0), phase=0.0, ramp=0.0
-    ):
+    def __init__(self, amplitude: ArrayLike, period: ArrayLike, direction=(1.0, 0.0, 0.0), phase=0.0, ramp=0.0):
         direction = checks.float_array("Harmonic.direction", direction)
         if direction.shape != (3,):
             raise ValueError(f"Harmonic.direction must have shape (3,), got {direction.shape}")

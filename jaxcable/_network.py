@@ -68,18 +68,12 @@ class LineType(eqx.Module):
             raise ValueError(f"LineType.tension_law must be a jaxcable tension law, got {tension_law!r}")
         self.mass_per_length = checks.float_array("LineType.mass_per_length", mass_per_length)
         self.diameter = checks.float_array("LineType.diameter", diameter)
-        self.area = (
-            jnp.pi * self.diameter**2 / 4
-            if area is None
-            else checks.float_array("LineType.area", area)
-        )
+        self.area = jnp.pi * self.diameter**2 / 4 if area is None else checks.float_array("LineType.area", area)
         self.tension_law = tension_law
         self.normal_drag = checks.float_array("LineType.normal_drag", normal_drag)
         self.tangential_drag = checks.float_array("LineType.tangential_drag", tangential_drag)
         self.normal_added_mass = checks.float_array("LineType.normal_added_mass", normal_added_mass)
-        self.tangential_added_mass = checks.float_array(
-            "LineType.tangential_added_mass", tangential_added_mass
-        )
+        self.tangential_added_mass = checks.float_array("LineType.tangential_added_mass", tangential_added_mass)
         checks.enforce(self.conditions())
 
     def conditions(self) -> list[checks.Condition]:
@@ -88,7 +82,10 @@ class LineType(eqx.Module):
         law = self.tension_law
         out = []
         for name in ("mass_per_length", "diameter", "area"):
-            out += [checks.finite(f"LineType.{name}", getattr(self, name)), checks.sign(f"LineType.{name}", getattr(self, name))]
+            out += [
+                checks.finite(f"LineType.{name}", getattr(self, name)),
+                checks.sign(f"LineType.{name}", getattr(self, name)),
+            ]
         for name in ("normal_drag", "tangential_drag", "normal_added_mass", "tangential_added_mass"):
             value = getattr(self, name)
             out += [checks.finite(f"LineType.{name}", value), checks.sign(f"LineType.{name}", value, allow_zero=True)]
@@ -306,9 +303,7 @@ class CableNetwork(eqx.Module):
 
         self.node_positions = checks.float_array("CableNetwork.node_positions", node_positions)
         if self.node_positions.ndim != 2 or self.node_positions.shape[1] != 3:
-            raise ValueError(
-                f"CableNetwork.node_positions must have shape (nodes, 3), got {self.node_positions.shape}"
-            )
+            raise ValueError(f"CableNetwork.node_positions must have shape (nodes, 3), got {self.node_positions.shape}")
         n_nodes = self.node_positions.shape[0]
 
         edges = np.asarray(segment_nodes)
@@ -426,9 +421,7 @@ class CableNetwork(eqx.Module):
             for name in ("start", "end"):
                 k = getattr(branch, name)
                 if not 0 <= k < junctions.shape[0]:
-                    raise ValueError(
-                        f"branches[{b}].{name} = {k} is out of range for {junctions.shape[0]} junctions"
-                    )
+                    raise ValueError(f"branches[{b}].{name} = {k} is out of range for {junctions.shape[0]} junctions")
             checks.positive(f"branches[{b}].length", checks.float_array(f"branches[{b}].length", branch.length))
             n = branch.segments
             start, end = np.asarray(junctions[branch.start]), np.asarray(junctions[branch.end])

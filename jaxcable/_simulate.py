@@ -142,7 +142,10 @@ def simulate(
     """
     t0, t1 = jnp.asarray(t0, dtype=float), jnp.asarray(t1, dtype=float)
     later = checks.Condition(
-        "simulate: t1", ~(t1 > t0), t1, "must be greater than t0",
+        "simulate: t1",
+        ~(t1 > t0),
+        t1,
+        "must be greater than t0",
         lambda: f"simulate: t1 must be greater than t0, got t0={float(t0)}, t1={float(t1)}",
     )
     t1 = checks.check(t1, [later])
@@ -154,8 +157,7 @@ def simulate(
     initial_velocities = jnp.zeros_like(initial_positions) if initial is None else initial.velocities
     if initial_positions.shape != model.node_positions.shape:
         raise ValueError(
-            f"simulate: initial.positions must have shape {model.node_positions.shape}, "
-            f"got {initial_positions.shape}"
+            f"simulate: initial.positions must have shape {model.node_positions.shape}, got {initial_positions.shape}"
         )
     # Constructors checked concrete inputs; a model built or edited (`eqx.tree_at`)
     # with other values, or traced, is checked here, so that a bad value is named
@@ -215,9 +217,7 @@ def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, thro
     )
 
     def outputs(t, free_positions, free_velocities):
-        _, positions, velocities, accelerations = lag.free_accelerations(
-            model, env, t, free_positions, free_velocities
-        )
+        _, positions, velocities, accelerations = lag.free_accelerations(model, env, t, free_positions, free_velocities)
         _, _, strain = lag.segment_geometry(model, positions)
         return (
             positions,
@@ -231,7 +231,9 @@ def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, thro
     # An adaptive controller rejects non-finite steps, but a fixed step (beyond the
     # method's stability limit) carries them to the end as a "successful" solve.
     finite = jnp.all(jnp.isfinite(positions)) & jnp.all(jnp.isfinite(velocities))
-    result = diffrax.RESULTS.where(finite | (solution.result != diffrax.RESULTS.successful), solution.result, diffrax.RESULTS.nonfinite)
+    result = diffrax.RESULTS.where(
+        finite | (solution.result != diffrax.RESULTS.successful), solution.result, diffrax.RESULTS.nonfinite
+    )
     if throw:
         tension = eqx.error_if(
             tension,

@@ -141,7 +141,9 @@ def _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance, t
     # guess with no stiffness at all; only a small force residual means equilibrium.
     # Conversely a small residual is equilibrium even where contact's kinks kept its
     # steps from vanishing.
-    result = optx.RESULTS.where(remaining <= force_tolerance, optx.RESULTS.successful, optx.RESULTS.nonlinear_divergence)
+    result = optx.RESULTS.where(
+        remaining <= force_tolerance, optx.RESULTS.successful, optx.RESULTS.nonlinear_divergence
+    )
     if throw:
         remaining = eqx.error_if(
             remaining,

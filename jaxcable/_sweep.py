@@ -263,7 +263,9 @@ def sweep(
     if ts.ndim != 1 or ts.size == 0:
         raise ValueError(f"sweep: ts must be a non-empty 1-D array, got shape {ts.shape}")
     if not (ts[0] >= t0 and ts[-1] <= t1 and np.all(np.diff(ts) >= 0)):
-        raise ValueError(f"sweep: ts must be increasing and lie within [t0, t1] = [{t0}, {t1}], got [{ts[0]}, {ts[-1]}]")
+        raise ValueError(
+            f"sweep: ts must be increasing and lie within [t0, t1] = [{t0}, {t1}], got [{ts[0]}, {ts[-1]}]"
+        )
     if isinstance(initial, str):
         checks.option("sweep: initial", initial, INITIAL_STATES)
     elif not isinstance(initial, State):
@@ -472,14 +474,12 @@ def _check_keywords(build, values) -> None:
         signature.bind(**values)
     except TypeError as e:
         accepted = [
-            p.name for p in signature.parameters.values()
-            if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
+            p.name for p in signature.parameters.values() if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
         ]
         unknown = [k for k in values if k not in accepted]
         if unknown and not any(p.kind == p.VAR_KEYWORD for p in signature.parameters.values()):
             raise ValueError(
-                f"sweep: parameter {unknown[0]!r} is not a keyword of build{signature}; "
-                f"it takes {accepted}"
+                f"sweep: parameter {unknown[0]!r} is not a keyword of build{signature}; it takes {accepted}"
             ) from e
         raise ValueError(f"sweep: build{signature} cannot be called with parameters {list(values)}: {e}") from e
 
@@ -526,6 +526,7 @@ def _culprits(build, values) -> str:
     first = {k: float(v[0]) for k, v in values.items()}
     names = []
     for name, value in values.items():
+
         def alone(x, name=name):
             return jax.tree.leaves(build(**{**first, name: x}))
 

@@ -494,7 +494,9 @@ class VerticalTow(AbstractTowingRig):
         )
 
     def with_coefficients(self, values):
-        return eqx.tree_at(lambda rig: rig.element, self, _replace(self.element, values, {"specific_drag": "specific_drag"}))
+        return eqx.tree_at(
+            lambda rig: rig.element, self, _replace(self.element, values, {"specific_drag": "specific_drag"})
+        )
 
     def network(self) -> CableNetwork:
         """The free network at release: the element at node 0, the leader at the top

@@ -37,7 +37,10 @@ def _stage(model, env, step):
     diffrax's ESDIRK stages have it (γ folded into h), and its zero point."""
     free = model.free_nodes
     rng = np.random.default_rng(1)
-    y = (model.node_positions[free] + 0.01 * rng.normal(size=(free.size, 3)), jnp.asarray(0.1 * rng.normal(size=(free.size, 3))))
+    y = (
+        model.node_positions[free] + 0.01 * rng.normal(size=(free.size, 3)),
+        jnp.asarray(0.1 * rng.normal(size=(free.size, 3))),
+    )
 
     def fn(k, args):
         moved = jax.tree.map(lambda a, b: a + step * b, y, k)
@@ -97,12 +100,19 @@ def test_jacobian_is_as_sparse_as_the_graph(models):
         (np.stack([np.arange(9), np.arange(1, 10)], 1), 10),  # a line
         (np.array([[0, 1], [1, 2], [1, 3], [3, 4], [3, 5], [5, 6]]), 7),  # a tree
         # A 4 × 4 grid: loops.
-        (np.array([[i * 4 + j, i * 4 + j + 1] for i in range(4) for j in range(3)]
-                  + [[i * 4 + j, (i + 1) * 4 + j] for i in range(3) for j in range(4)]), 16),
+        (
+            np.array(
+                [[i * 4 + j, i * 4 + j + 1] for i in range(4) for j in range(3)]
+                + [[i * 4 + j, (i + 1) * 4 + j] for i in range(3) for j in range(4)]
+            ),
+            16,
+        ),
     ],
 )
 def test_colouring_separates_nodes_within_two_edges(edges, n):
-    graph = sparse.coo_matrix((np.ones(2 * len(edges)), (*np.concatenate([edges, edges[:, ::-1]]).T,)), shape=(n, n)).tocsr()
+    graph = sparse.coo_matrix(
+        (np.ones(2 * len(edges)), (*np.concatenate([edges, edges[:, ::-1]]).T,)), shape=(n, n)
+    ).tocsr()
     colours = _distance2_colouring(_neighbours(n, edges))
     reach = (graph + graph @ graph).toarray() > 0
     i, j = np.nonzero(reach)

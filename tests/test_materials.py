@@ -403,10 +403,12 @@ def test_segment_drag_total_force_and_moment_form():
     total = np.array(
         [
             integrate.quad(
-                lambda xi: reference_line_drag(
-                    CURRENT - SMOOTH_VELOCITIES[0] * (1 - xi) - SMOOTH_VELOCITIES[1] * xi, tangent, C_N, C_T
-                )[k]
-                * stretched,
+                lambda xi: (
+                    reference_line_drag(
+                        CURRENT - SMOOTH_VELOCITIES[0] * (1 - xi) - SMOOTH_VELOCITIES[1] * xi, tangent, C_N, C_T
+                    )[k]
+                    * stretched
+                ),
                 0,
                 1,
                 epsabs=0,

@@ -70,9 +70,7 @@ ENV = jc.Environment(water_density=RHO, gravity=9.81)
 def run(model, velocities, t1, ts):
     initial = jc.State(model.node_positions, jnp.asarray(velocities, dtype=float))
     config = jc.SolverConfig(diffrax.Tsit5(), rtol=SOLVER_TOL, atol=SOLVER_TOL)
-    result = jc.simulate(
-        model, ENV, t1, ts=jnp.asarray(ts), initial=initial, solver=config
-    )
+    result = jc.simulate(model, ENV, t1, ts=jnp.asarray(ts), initial=initial, solver=config)
     assert bool(result.success)
     return result
 

@@ -396,9 +396,7 @@ class Scene:
             for line in self.lines
         ]
         constraints = {
-            k: (p.motion if p.motion is not None else Fixed())
-            for k, p in enumerate(self.points)
-            if p.kind != "free"
+            k: (p.motion if p.motion is not None else Fixed()) for k, p in enumerate(self.points) if p.kind != "free"
         }
         bodies = {k: p.body for k, p in enumerate(self.points) if p.body is not None}
         environment = self.water.environment()
