@@ -410,11 +410,11 @@ def segments_study(args):
 
 
 def solvers_study(args):
+    import diffrax
     import jax
     import numpy as np
 
     import jaxcable as jc
-    import diffrax
     from jaxcable.examples import seed003_line
 
     duration = args.duration or 0.5
@@ -566,7 +566,7 @@ def report(path: Path) -> None:
             "| run (s) | load (1 min) |"
         )
         print("|---|---|---|---|---|---|---|---|")
-        for s, e in by("segments"):
+        for _s, e in by("segments"):
             ev = e["events"]
             print(
                 f"| {e['segments']} | {e['vector_field_equations']} | {e['steps']} | {e['compile_s']:.1f} "
@@ -580,7 +580,7 @@ def report(path: Path) -> None:
             "| programs | run (s) | load (1 min) |"
         )
         print("|---|---|---|---|---|---|---|---|")
-        for s, e in by("solvers"):
+        for _s, e in by("solvers"):
             ev = e["events"]
             print(
                 f"| {e['solver']} | {e['program_equations']} | {e['steps']} | {e['compile_s']:.1f} "
@@ -591,7 +591,7 @@ def report(path: Path) -> None:
     if by("reuse"):
         print("| call | what changed | XLA compiles | XLA compile (s) | trace (s) | wall (s) | load (1 min) |")
         print("|---|---|---|---|---|---|---|")
-        for s, e in by("reuse"):
+        for _s, e in by("reuse"):
             ev = e["events"]
             print(
                 f"| {e['call']} | {e['changed']} | {ev['backend_compiles']} | {ev['backend_s']:.2f} "
@@ -606,7 +606,7 @@ def gradient_tables(rows) -> None:
         "| compile fwd / jacfwd / rev (s) | load (1 min) | timing |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for s, e in rows:
+    for _s, e in rows:
         rev = e["reverse"]["default"]
         loads = [e["load_forward"][0], e["load_jacfwd"][0], rev["load"][0]]
         print(
@@ -622,12 +622,13 @@ def gradient_tables(rows) -> None:
     if others:
         print("| mass | N | params | checkpoints | reverse (s) | ratio to forward | compile (s) | load (1 min) |")
         print("|---|---|---|---|---|---|---|---|")
-        for s, e, label in [(s, e, "default") for s, e in rows if len(e["reverse"]) > 1] + others:
+        for _s, e, label in [(s, e, "default") for s, e in rows if len(e["reverse"]) > 1] + others:
             rev = e["reverse"][label]
             shown = f"default (√(2·max_steps) ≈ {int((2 * e['max_steps']) ** 0.5)})" if label == "default" else label
             print(
                 f"| {e['mass_matrix']} | {e['segments']} | {len(e['parameters'])} | {shown} | {rev['run_s']:.3f} "
-                f"| {rev.get('ratio', rev['run_s'] / e['forward_run_s']):.2f}× | {rev['compile_s']:.1f} | {rev['load'][0]:.1f} |"
+                f"| {rev.get('ratio', rev['run_s'] / e['forward_run_s']):.2f}× | {rev['compile_s']:.1f} | "
+                f"{rev['load'][0]:.1f} |"
             )
         print()
     checks = [(s, e, c) for s, e in rows for c in e.get("checks", [])]
@@ -637,7 +638,7 @@ def gradient_tables(rows) -> None:
             "| rel. error jacfwd / reverse (vs first FD) | steps |"
         )
         print("|---|---|---|---|---|---|---|---|---|---|")
-        for s, e, c in checks:
+        for _s, e, c in checks:
             for i in range(c["parameters_checked"]):
                 fds = " / ".join(f"{row[i]:.6g} (h={h:g})" for h, row in zip(c["fd_steps"], c["finite_difference"]))
                 print(

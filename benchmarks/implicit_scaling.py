@@ -33,13 +33,12 @@ import jax.numpy as jnp
 import lineax as lx
 import numpy as np
 import optimistix as optx
+from _results import append_session
+from _timing import timed
 
 import jaxcable as jc
 from jaxcable.equations import vector_field
 from jaxcable.examples import seed003_line
-
-from _results import append_session
-from _timing import timed
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -150,7 +149,8 @@ def main():
 def report(path: Path):
     sessions = json.loads(path.read_text())
     print(
-        "| N | Jacobian | linear solve (ms) | Kvaerno5 + Newton step (ms) | Kvaerno5 + VeryChord step (ms) | compile solve / Newton / VeryChord (s) | session, step, root tolerance |"
+        "| N | Jacobian | linear solve (ms) | Kvaerno5 + Newton step (ms) | Kvaerno5 + VeryChord step (ms) | compile "
+        "solve / Newton / VeryChord (s) | session, step, root tolerance |"
     )
     print("|---|---|---|---|---|---|---|")
     for session in sessions:
@@ -163,7 +163,8 @@ def report(path: Path):
             )
     latest = sessions[-1]["rows"]
     print(
-        f"latest session: dt = {sessions[-1].get('dt', 1e-3)} s, root tolerance {sessions[-1].get('root_tolerance', 1e-6)}"
+        f"latest session: dt = {sessions[-1].get('dt', 1e-3)} s, root tolerance "
+        f"{sessions[-1].get('root_tolerance', 1e-6)}"
     )
     for jacobian in ("structured", "dense"):
         by_n = {r["segments"]: r for r in latest if r["jacobian"] == jacobian}
@@ -171,7 +172,8 @@ def report(path: Path):
             for key in ("solve", "newton", "verychord"):
                 if all(_ok(by_n[n], key) for n in (100, 1000)):
                     print(
-                        f"{jacobian}: {key} at N = 1000 / N = 100 = {_time(by_n[1000], key) / _time(by_n[100], key):.1f}"
+                        f"{jacobian}: {key} at N = 1000 / N = 100 = "
+                        f"{_time(by_n[1000], key) / _time(by_n[100], key):.1f}"
                     )
     # The chart shows the broadest session (the most N, both Jacobians) and the latest.
     broadest = max(sessions, key=lambda session: len(session["rows"]))

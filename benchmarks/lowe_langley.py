@@ -260,7 +260,8 @@ def report() -> None:
         f"|top| {s['top_tension_kN']:.3f} kN"
     )
     print(
-        "| case | engine | top tension | RMS err (kN) | max err (kN) | mean err (kN) | steps | compile (s) | run (s) | run ratio |"
+        "| case | engine | top tension | RMS err (kN) | max err (kN) | mean err (kN) | steps | compile (s) | run (s) | "
+        "run ratio |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|")
     for case, entry in latest["cases"].items():

@@ -29,10 +29,9 @@ from pathlib import Path
 
 import jax
 import numpy as np
+from _timing import timed
 
 import jaxcable as jc
-
-from _timing import timed
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -134,7 +133,8 @@ def run_moordyn(case: int, dt: float = 0.005) -> dict:
 
 def report(entries) -> None:
     print(
-        "| case | heading | jaxcable |R| RMS / max error (kN) | MoorDyn |R| RMS / max error (kN) | jaxcable run (s) | MoorDyn run (s) | ratio |"
+        "| case | heading | jaxcable |R| RMS / max error (kN) | MoorDyn |R| RMS / max error (kN) | jaxcable run (s) | "
+        "MoorDyn run (s) | ratio |"
     )
     print("|---|---|---|---|---|---|---|")
     for e in entries:
@@ -143,7 +143,8 @@ def report(entries) -> None:
         md_run = f"{md['run']:.2f}" if md else "–"
         ratio = f"{e['jaxcable']['run'] / md['run']:.2f}" if md else "–"
         print(
-            f"| {e['case']} | {heading(e['case']):.0f}° | {e['jaxcable']['error']['rms']:.2f} / {e['jaxcable']['error']['max']:.2f} "
+            f"| {e['case']} | {heading(e['case']):.0f}° | {e['jaxcable']['error']['rms']:.2f} / "
+            f"{e['jaxcable']['error']['max']:.2f} "
             f"| {md_err} | {e['jaxcable']['run']:.2f} (compile {e['jaxcable']['compile']:.1f}) | {md_run} | {ratio} |"
         )
 

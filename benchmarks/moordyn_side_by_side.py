@@ -335,9 +335,9 @@ def run_jaxcable(model, env, initial, duration, *, solver, repeats) -> dict:
     """`simulate` timed with the `jc.SolverConfig` `solver`: compile apart, median of
     `repeats` warm runs."""
     import numpy as np
+    from _timing import timed
 
     import jaxcable as jc
-    from _timing import timed
 
     ts = np.linspace(0.0, duration, round(duration / OUTPUT_DT) + 1)
 
@@ -965,7 +965,8 @@ def report(path: Path, levels=(1e-2, 3e-3, 1e-3, 6e-4)) -> None:
             f"**Check** ({c['time']}, load {c['load_average']}): statics top tension jaxcable "
             f"{c['statics_top_tension_N']:.2f} N, read back {c['readback_statics_top_tension_N']:.2f} N, MoorDyn IC "
             f"{c['moordyn_ic_top_tension_N']:.2f} N ({c['moordyn_ic_top_tension_rel_diff']:+.2e}); MoorDyn IC nodes "
-            f"within {c['moordyn_ic_max_node_distance_m']:.2e} m of jaxcable's statics; read-back dynamics (10 s) within "
+            f"within {c['moordyn_ic_max_node_distance_m']:.2e} m of jaxcable's statics; read-back dynamics (10 s) "
+            "within "
             f"{c['readback_dynamics_max_diff_rel_peak']:.1e} of the peak; FairTen − EA·strain = "
             f"{c['moordyn_fairten_minus_ea_strain_N']:.1e} N."
         )
@@ -993,7 +994,8 @@ def report(path: Path, levels=(1e-2, 3e-3, 1e-3, 6e-4)) -> None:
             print(
                 f"| {r['engine']} | {r['setting']} | {r['steps']}"
                 + (f" ({r['rejected']})" if "rejected" in r else "")
-                + f" | {r['rms']:.1e} / {r['max']:.1e} | {r['rms_full']:.1e} / {r['max_full']:.1e} | {r['compile_s']:.1f} | {r['run_s']:.3f} "
+                + f" | {r['rms']:.1e} / {r['max']:.1e} | {r['rms_full']:.1e} / {r['max_full']:.1e} "
+                f"| {r['compile_s']:.1f} | {r['run_s']:.3f} "
                 f"| {r['run_s'] / r['steps'] * 1e6:.1f} | {r['run_s'] / r['evaluations'] * 1e6:.1f} | {vs} "
                 f"| {r['load_average']} |"
             )
@@ -1046,7 +1048,8 @@ def report(path: Path, levels=(1e-2, 3e-3, 1e-3, 6e-4)) -> None:
         print("| engine | compile (s) | run (s) | with IC (s) | steps max (mean) | load before / after |")
         print("|---|---|---|---|---|---|")
         print(
-            f"| jaxcable sweep | {j['compile_s']:.1f} | {j['run_s']:.2f} | – | {j['steps_max']} ({j['steps_mean']:.0f}) "
+            f"| jaxcable sweep | {j['compile_s']:.1f} | {j['run_s']:.2f} | – | {j['steps_max']} "
+            f"({j['steps_mean']:.0f}) "
             f"| {j['load_average_before']} / {j['load_average_after']} |"
         )
         print(

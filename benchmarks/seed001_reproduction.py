@@ -31,10 +31,10 @@ import numpy as np  # noqa: E402
 
 # The paper studies live in the repository's `studies/` folder, not in the package.
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from studies import seed001 as s1  # noqa: E402
-from jaxcable.examples.seed001 import SPECIFIC_DRAG  # noqa: E402
-
 from _results import append_session  # noqa: E402
+
+from jaxcable.examples.seed001 import SPECIFIC_DRAG  # noqa: E402
+from studies import seed001 as s1  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -53,7 +53,8 @@ def main():
 
     free = s1.free_study(**s1.FULL)
     print(
-        f"free: {free.run_s:.1f} s; drift / Stokes {np.round(free.drift_ratio, 4)} at St {np.round(free.inertia_number, 5)}",
+        f"free: {free.run_s:.1f} s; drift / Stokes {np.round(free.drift_ratio, 4)} at St "
+        f"{np.round(free.inertia_number, 5)}",
         flush=True,
     )
     tethered = s1.tethered_study(**s1.FULL)

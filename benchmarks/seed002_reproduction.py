@@ -31,10 +31,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 # The paper studies live in the repository's `studies/` folder, not in the package.
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from studies import seed002_net as s2n  # noqa: E402
-from studies import seed002 as s2  # noqa: E402
-
 from _results import append_session  # noqa: E402
+
+from studies import seed002 as s2  # noqa: E402
+from studies import seed002_net as s2n  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 

@@ -18,15 +18,14 @@ import argparse
 import json
 from pathlib import Path
 
-import jax
 import diffrax
+import jax
 import numpy as np
+from _results import append_session
+from _timing import timed
 
 import jaxcable as jc
 from jaxcable.examples import seed003_line
-
-from _results import append_session
-from _timing import timed
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -121,7 +120,8 @@ def main():
 def report(path: Path) -> None:
     """Print every recorded run as one markdown table, one row per configuration."""
     print(
-        "| N | mass | solver | steps (rejected) | compile (s) | run (s) | peak T (kN) | peak err | max err / peak | machine |"
+        "| N | mass | solver | steps (rejected) | compile (s) | run (s) | peak T (kN) | peak err | max err / peak | "
+        "machine |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|")
     for session in json.loads(path.read_text()):

@@ -233,13 +233,15 @@ def report(session: dict) -> None:
         print(f"- C_E = {k} N: compile {v['compile_s']:.1f} s, run {v['run_s']:.1f} s")
     print("\n### Convergence (α = 30°, top-segment peak in the window)\n")
     print(
-        "| N | rtol | peak, C_E1 = 0 (kN) | peak, C_E1 = 0.2 C_E (kN) | 0.2 vs 0 | slack top, 0 / 0.2 (s) | steps (C_E1 = 0) | run (s) |"
+        "| N | rtol | peak, C_E1 = 0 (kN) | peak, C_E1 = 0.2 C_E (kN) | 0.2 vs 0 | slack top, 0 / 0.2 (s) | steps "
+        "(C_E1 = 0) | run (s) |"
     )
     print("|---|---|---|---|---|---|---|---|")
     for c in sorted(session["convergence"], key=lambda c: (c["n_segments"], -c["rtol"])):
         p = c["peak_top_N"]
         print(
-            f"| {c['n_segments']} | {c['rtol']:g} | {p['0.0'] / 1e3:.2f} | {p['0.2'] / 1e3:.2f} | {100 * c['ratio_effect']:+.1f} % "
+            f"| {c['n_segments']} | {c['rtol']:g} | {p['0.0'] / 1e3:.2f} | {p['0.2'] / 1e3:.2f} | "
+            f"{100 * c['ratio_effect']:+.1f} % "
             f"| {c['slack_top_s']['0.0']:.2f} / {c['slack_top_s']['0.2']:.2f} | {c['steps']['0.0']} "
             f"| {c['run_s']:.1f}{' (main study, batch of 4)' if c['from_main_study'] else ''} |"
         )
@@ -248,14 +250,17 @@ def report(session: dict) -> None:
 
 def _print_table(rows):
     print(
-        "| α | C_E1/C_E | static top (kN) | peak top (kN) | min top (kN) | peak anchor (kN) | peak on line (kN) | peak ε | slack top (s) | slack top (%) | steps | ok |"
+        "| α | C_E1/C_E | static top (kN) | peak top (kN) | min top (kN) | peak anchor (kN) | peak on line (kN) | peak "
+        "ε | slack top (s) | slack top (%) | steps | ok |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(
             f"| {r['angle_deg']:g}° | {r['ratio']:g} | {r['static_top_N'] / 1e3:.1f} | {r['peak_top_N'] / 1e3:.1f} "
-            f"| {r['min_top_N'] / 1e3:.2f} | {r['peak_anchor_N'] / 1e3:.1f} | {r['peak_line_N'] / 1e3:.1f} | {r['peak_strain']:.4f} "
-            f"| {r['slack_top_s']:.2f} | {100 * r['slack_top_fraction']:.1f} | {r['steps']} | {'yes' if r['success'] else 'NO'} |"
+            f"| {r['min_top_N'] / 1e3:.2f} | {r['peak_anchor_N'] / 1e3:.1f} | {r['peak_line_N'] / 1e3:.1f} | "
+            f"{r['peak_strain']:.4f} "
+            f"| {r['slack_top_s']:.2f} | {100 * r['slack_top_fraction']:.1f} | {r['steps']} | "
+            f"{'yes' if r['success'] else 'NO'} |"
         )
 
 

@@ -62,12 +62,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
+from _results import append_session
 
 import jaxcable as jc
 from jaxcable.equations import kinetic_energy, potential_energy
 from jaxcable.examples import seed003_line
-
-from _results import append_session
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -110,10 +109,10 @@ def imaginary_axis_limit(solver, tol=1e-9, hi=6.0) -> float:
     """The largest y = ω dt (–) with |R(iy)| ≤ 1 near the origin for one step of `solver`.
 
     `tol` is the growth per step allowed: 1e-9 for the strict limit, 0.01 for the step at
-    which an undamped mode grows by 1 % a step. R is measured, not looked up: one step of the solver on the undamped oscillator
-    x' = ω v, v' = −ω x (eigenvalues ±iω) gives the step's amplification matrix, whose
-    spectral radius is |R(iω dt)|. 0 where the region touches the imaginary axis only at
-    the origin (as for every two-stage second-order Runge–Kutta method).
+    which an undamped mode grows by 1 % a step. R is measured, not looked up: one step of the
+    solver on the undamped oscillator x' = ω v, v' = −ω x (eigenvalues ±iω) gives the step's
+    amplification matrix, whose spectral radius is |R(iω dt)|. 0 where the region touches the
+    imaginary axis only at the origin (as for every two-stage second-order Runge–Kutta method).
     """
 
     @jax.jit
@@ -649,13 +648,15 @@ def report(path: Path) -> None:
         print()
     print("**references** (Dopri5, rtol = atol = 1e-8)\n")
     print(
-        "| N | C_E (N) | slack width | amplitude × | current (m/s) | steps | peak T (kN) | first slack (s) | slack fraction |"
+        "| N | C_E (N) | slack width | amplitude × | current (m/s) | steps | peak T (kN) | first slack (s) | slack "
+        "fraction |"
     )
     print("|---|---|---|---|---|---|---|---|---|")
     for r in s["references"]:
         first = "none" if r["first_slack_s"] is None else f"{r['first_slack_s']:.2f}"
         print(
-            f"| {r['segments']} | {r['stiffness']:.0e} | {r['slack_width']:.0e} | {r['amplitude_scale']} | {r['current']} | "
+            f"| {r['segments']} | {r['stiffness']:.0e} | {r['slack_width']:.0e} | {r['amplitude_scale']} | "
+            f"{r['current']} | "
             f"{r['steps']} | {r['peak_tension_N'] / 1e3:.1f} | {first} | {100 * r['slack_segment_fraction']:.1f} % |"
         )
 
@@ -697,7 +698,8 @@ def summary(path: Path) -> None:
             cells.append(
                 "–"
                 if r is None
-                else f"{_fmt_dt(r['dt_stable'])} / {r['omega_dt_stable']:.2f} {SHORT.get(r['failure_mode'], r['failure_mode'])}"
+                else f"{_fmt_dt(r['dt_stable'])} / {r['omega_dt_stable']:.2f} "
+                f"{SHORT.get(r['failure_mode'], r['failure_mode'])}"
                 if r["dt_stable"] is not None
                 else f"< {r['dt_first_fail']:.3g}"
             )
@@ -873,7 +875,8 @@ def plot(path: Path) -> None:
             yscale="log",
             xlabel=xlabel,
             ylabel="steps over the window",
-            title=f"Adaptive defaults at rtol = atol = {s['adaptive'][0]['rtol'] if s['adaptive'] else ''} (red X: failed)",
+            title=f"Adaptive defaults at rtol = atol = {s['adaptive'][0]['rtol'] if s['adaptive'] else ''} "
+            "(red X: failed)",
         )
         ax1.legend(fontsize=8, ncol=2)
         ax2.legend(fontsize=8)

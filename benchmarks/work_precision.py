@@ -33,7 +33,8 @@ size collapse; a fixed step that diverges to non-finite states) are recorded wit
 `success = false`. Implicit methods use whatever Jacobian `jc.simulate` picks by default.
 
     python benchmarks/work_precision.py --scene seed003_taut      # one scene at a time
-    python benchmarks/work_precision.py --scene jumper --duration 5 --tolerances 1e-4 1e-6 --methods dopri5 kvaerno5-newton
+    python benchmarks/work_precision.py --scene jumper --duration 5 --tolerances 1e-4 1e-6 \\
+        --methods dopri5 kvaerno5-newton
     python benchmarks/work_precision.py --plot seed003_slack      # a chart from the results file
     python benchmarks/work_precision.py --report                  # the tables in benchmarks/README.md
 
@@ -50,17 +51,16 @@ import statistics
 import time
 from pathlib import Path
 
-import jax
 import diffrax
 import equinox as eqx
+import jax
 import numpy as np
+from _results import append_session
+from _timing import timed
 
 import jaxcable as jc
 from jaxcable.equations import stiffest_axial_mode
 from jaxcable.examples import seed003_line
-
-from _results import append_session
-from _timing import timed
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -539,7 +539,8 @@ def report(path: Path, everything: bool) -> None:
         print()
         header = " | ".join(f"≤ {level:g}" for level in LEVELS)
         print(
-            f"| method | mass | compile (s) | {header} | tightest run: tol or &#124;λ&#124; dt, steps (rejected), run (s), "
+            f"| method | mass | compile (s) | {header} | tightest run: tol or &#124;λ&#124; dt, steps (rejected), run "
+            "(s), "
             "largest / RMS err |"
         )
         print("|---|---|---|" + "---|" * len(LEVELS) + "---|")
@@ -581,7 +582,8 @@ def report(path: Path, everything: bool) -> None:
             print(f"| {method} | {mass} | {compile_s} | " + " | ".join(cells) + f" | {tail}{notes} |")
         if everything:
             print(
-                "\n| method | mass | tol or &#124;λ&#124; dt | steps (rejected) | run (s) | largest err | RMS err | top largest "
+                "\n| method | mass | tol or &#124;λ&#124; dt | steps (rejected) | run (s) | largest err | RMS err | "
+                "top largest "
                 "| top RMS | note |"
             )
             print("|---|---|---|---|---|---|---|---|---|---|")

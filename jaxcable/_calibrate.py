@@ -318,7 +318,7 @@ def _groups(pairs) -> list[_Group]:
         names = tuple(k for k in rigs[0].observables if any(k in r.columns for r in records))
 
         def pad(values, n):
-            return np.concatenate([values, np.full(size - n, values[-1])])
+            return np.concatenate([values, np.full(size - n, values[-1])])  # noqa: B023 (called within this iteration)
 
         times = np.stack(
             [

@@ -29,7 +29,7 @@ from ._advice import advise
 from ._calibrate import calibrate, calibration_solver, default_optimizer
 from ._config import SOLVERS
 from ._motion import Harmonic, Sampled
-from .examples import scene_path, scene_names
+from .examples import scene_names, scene_path
 from .io import Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
 from .io._run import load_scene, run_scene
@@ -222,7 +222,7 @@ def _info(args) -> int:
             f"C_a = {t.normal_added_mass:g}, C_aτ = {t.tangential_added_mass:g}"
         )
     print("points:")
-    for k, p in enumerate(scene.points):
+    for p in scene.points:
         extra = ""
         if p.kind == "coupled":
             extra = ", " + _describe_motion(p.motion)

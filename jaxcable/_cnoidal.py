@@ -242,7 +242,8 @@ class Cnoidal(AbstractWave):
             self.ursell,
             "",
             lambda: (
-                f"Cnoidal wave of Ursell number {float(self.ursell):.3g} < {URSELL_MINIMUM}: linear (Airy) theory fits better"
+                f"Cnoidal wave of Ursell number {float(self.ursell):.3g} < {URSELL_MINIMUM}: linear (Airy) theory fits "
+                "better"
             ),
         )
         checks.warn([ursell], stacklevel=4)  # the caller's line, past equinox's two construction frames

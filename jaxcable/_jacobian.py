@@ -35,7 +35,6 @@ import jax.numpy as jnp
 import lineax as lx
 import numpy as np
 
-from . import _checks as checks
 from ._network import CableNetwork
 
 
@@ -163,8 +162,11 @@ class NetworkJacobian(lx.AbstractLinearSolver):
 
     def transpose(self, state, options):
         (lower, diagonal, upper), _, layout = state
+
         # Block (g, g−1) of Aᵀ is block (g−1, g) of A transposed, and so on.
-        t = lambda a: jnp.swapaxes(a, -1, -2)
+        def t(a):
+            return jnp.swapaxes(a, -1, -2)
+
         zero = jnp.zeros_like(lower[:1])
         blocks = (
             jnp.concatenate([zero, t(upper[:-1])]),
@@ -192,7 +194,8 @@ class _Layout(eqx.Module):
         if not leaves or any(leaf.shape[:1] != (nodes,) for leaf in leaves):
             shapes = [leaf.shape for leaf in leaves]
             raise ValueError(
-                f"NetworkJacobian: every unknown must have the {nodes} free nodes as its first axis, got shapes {shapes}"
+                f"NetworkJacobian: every unknown must have the {nodes} free nodes as its first axis, got shapes "
+                f"{shapes}"
             )
         self.structure = structure
         self.nodes = nodes

@@ -226,7 +226,10 @@ def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, 
         # Quadrature over the submerged part [a, b] only.
         a, b = submerged_interval(positions[ends[:, 0], 2], positions[ends[:, 1], 2])
         xi, w = a[:, None] + (b - a)[:, None] * xi, (b - a)[:, None] * w
-    along = lambda field: field[ends[:, 0], None] * (1 - xi)[..., None] + field[ends[:, 1], None] * xi[..., None]
+
+    def along(field):
+        return field[ends[:, 0], None] * (1 - xi)[..., None] + field[ends[:, 1], None] * xi[..., None]
+
     points = along(positions)  # (segments, points, 3)
     relative = env.water_velocity(points, t) - along(velocities)
     normal = 0.5 * rho * line.normal_drag * line.diameter  # C_n

@@ -6,11 +6,10 @@ import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
-import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float
 
-from . import _checks as checks, _lagrangian as lag
+from . import _checks as checks
+from . import _lagrangian as lag
 from ._config import SolverConfig
 from ._environment import Environment
 from ._jacobian import with_network_jacobian
@@ -238,7 +237,8 @@ def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, thro
         tension = eqx.error_if(
             tension,
             result == diffrax.RESULTS.nonfinite,
-            "simulate: the state became non-finite (with a fixed step, the step is beyond the method's stability limit)",
+            "simulate: the state became non-finite (with a fixed step, the step is beyond the method's stability "
+            "limit)",
         )
     stats = {k: solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
     return SimulationResult(solution.ts, positions, velocities, strain, tension, reactions, stats, result)

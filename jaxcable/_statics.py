@@ -6,7 +6,8 @@ import jax.numpy as jnp
 import optimistix as optx
 from jaxtyping import Array, Float, Int
 
-from . import _checks as checks, _lagrangian as lag
+from . import _checks as checks
+from . import _lagrangian as lag
 from ._environment import Environment
 from ._network import CableNetwork, check_held
 from ._state import State

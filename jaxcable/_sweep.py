@@ -414,7 +414,7 @@ def _status(simulation: SimulationResult, statics: StaticSolution | None, invali
             lines.append(invalid[i])
             continue
         if statics is not None:
-            static_result = jax.tree.map(lambda x: np.asarray(x[i]), statics.result)
+            static_result = jax.tree.map(lambda x: np.asarray(x[i]), statics.result)  # noqa: B023 (called within this iteration)
             if static_result != optx.RESULTS.successful:
                 lines.append(
                     f"statics failed: {optx.RESULTS[static_result]} The largest force left on a free "
@@ -422,7 +422,7 @@ def _status(simulation: SimulationResult, statics: StaticSolution | None, invali
                     "shapes, or pass a State from solve_statics."
                 )
                 continue
-        case_result = jax.tree.map(lambda x: np.asarray(x[i]), result)
+        case_result = jax.tree.map(lambda x: np.asarray(x[i]), result)  # noqa: B023 (called within this iteration)
         if case_result == diffrax.RESULTS.successful:
             lines.append("successful")
         else:

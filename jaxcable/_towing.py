@@ -123,7 +123,7 @@ def _replace(module, values: Mapping, fields: Mapping[str, str]):
     """`module` with `module.<fields[name]> = values[name]` for each name present."""
     for name, field in fields.items():
         if name in values:
-            module = eqx.tree_at(lambda m: getattr(m, field), module, jnp.asarray(values[name], dtype=float))
+            module = eqx.tree_at(lambda m: getattr(m, field), module, jnp.asarray(values[name], dtype=float))  # noqa: B023 (called within this iteration)
     return module
 
 

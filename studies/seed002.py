@@ -20,6 +20,7 @@ import time
 import numpy as np
 
 from jaxcable import State, simulate
+from jaxcable.examples import seed003_amplitude
 from jaxcable.examples.seed002 import (
     STEP_DURATION,
     STEP_TIME,
@@ -29,7 +30,6 @@ from jaxcable.examples.seed002 import (
     steady_tow,
     towed_trawl,
 )
-from jaxcable.examples import seed003_amplitude
 from jaxcable.examples.seed003 import ADDED_MASS, AXIAL_STIFFNESS, MASS_PER_LENGTH
 
 # Study sizes: the notebook's default and the tests run SMALL, the benchmark FULL. `end`
@@ -410,7 +410,8 @@ def verdict_rows(runs: dict[str, TrawlRun]) -> list[tuple[str, str, str, str]]:
             "After a speed step the tension rises in stages, then settles smoothly (Fig. 7, 1 → 3 m/s)",
             f"at the tow point a first stage of {jump / 1e3:.1f} kN within 0.13 s ({100 * share:.0f} % of the rise "
             f"{tow.mean_before / 1e3:.1f} → {tow.mean_after / 1e3:.1f} kN): the axial wave, whose height Z Δv cos θ = "
-            f"{predicted_e / 1e3:.2f} kN the elastic cable matches ({jump_e / 1e3:.2f} kN); a damped swing, then a smooth "
+            f"{predicted_e / 1e3:.2f} kN the elastic cable matches ({jump_e / 1e3:.2f} kN); a damped swing, then a "
+            "smooth "
             f"climb, 90 % of the way {settle:.0f} s after the step",
             "yes" if share > 0.3 and settle > 10 else "partly",
             "the stage is the elastic front of the step; the smooth part is the trawl speeding up against its drag",
@@ -423,7 +424,8 @@ def verdict_rows(runs: dict[str, TrawlRun]) -> list[tuple[str, str, str, str]]:
         (
             "At the buoy attachment (1 → 4 m/s in waves) the mean first rises strongly, then settles slightly "
             "above its old level, with a much larger amplitude",
-            f"one-period mean {buoy.mean_before / 1e3:.1f} → peak {buoy.peak_mean / 1e3:.1f} → {buoy.mean_after / 1e3:.1f} kN "
+            f"one-period mean {buoy.mean_before / 1e3:.1f} → peak {buoy.peak_mean / 1e3:.1f} → "
+            f"{buoy.mean_after / 1e3:.1f} kN "
             f"({above:.2f}× the old level); range {buoy.range_before / 1e3:.1f} → {buoy.range_after / 1e3:.1f} kN",
             "yes"
             if buoy.peak_mean > 1.2 * buoy.mean_before
@@ -431,7 +433,8 @@ def verdict_rows(runs: dict[str, TrawlRun]) -> list[tuple[str, str, str, str]]:
             and buoy.range_after > 1.5 * buoy.range_before
             else "partly",
             f"measured: the branch point rises from z = {depth(waves, 'branch').mean_before:.0f} to "
-            f"{depth(waves, 'branch').mean_after:.0f} m and the buoy's mean z goes {depth(waves, 'buoy').mean_before:+.2f} → "
+            f"{depth(waves, 'branch').mean_after:.0f} m and the buoy's mean z goes "
+            f"{depth(waves, 'buoy').mean_before:+.2f} → "
             f"{depth(waves, 'buoy').mean_after:+.2f} m; the paper's buoy and vehicle are not given, so the levels "
             "cannot be matched",
         )
@@ -443,11 +446,13 @@ def verdict_rows(runs: dict[str, TrawlRun]) -> list[tuple[str, str, str, str]]:
         (
             "At the tow point and at the diverter attachment both the mean tension and its range grow with speed",
             f"tow point: mean {t_tow.mean_before / 1e3:.1f} → {t_tow.mean_after / 1e3:.1f} kN, range "
-            f"{t_tow.range_before / 1e3:.2f} → {t_tow.range_after / 1e3:.2f} kN; diverter: mean {t_div.mean_before / 1e3:.1f} → "
+            f"{t_tow.range_before / 1e3:.2f} → {t_tow.range_after / 1e3:.2f} kN; diverter: mean "
+            f"{t_div.mean_before / 1e3:.1f} → "
             f"{t_div.mean_after / 1e3:.1f} kN, range {t_div.range_before / 1e3:.2f} → {t_div.range_after / 1e3:.2f} kN",
             "yes" if all(grows) else ("partly" if any(grows) else "no"),
             "the diverter's range does not grow, though the diverter rises from z = "
-            f"{depth(waves, 'diverter').mean_before:.0f} to {depth(waves, 'diverter').mean_after:.0f} m, nearer the waves: "
+            f"{depth(waves, 'diverter').mean_before:.0f} to {depth(waves, 'diverter').mean_after:.0f} m, nearer the "
+            "waves: "
             "measured, not explained here"
             if not grows[1]
             else "",
@@ -494,9 +499,11 @@ def verdict_rows(runs: dict[str, TrawlRun]) -> list[tuple[str, str, str, str]]:
         (
             "Viscoelasticity (C_v = 0.02 C_E) barely changes the first snap but smooths the later ones",
             f"first peak at the tow point, elastic → viscoelastic: rise {peaks['rise 1→3, elastic'] / 1e3:.1f} → "
-            f"{peaks['rise 1→3'] / 1e3:.1f} kN, fall {peaks['fall 3→1, elastic'] / 1e3:.1f} → {peaks['fall 3→1'] / 1e3:.1f} kN "
+            f"{peaks['rise 1→3'] / 1e3:.1f} kN, fall {peaks['fall 3→1, elastic'] / 1e3:.1f} → "
+            f"{peaks['fall 3→1'] / 1e3:.1f} kN "
             f"({100 * cut[0]:.0f} and {100 * cut[1]:.0f} % lower); the ringing 1–5 s after, rms "
-            f"{ring[0][0] / 1e3:.2f} → {ring[0][1] / 1e3:.3f} kN (rise) and {ring[1][0] / 1e3:.2f} → {ring[1][1] / 1e3:.3f} kN (fall)",
+            f"{ring[0][0] / 1e3:.2f} → {ring[0][1] / 1e3:.3f} kN (rise) and {ring[1][0] / 1e3:.2f} → "
+            f"{ring[1][1] / 1e3:.3f} kN (fall)",
             "yes" if max(cut) < 0.1 and all(v < 0.2 * e for e, v in ring) else "partly",
             "the later vibrations are smoothed as the paper says; the first peak is cut by a quarter, not barely: "
             "the 0.02 s retardation time is as long as the step itself, so it damps the front's edge too",

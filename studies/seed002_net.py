@@ -38,13 +38,14 @@ from jaxcable.examples.seed002_net import (
     VISCOUS_RATIO,
     WATER_DEPTH,
     WAVE_PERIOD,
+    anchor_node,
     branch_segments,
     buoy_node,
     corner_node,
-    anchor_node,
     fig5_segments,
     moored_net,
 )
+
 from .seed002 import SLACK_TENSION, Snap, series_snaps
 
 # Study sizes. `segments`: upper, lower, row side, diagonal (`moored_net`); `end`: the

@@ -521,13 +521,16 @@ def verdict(study, key: str = "peak_top_N") -> dict:
 def table_markdown(study: Seed003Study) -> str:
     """The results table as markdown (kN, seconds)."""
     out = [
-        "| α | C_E1/C_E | static top (kN) | peak top (kN) | min top (kN) | peak anchor (kN) | peak on line (kN) | slack top (s) | slack top (%) | steps | ok |",
+        "| α | C_E1/C_E | static top (kN) | peak top (kN) | min top (kN) | peak anchor (kN) | peak on line (kN) | "
+        "slack top (s) | slack top (%) | steps | ok |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for c in study.cases:
         out.append(
-            f"| {c.angle:g}° | {c.ratio:g} | {c.static_tension[-1] / 1e3:.1f} | {c.peak_top / 1e3:.1f} | {c.min_top / 1e3:.2f} "
-            f"| {c.peak_anchor / 1e3:.1f} | {c.peak_line / 1e3:.1f} | {c.slack_seconds:.2f} | {100 * c.slack_fraction:.1f} "
+            f"| {c.angle:g}° | {c.ratio:g} | {c.static_tension[-1] / 1e3:.1f} | {c.peak_top / 1e3:.1f} | "
+            f"{c.min_top / 1e3:.2f} "
+            f"| {c.peak_anchor / 1e3:.1f} | {c.peak_line / 1e3:.1f} | {c.slack_seconds:.2f} | "
+            f"{100 * c.slack_fraction:.1f} "
             f"| {c.steps} | {'yes' if c.success else 'NO'} |"
         )
     return "\n".join(out)
@@ -588,7 +591,8 @@ def stiffness_table_markdown(studies: dict) -> str:
     time, and the two claims' comparisons. `studies` maps C_E to a `Seed003Study` or to
     its `table()` rows."""
     out = [
-        "| C_E (N) | static top T, 30/45/60° (kN) | peak top T at C_E1 = 0, 30/45/60° (kN) | C_E1 = 0.2 vs 0, 30/45/60° "
+        "| C_E (N) | static top T, 30/45/60° (kN) | peak top T at C_E1 = 0, 30/45/60° (kN) | C_E1 = 0.2 vs 0, "
+        "30/45/60° "
         "| 45° vs 30° | 60° vs 30° | 60° vs 45° | slack top, 30/45/60° (s) | claim 1 | claim 2 |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
@@ -605,7 +609,7 @@ def stiffness_table_markdown(studies: dict) -> str:
         angle = v["angle_effect"].get(0.0, {})
 
         def pct(k):
-            return f"{100 * angle[k]:+.1f} %" if k in angle else "–"
+            return f"{100 * angle[k]:+.1f} %" if k in angle else "–"  # noqa: B023 (called within this iteration)
 
         static = " / ".join(f"{r['static_top_N'] / 1e3:.1f}" for r in linear)
         peaks = " / ".join(f"{r['peak_top_N'] / 1e3:.1f}" for r in linear)

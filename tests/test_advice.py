@@ -9,12 +9,11 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.special
+from helpers import catenary_parameter
 from scipy.optimize import brentq
 
 import jaxcable as jc
-from helpers import catenary_parameter
 from jaxcable import _lagrangian as lag
-from jaxcable.io import advice_lines
 from jaxcable._advice import (
     STABLE_STEP,
     advise,
@@ -24,6 +23,7 @@ from jaxcable._advice import (
     stiffest_axial_mode,
     wave_fit,
 )
+from jaxcable.io import advice_lines
 
 
 def taut_line(mass_matrix: str, damping_ratio: float = 0.0) -> jc.io.BuiltScene:

@@ -23,9 +23,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from helpers import chain_nodes
 
 import jaxcable as jc
-from helpers import chain_nodes
 from jaxcable import _lagrangian as lagrangian
 
 RHO, G = 1025.0, 9.81

@@ -51,9 +51,15 @@ def _stage(model, env, step):
 
 def _dense(fn, k):
     """The stage Jacobian as a dense `(6n, 6n)` matrix, unknowns node by node."""
-    flat = lambda tree: jnp.concatenate([a for a in tree], axis=1).reshape(-1)
+
+    def flat(tree):
+        return jnp.concatenate([a for a in tree], axis=1).reshape(-1)
+
     n = k[0].shape[0]
-    unflat = lambda v: (v.reshape(n, 6)[:, :3], v.reshape(n, 6)[:, 3:])
+
+    def unflat(v):
+        return v.reshape(n, 6)[:, :3], v.reshape(n, 6)[:, 3:]
+
     return np.asarray(jax.jacfwd(lambda v: flat(fn(unflat(v), None)))(flat(k))), flat, unflat
 
 
@@ -122,7 +128,10 @@ def test_colouring_separates_nodes_within_two_edges(edges, n):
     # Cuthill–McKee's on the same graph.
     order = _reverse_cuthill_mckee(_neighbours(n, edges))
     assert sorted(order) == list(range(n))
-    width = lambda order: int(np.max(np.abs(np.argsort(order)[edges[:, 0]] - np.argsort(order)[edges[:, 1]])))
+
+    def width(order):
+        return int(np.max(np.abs(np.argsort(order)[edges[:, 0]] - np.argsort(order)[edges[:, 1]])))
+
     assert width(order) <= width(reverse_cuthill_mckee(graph, symmetric_mode=True))
     # A line needs 3 colours and has bandwidth 1; the greedy colouring and the
     # ordering should find that.
@@ -192,6 +201,7 @@ def test_auto_is_structured_under_jit(models, implicit_runs):
     structured solver, with the colouring and order of the eager one, and the run equals diffrax's
     dense one."""
     import equinox as eqx
+
     from jaxcable._jacobian import with_network_jacobian
 
     model, _ = models["line"]

@@ -27,11 +27,11 @@ import diffrax
 import jax
 import numpy as np
 import pytest
+from helpers import ElasticCatenary
 from scipy.io import netcdf_file
 from scipy.optimize import fsolve
 
 import jaxcable as jc
-from helpers import ElasticCatenary
 from jaxcable import examples
 from jaxcable._cli import main
 

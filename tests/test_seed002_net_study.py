@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from jaxcable.examples import seed002_net as net
-from studies import seed002_net as s
 from studies import seed002 as s2
+from studies import seed002_net as s
 
 T = net.WAVE_PERIOD
 OMEGA = 2 * np.pi / T

@@ -4,8 +4,8 @@ axial-wave closed form, and the study's measures on series built by hand."""
 import numpy as np
 import pytest
 
-from studies import seed002 as s2
 from jaxcable.examples.seed003 import ADDED_MASS, AXIAL_STIFFNESS, MASS_PER_LENGTH
+from studies import seed002 as s2
 
 
 def test_first_stage_is_the_axial_wave():

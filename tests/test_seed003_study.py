@@ -15,9 +15,9 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from helpers import ElasticCatenary
 
 import jaxcable as jc
-from helpers import ElasticCatenary
 from jaxcable.examples.seed003 import AREA, DEPTH, MASS_PER_LENGTH
 from studies.seed003 import seed003_case, seed003_study, slack_time, verdict
 

@@ -110,7 +110,8 @@ def test_failures_are_reported_per_case(swept):
     # inf throughout, its statics too (they were computed with a valid case's values).
     law = base()[0].line.tension_law
     assert swept.status[4] == (
-        f"invalid input: case 4: LineType.tension_law.axial_stiffness must be positive, got {-float(law.axial_stiffness[0])}"
+        "invalid input: case 4: LineType.tension_law.axial_stiffness must be positive, got "
+        f"{-float(law.axial_stiffness[0])}"
     )
     assert bool(swept.case(4).result == diffrax.RESULTS.nonfinite_input)
     assert int(swept.simulation.stats["num_steps"][4]) == 0

@@ -201,7 +201,7 @@ def test_fluid_inertia_is_morison_on_the_waters_acceleration(wave):
     expected = np.zeros((3, 3))
     area = np.pi * 0.08**2 / 4
     xi = (np.arange(4000) + 0.5) / 4000
-    for s, (i, j) in enumerate([(0, 1), (1, 2)]):
+    for i, j in [(0, 1), (1, 2)]:
         chord = positions[j] - positions[i]
         tangent = chord / np.linalg.norm(chord)
         points = positions[i] + xi[:, None] * chord

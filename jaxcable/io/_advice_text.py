@@ -84,8 +84,8 @@ def advice_lines(advice: Advice) -> list[str]:
         )
     steps = f", so {advice.duration:g} s needs at least ~{advice.steps:,} steps" if advice.duration is not None else ""
     text.append(
-        f"an explicit solver (dopri5, tsit5) is stable for steps up to about {STABLE_STEP:g}/|λ| = {advice.explicit_step:.3g} s"
-        + steps
+        f"an explicit solver (dopri5, tsit5) is stable for steps up to about {STABLE_STEP:g}/|λ| = "
+        f"{advice.explicit_step:.3g} s" + steps
     )
     if advice.explicit_step < 1e-3:
         text.append(

@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from .._network import Body
+from ._parse import is_number, read_text, unique_names
 from ._scene import (
     LineSpec,
     LineTypeSpec,
@@ -47,7 +48,6 @@ from ._scene import (
     Water,
     located,
 )
-from ._parse import is_number, read_text, unique_names
 
 # Section names as MoorDyn recognises them, most specific first: a header matches the
 # first entry any of whose aliases it contains.
@@ -293,7 +293,8 @@ def _point(source: str, line: int, fields: list[str], index: int) -> PointSpec:
     kind_word = re.match(r"[A-Za-z]*", values["Type"]).group(0).upper()
     if kind_word == "BODY":
         raise SceneError(
-            f"{where}, column Type: {values['Type']!r} attaches the point to a 6-DOF body, which jaxcable does not model"
+            f"{where}, column Type: {values['Type']!r} attaches the point to a 6-DOF body, which jaxcable does not "
+            "model"
         )
     kinds = [k for k, words in _POINT_KINDS.items() if kind_word in words]
     if not kinds:
