@@ -516,7 +516,7 @@ def advise(
         positions = np.asarray(static.state.positions)
 
     touching = None
-    if statics_error is None and env.seabed is not None:
+    if statics_error is None and env.seabed is not None and env.depth is not None:  # (a seabed has a depth)
         low = positions[:, 2] < -float(env.depth)
         touching = low[np.asarray(model.segment_nodes)].any(axis=1)
     bed, limit = seabed_mode(model, env, touching)
@@ -751,14 +751,13 @@ def _slack(model, held, still, labels, chains, static, rest_max) -> tuple[SlackC
             continue
         name = labels.points[node] if labels is not None and node < len(labels.points) else str(node)
         attached = np.flatnonzero((edges[:, 0] == node) | (edges[:, 1] == node))
+
+        def value(field, s):
+            return float(np.asarray(getattr(line, field))[s])
+
         speeds = [
             terminal_speed(
-                *(
-                    float(np.asarray(getattr(line, f))[s])
-                    for f in ("mass_per_length", "area", "diameter", "normal_drag")
-                ),
-                rho,
-                g,
+                value("mass_per_length", s), value("area", s), value("diameter", s), value("normal_drag", s), rho, g
             )
             for s in attached
         ]
@@ -780,7 +779,7 @@ def _slack(model, held, still, labels, chains, static, rest_max) -> tuple[SlackC
                 SlackCheck(
                     name,
                     node,
-                    tuple(float(x) + 0.0 for x in shift),
+                    (float(shift[0]) + 0.0, float(shift[1]) + 0.0, float(shift[2]) + 0.0),
                     converged,
                     float(tension[s]) if converged else float("nan"),
                     str(segment_line[s]),

@@ -196,7 +196,8 @@ def _info(args) -> int:
             f"wave {k}: {wave.theory}, {size}, T = {wave.period:g} s, heading {wave.heading:g}°, "
             f"phase {wave.phase:g} rad" + (", Wheeler stretching" if wave.wheeler else "")
         )
-    if water.seabed is not None:
+    # build() refused a seabed without a depth.
+    if water.seabed is not None and water.depth is not None:
         bed = water.seabed
         friction = f"friction μ = {bed.friction:g}" + (
             f" (viscous below {bed.friction_speed:.4g} m/s)" if bed.friction else " (none)"

@@ -15,6 +15,7 @@ from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
 from ._motion import ramp_factor
+from ._typing import RealLike
 from ._waves import AbstractWave
 
 
@@ -42,7 +43,7 @@ class CurrentProfile(eqx.Module):
     speeds: Float[Array, " points"]
     heading: Float[Array, ""]
 
-    def __init__(self, heights: ArrayLike, speeds: ArrayLike, heading: ArrayLike = 0.0):
+    def __init__(self, heights: RealLike, speeds: RealLike, heading: RealLike = 0.0):
         self.heights = checks.float_array("CurrentProfile.heights", heights)
         self.speeds = checks.float_array("CurrentProfile.speeds", speeds)
         self.heading = checks.float_array("CurrentProfile.heading", heading, ())
@@ -186,15 +187,15 @@ class Environment(eqx.Module):
 
     def __init__(
         self,
-        water_density: ArrayLike = 1025.0,
-        gravity: ArrayLike = 9.81,
+        water_density: RealLike = 1025.0,
+        gravity: RealLike = 9.81,
         current=(0.0, 0.0, 0.0),
         free_surface: bool = False,
         *,
-        depth: ArrayLike | None = None,
+        depth: RealLike | None = None,
         waves=(),
-        wave_ramp: ArrayLike = 0.0,
-        wave_start: ArrayLike = 0.0,
+        wave_ramp: RealLike = 0.0,
+        wave_start: RealLike = 0.0,
         seabed: Seabed | None = None,
         fluid_inertia: bool = True,
     ):

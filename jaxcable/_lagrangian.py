@@ -125,7 +125,7 @@ def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[
         + jnp.sum(body.mass * env.gravity * z + body_buoyancy * column_buoyancy_potential(z, body.height))
         - jnp.sum(body.force * positions)
     )
-    if env.seabed is not None:
+    if env.seabed is not None and env.depth is not None:  # a seabed comes with a depth (Environment checks)
         penetration = jnp.maximum(-env.depth - z, 0.0)
         energy = energy + 0.5 * env.seabed.stiffness * jnp.sum(contact_area(model) * penetration**2)
     return energy
@@ -279,10 +279,11 @@ def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, 
 def seabed_forces(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, "nodes 3"]:
     """The seabed's damping and friction on each node (N); its spring is in
     `potential_energy`."""
-    bed = env.seabed
+    bed, depth = env.seabed, env.depth
+    assert bed is not None and depth is not None, "seabed_forces needs a seabed (which comes with a depth)"
     area = contact_area(model)
-    touching = positions[:, 2] < -env.depth
-    penetration = jnp.maximum(-env.depth - positions[:, 2], 0.0)
+    touching = positions[:, 2] < -depth
+    penetration = jnp.maximum(-depth - positions[:, 2], 0.0)
     damping = jnp.where(touching, -bed.damping * area * velocities[:, 2], 0.0)
     normal_force = bed.stiffness * area * penetration
     sliding = velocities.at[:, 2].set(0.0)

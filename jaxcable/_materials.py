@@ -16,7 +16,9 @@ import abc
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, ArrayLike, Float
+from jaxtyping import Array, Float
+
+from ._typing import RealLike
 
 # Three-point Gauss–Legendre on [0, 1]. The smoothed elastic tension is a polynomial of
 # degree 5 inside the smoothing band, which three points integrate exactly.
@@ -24,7 +26,7 @@ _GL3_NODES = 0.5 * (1.0 + np.array([-np.sqrt(3.0 / 5.0), 0.0, np.sqrt(3.0 / 5.0)
 _GL3_WEIGHTS = 0.5 * np.array([5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0])
 
 
-def slack_switch(strain: ArrayLike, width: ArrayLike) -> Array:
+def slack_switch(strain: RealLike, width: RealLike) -> Array:
     """The Heaviside factor `H(ε)` that makes a law tension-only.
 
     **Arguments:**
@@ -120,7 +122,7 @@ class LinearElastic(AbstractTensionLaw):
     axial_stiffness: Float[Array, "*segments"]
     slack_width: Float[Array, "*segments"]
 
-    def __init__(self, axial_stiffness: ArrayLike, slack_width: ArrayLike = 1e-5):
+    def __init__(self, axial_stiffness: RealLike, slack_width: RealLike = 1e-5):
         self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
         self.slack_width = jnp.asarray(slack_width, dtype=float)
 
@@ -145,7 +147,7 @@ class NonlinearElastic(AbstractTensionLaw):
     quadratic_coefficient: Float[Array, "*segments"]
     slack_width: Float[Array, "*segments"]
 
-    def __init__(self, axial_stiffness: ArrayLike, quadratic_stiffness: ArrayLike, slack_width: ArrayLike = 1e-5):
+    def __init__(self, axial_stiffness: RealLike, quadratic_stiffness: RealLike, slack_width: RealLike = 1e-5):
         self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
         self.quadratic_coefficient = jnp.asarray(quadratic_stiffness, dtype=float)
         self.slack_width = jnp.asarray(slack_width, dtype=float)
@@ -175,10 +177,10 @@ class KelvinVoigt(AbstractTensionLaw):
 
     def __init__(
         self,
-        axial_stiffness: ArrayLike,
-        quadratic_stiffness: ArrayLike,
-        axial_damping: ArrayLike,
-        slack_width: ArrayLike = 1e-5,
+        axial_stiffness: RealLike,
+        quadratic_stiffness: RealLike,
+        axial_damping: RealLike,
+        slack_width: RealLike = 1e-5,
     ):
         self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
         self.quadratic_coefficient = jnp.asarray(quadratic_stiffness, dtype=float)

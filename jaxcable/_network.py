@@ -15,11 +15,12 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, ArrayLike, Float, Int
+from jaxtyping import Array, Float, Int
 
 from . import _checks as checks
 from ._materials import AbstractTensionLaw
 from ._motion import AbstractMotion
+from ._typing import RealLike
 
 MASS_MATRICES = ("consistent", "lumped")
 
@@ -55,14 +56,14 @@ class LineType(eqx.Module):
 
     def __init__(
         self,
-        mass_per_length: ArrayLike,
-        diameter: ArrayLike,
+        mass_per_length: RealLike,
+        diameter: RealLike,
         tension_law: AbstractTensionLaw,
-        area: ArrayLike | None = None,
-        normal_drag: ArrayLike = 1.2,
-        tangential_drag: ArrayLike = 0.008,
-        normal_added_mass: ArrayLike = 1.0,
-        tangential_added_mass: ArrayLike = 0.0,
+        area: RealLike | None = None,
+        normal_drag: RealLike = 1.2,
+        tangential_drag: RealLike = 0.008,
+        normal_added_mass: RealLike = 1.0,
+        tangential_added_mass: RealLike = 0.0,
     ):
         if not isinstance(tension_law, AbstractTensionLaw):
             raise ValueError(f"LineType.tension_law must be a jaxcable tension law, got {tension_law!r}")
@@ -138,14 +139,14 @@ class Body(eqx.Module):
 
     def __init__(
         self,
-        mass: ArrayLike = 0.0,
-        volume: ArrayLike = 0.0,
-        drag_area: ArrayLike = 0.0,
-        specific_drag: ArrayLike = 0.0,
-        organism_mass: ArrayLike | None = None,
-        added_mass: ArrayLike = 0.0,
-        force: ArrayLike = (0.0, 0.0, 0.0),
-        height: ArrayLike = 0.0,
+        mass: RealLike = 0.0,
+        volume: RealLike = 0.0,
+        drag_area: RealLike = 0.0,
+        specific_drag: RealLike = 0.0,
+        organism_mass: RealLike | None = None,
+        added_mass: RealLike = 0.0,
+        force: RealLike = (0.0, 0.0, 0.0),
+        height: RealLike = 0.0,
     ):
         self.mass = checks.float_array("Body.mass", mass)
         self.volume = checks.float_array("Body.volume", volume)
@@ -287,9 +288,9 @@ class CableNetwork(eqx.Module):
 
     def __init__(
         self,
-        node_positions: ArrayLike,
-        segment_nodes: ArrayLike,
-        segment_length: ArrayLike,
+        node_positions: RealLike,
+        segment_nodes: RealLike,
+        segment_length: RealLike,
         line: LineType,
         constraints: Mapping[int, AbstractMotion],
         bodies: Mapping[int, Body] | None = None,
@@ -384,7 +385,7 @@ class CableNetwork(eqx.Module):
     @classmethod
     def from_branches(
         cls,
-        junctions: ArrayLike,
+        junctions: RealLike,
         branches: Sequence[Branch],
         constraints: Mapping[int, AbstractMotion],
         bodies: Mapping[int, Body] | None = None,

@@ -6,7 +6,7 @@ import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array, ArrayLike, Float
+from jaxtyping import Array, Float
 
 from . import _checks as checks
 from . import _lagrangian as lag
@@ -15,6 +15,7 @@ from ._environment import Environment
 from ._jacobian import with_network_jacobian
 from ._network import CableNetwork
 from ._state import State
+from ._typing import RealLike, RealScalarLike
 
 
 class SimulationResult(eqx.Module):
@@ -92,10 +93,10 @@ def terms_for(solver: diffrax.AbstractSolver) -> diffrax.AbstractTerm:
 def simulate(
     model: CableNetwork,
     env: Environment,
-    t1: float,
+    t1: RealScalarLike,
     *,
-    t0: float = 0.0,
-    ts: ArrayLike | None = None,
+    t0: RealScalarLike = 0.0,
+    ts: RealLike | None = None,
     initial: State | None = None,
     solver: SolverConfig | None = None,
     progress: bool = False,
@@ -226,12 +227,17 @@ def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, thro
             lag.reactions(model, env, t, positions, velocities, accelerations),
         )
 
+    # The solve saves at `ts` (SaveAt(ts=...)), so diffrax returns both.
+    assert solution.ts is not None and solution.ys is not None
     positions, velocities, strain, tension, reactions = jax.vmap(outputs)(solution.ts, *solution.ys)
     # An adaptive controller rejects non-finite steps, but a fixed step (beyond the
     # method's stability limit) carries them to the end as a "successful" solve.
     finite = jnp.all(jnp.isfinite(positions)) & jnp.all(jnp.isfinite(velocities))
     result = diffrax.RESULTS.where(
-        finite | (solution.result != diffrax.RESULTS.successful), solution.result, diffrax.RESULTS.nonfinite
+        finite | (solution.result != diffrax.RESULTS.successful),
+        solution.result,
+        # pyright takes an equinox Enumeration's members for literals, not for instances of it.
+        diffrax.RESULTS.nonfinite,  # pyright: ignore[reportArgumentType]
     )
     if throw:
         tension = eqx.error_if(

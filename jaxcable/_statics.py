@@ -11,6 +11,7 @@ from . import _lagrangian as lag
 from ._environment import Environment
 from ._network import CableNetwork, check_held
 from ._state import State
+from ._typing import RealScalarLike
 
 
 class StaticSolution(eqx.Module):
@@ -43,7 +44,7 @@ def solve_statics(
     model: CableNetwork,
     env: Environment,
     *,
-    t: float = 0.0,
+    t: RealScalarLike = 0.0,
     initial: State | None = None,
     rtol: float = 1e-10,
     atol: float = 1e-10,

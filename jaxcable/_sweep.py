@@ -25,11 +25,12 @@ from typing import Any
 import diffrax
 import equinox as eqx
 import jax
+import jax.core
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
-from jaxtyping import Array, ArrayLike, Bool, Float
+from jaxtyping import Array, Bool, Float
 
 from . import _checks as checks
 from ._config import SolverConfig
@@ -38,6 +39,7 @@ from ._network import CableNetwork
 from ._simulate import SimulationResult, _simulate, as_config, for_model
 from ._state import State
 from ._statics import StaticSolution, solve_statics
+from ._typing import RealLike
 
 INITIAL_STATES = ("statics", "rest")
 
@@ -126,7 +128,7 @@ class SweepResult(eqx.Module):
         return "\n".join(lines)
 
 
-def sweep_grid(**axes: ArrayLike) -> dict[str, np.ndarray]:
+def sweep_grid(**axes: RealLike) -> dict[str, np.ndarray]:
     """The Cartesian product of parameter axes, as the flat arrays [`jaxcable.sweep`][]
     takes.
 
@@ -159,14 +161,14 @@ def sweep_grid(**axes: ArrayLike) -> dict[str, np.ndarray]:
 
 def sweep(
     build: Callable[..., tuple[CableNetwork, Environment]],
-    parameters: Mapping[str, ArrayLike],
+    parameters: Mapping[str, RealLike],
     t1: float,
     *,
     t0: float = 0.0,
-    ts: ArrayLike | None = None,
+    ts: RealLike | None = None,
     initial: str | State = "statics",
     solver: SolverConfig | None = None,
-    devices: Sequence[jax.Device] | None = None,
+    devices: Sequence[jax.Device] | None = None,  # pyright: ignore[reportInvalidTypeForm]  (jax.Device is an alias of jaxlib's class)
 ) -> SweepResult:
     """Simulate one model over a batch of parameter values, in one compiled solve.
 
@@ -376,15 +378,15 @@ def _run(per_case, shared, mode, mesh):
             simulation,
             [jnp.where(ok, getattr(simulation, a), jnp.inf) for a in arrays],
         )
-        failure = diffrax.RESULTS.nonfinite_input
+        # pyright takes an equinox Enumeration's members for literals, not for instances of it.
+        failure: diffrax.RESULTS = diffrax.RESULTS.nonfinite_input  # pyright: ignore[reportAssignmentType]
         if statics is not None:
             failure = diffrax.RESULTS.where(valid, diffrax.RESULTS.promote(statics.result), failure)
             # An invalid case's statics are its substitute's: not to be read as its own.
             floats, rest = eqx.partition(statics, eqx.is_inexact_array)
             statics = eqx.combine(jax.tree.map(lambda x: jnp.where(valid, x, jnp.inf), floats), rest)
-            statics = eqx.tree_at(
-                lambda s: s.result, statics, optx.RESULTS.where(valid, statics.result, optx.RESULTS.nonfinite_input)
-            )
+            invalid: optx.RESULTS = optx.RESULTS.nonfinite_input  # pyright: ignore[reportAssignmentType]  (as above)
+            statics = eqx.tree_at(lambda s: s.result, statics, optx.RESULTS.where(valid, statics.result, invalid))
         result = diffrax.RESULTS.where(ok, simulation.result, failure)
         simulation = eqx.tree_at(lambda s: s.result, simulation, result)
         return simulation, statics, simulation.result == diffrax.RESULTS.successful

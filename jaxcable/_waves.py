@@ -15,19 +15,20 @@ import abc
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array, ArrayLike, Float
+from jaxtyping import Array, Float
 
 from . import _checks as checks
+from ._typing import RealLike, RealScalarLike
 
 
-def seed003_amplitude(period: ArrayLike = 5.6, gravity: ArrayLike = 9.81) -> Array:
+def seed003_amplitude(period: RealScalarLike = 5.6, gravity: RealScalarLike = 9.81) -> Array:
     """Seed 003's wave amplitude law, `A = 0.085 (g T² / 2π)^0.75` (m).
 
     Bezverkhyy & Korniienko use it for the amplitude of a floating object's motion
     at wave period `period` T (s), 5.6 s in their study; `g T² / 2π` is the deep-water
     wavelength (m).
     """
-    return 0.085 * (gravity * jnp.square(period) / (2 * jnp.pi)) ** 0.75
+    return 0.085 * (jnp.square(period) * gravity / (2 * jnp.pi)) ** 0.75
 
 
 def _check_wave(name: str, height, period, depth, gravity, heading, phase):
@@ -116,7 +117,7 @@ class AbstractWave(eqx.Module):
         return jnp.stack([speed * jnp.cos(beta), speed * jnp.sin(beta), vertical], axis=-1)
 
 
-def airy_wavenumber(period: ArrayLike, depth: ArrayLike, gravity: ArrayLike = 9.81) -> Array:
+def airy_wavenumber(period: RealLike, depth: RealLike, gravity: RealScalarLike = 9.81) -> Array:
     """The wavenumber k (1/m) of the linear dispersion relation ω² = g k tanh(k d).
 
     Starts from Guo's (2002) explicit approximation, within 0.75 % everywhere, and
@@ -207,7 +208,7 @@ class Airy(AbstractWave):
     def crest(self) -> Float[Array, ""]:
         return 0.5 * self.height
 
-    def stokes_drift(self, z: ArrayLike) -> Float[Array, "*z"]:
+    def stokes_drift(self, z: RealLike) -> Float[Array, "*z"]:
         """The Stokes drift (m/s) along the heading at mean depth `z` (m, ≤ 0): the mean
         speed of a water particle, to second order in the steepness,
 

@@ -49,7 +49,7 @@ def advice_lines(advice: Advice) -> list[str]:
             f" allowed: {d.segments} segments {verdict}"
             + (" (a lower bound: the curvature is taken from the coarse shape)" if d.needed > d.segments else "")
         )
-    if advice.rest_min_tension is not None and advice.slack:
+    if advice.rest_min_tension is not None and advice.rest_max_tension is not None and advice.slack:
         text.append(
             f"at rest the tension is {advice.rest_min_tension / 1e3:.4g} to {advice.rest_max_tension / 1e3:.4g} kN"
         )

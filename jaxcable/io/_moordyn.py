@@ -290,7 +290,9 @@ def _point(source: str, line: int, fields: list[str], index: int) -> PointSpec:
         raise SceneError(
             f"{where}, column ID: point IDs must run 1, 2, 3, ...; expected {index + 1}, got {values['ID']!r}"
         )
-    kind_word = re.match(r"[A-Za-z]*", values["Type"]).group(0).upper()
+    leading = re.match(r"[A-Za-z]*", values["Type"])
+    assert leading is not None  # the pattern matches every string, if only by its empty prefix
+    kind_word = leading.group(0).upper()
     if kind_word == "BODY":
         raise SceneError(
             f"{where}, column Type: {values['Type']!r} attaches the point to a 6-DOF body, which jaxcable does not "
@@ -393,9 +395,9 @@ def _seabed(
     lowest = -points[deepest].position[2]
     if lowest > depth:
         point = points[deepest]
-        given = f"WtrDpth = {depth:g} m" if "wtrdpth" in options else "no WtrDpth"
+        stated = f"WtrDpth = {depth:g} m" if "wtrdpth" in options else "no WtrDpth"
         notes.append(
-            f"{point.where}: {given}, but point {point.name} is at z = {-lowest:g} m: MoorDyn then sets the water "
+            f"{point.where}: {stated}, but point {point.name} is at z = {-lowest:g} m: MoorDyn then sets the water "
             f"depth to {lowest:g} m, with its seabed there, and so does jaxcable"
         )
         depth = lowest
@@ -430,7 +432,7 @@ def _seabed(
             / line.segments
             for line in lines
         }
-        heaviest = max(weights, key=weights.get)
+        heaviest = max(weights, key=lambda k: weights[k])
         if weights[heaviest] > 0:
             friction_speed = weights[heaviest] / fricdamp
             notes.append(

@@ -439,7 +439,9 @@ class _Reader:
             and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value)
         ):
             raise SceneError(f"{self.where(keys)}: expected a list of finite numbers, got {value!r}")
-        return tuple(float(v) for v in value) if given else value
+        if not given:
+            return default
+        return tuple(float(v) for v in value)
 
     def vector(self, table: dict, keys: tuple, default: Any = ...) -> tuple[float, float, float]:
         value, given = self._value(table, keys, default, "[x, y, z]")
@@ -449,7 +451,10 @@ class _Reader:
             and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value)
         ):
             raise SceneError(f"{self.where(keys)}: expected three numbers [x, y, z], got {value!r}")
-        return tuple(float(v) for v in value) if given else value
+        if not given:
+            return default
+        x, y, z = value
+        return float(x), float(y), float(z)
 
     def motion(self, table: dict, keys: tuple, position: tuple[float, float, float]):
         spec = table[keys[-1]]
