@@ -118,7 +118,7 @@ def _branch_minimum(height_ratio, parameter, start):
 
 
 def cnoidal_coefficients(
-    m: Float[ArrayLike, "*batch"], count: int, m1: Float[ArrayLike, "*batch"] | None = None
+    m: Float[ArrayLike, "*#batch"], count: int, m1: Float[ArrayLike, "*#batch"] | None = None
 ) -> Float[Array, "*batch count"]:
     """The Fourier coefficients aₙ, n = 1 … `count`, of cn²(Kθ/π | m) about its mean:
 
@@ -390,7 +390,7 @@ class Cnoidal(AbstractWave):
         return self._horizontal(du, dw)
 
     def harmonic_series(
-        self, position: Float[Array, "*batch 3"], t, count: int
+        self, position: Float[Array | np.ndarray, "*batch 3"], t, count: int
     ) -> tuple[Float[Array, "*batch"], Float[Array, "*batch 3"], Float[Array, "*batch 3"]]:
         """The elevation, velocity and local acceleration as `count` phase-locked
         harmonics (seed 004 §7.2), aₙ from [`jaxcable.cnoidal_coefficients`][]:

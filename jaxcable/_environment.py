@@ -11,6 +11,7 @@ import dataclasses
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
@@ -67,7 +68,7 @@ class CurrentProfile(eqx.Module):
             checks.finite("CurrentProfile.heading", self.heading),
         ]
 
-    def velocity(self, position: Float[Array, "*batch 3"]) -> Float[Array, "*batch 3"]:
+    def velocity(self, position: Float[Array | np.ndarray, "*batch 3"]) -> Float[Array, "*batch 3"]:
         """The current velocity (m/s) at `position` (m)."""
         speed = jnp.interp(position[..., 2], self.heights, self.speeds)
         beta = jnp.deg2rad(self.heading)
@@ -288,7 +289,9 @@ class Environment(eqx.Module):
         `fluid_inertia`. A steady current does not accelerate."""
         return bool(self.waves) and self.fluid_inertia
 
-    def water_velocity(self, position: Float[Array, "*batch 3"], t: Float[ArrayLike, ""]) -> Float[Array, "*batch 3"]:
+    def water_velocity(
+        self, position: Float[Array | np.ndarray, "*batch 3"], t: Float[ArrayLike, ""]
+    ) -> Float[Array, "*batch 3"]:
         """The water velocity (m/s), current plus waves, at `position` (m) and time `t` (s)."""
         if isinstance(self.current, CurrentProfile):
             velocity = self.current.velocity(position)
@@ -305,7 +308,7 @@ class Environment(eqx.Module):
         return velocity
 
     def water_acceleration(
-        self, position: Float[Array, "*batch 3"], t: Float[ArrayLike, ""]
+        self, position: Float[Array | np.ndarray, "*batch 3"], t: Float[ArrayLike, ""]
     ) -> Float[Array, "*batch 3"]:
         """The water's local acceleration ∂u/∂t (m/s²) at `position` (m) and time `t` (s):
         the waves', through their ramp; the current is steady."""
@@ -316,7 +319,9 @@ class Environment(eqx.Module):
         ramp, rate = jax.jvp(lambda s: ramp_factor(s - self.wave_start, self.wave_ramp), (t,), (jnp.ones_like(t),))
         return ramp * acceleration + rate * self._wave_velocity(position, t)
 
-    def surface_elevation(self, x: Float[Array, "*batch"], y: Float[Array, "*batch"], t) -> Float[Array, "*batch"]:
+    def surface_elevation(
+        self, x: Float[Array | np.ndarray, "*batch"], y: Float[Array | np.ndarray, "*batch"], t
+    ) -> Float[Array, "*batch"]:
         """The surface elevation η (m) above the still-water level at `(x, y)` (m) and time
         `t` (s): the waves' sum, through their ramp."""
         eta = jnp.zeros(jnp.broadcast_shapes(jnp.shape(x), jnp.shape(y)))

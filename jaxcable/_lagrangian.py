@@ -54,7 +54,7 @@ _SHAPE_WEIGHTS = {
 _CG_ITERATIONS = 30
 
 
-def _scatter(model: CableNetwork, at_start: Array, at_end: Array) -> Float[Array, "nodes 3"]:
+def _scatter(model: CableNetwork, at_start: Array, at_end: Array) -> Float[Array, " nodes *trailing"]:
     """Sum per-segment arrays (of any trailing shape) onto the segments' end nodes."""
     ids = model.segment_nodes.T.reshape(-1)
     return jax.ops.segment_sum(jnp.concatenate([at_start, at_end]), ids, num_segments=model.n_nodes)
@@ -157,14 +157,14 @@ def mass_per_length(model: CableNetwork, env: Environment, positions) -> Float[A
     )
 
 
-def column_submerged_fraction(z: Array, height: Array) -> Array:
+def column_submerged_fraction(z: Array | np.ndarray, height: Array | np.ndarray) -> Array:
     """The fraction below z = 0 of a vertical column of `height` h (m) centred at `z`
     (m): 1 for a point body (h = 0) wherever it is."""
     safe = jnp.where(height > 0, height, 1.0)
     return jnp.where(height > 0, jnp.clip((0.5 * safe - z) / safe, 0.0, 1.0), 1.0)
 
 
-def column_buoyancy_potential(z: Array, height: Array) -> Array:
+def column_buoyancy_potential(z: Array | np.ndarray, height: Array | np.ndarray) -> Array:
     """Φ(z) (m) with Φ' = −(submerged fraction): a column's buoyancy potential is
     ρ g V Φ(z). Φ = −z while the column is under water, is quadratic while it pierces
     the surface, and 0 once it is clear of it; a point body's Φ is −z everywhere."""

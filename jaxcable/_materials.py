@@ -16,7 +16,7 @@ import abc
 import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 from ._typing import RealLike
 
@@ -71,21 +71,24 @@ class AbstractTensionLaw(eqx.Module):
     def damping(self) -> Float[Array, "*segments"]:
         """C_v (N·s), the coefficient of ε̇ in the tension."""
 
-    def elastic_tension(self, strain: Float[Array, "*segments"]) -> Array:
+    def elastic_tension(self, strain: Float[ArrayLike, "*segments"]) -> Array:
         """The elastic part `(C_E ε + C_E1 ε²) H(ε)` (N)."""
-        return _switched_polynomial(strain, self.axial_stiffness, self.quadratic_stiffness(), self.slack_width)
+        return _switched_polynomial(
+            jnp.asarray(strain), self.axial_stiffness, self.quadratic_stiffness(), self.slack_width
+        )
 
-    def tension(self, strain: Float[Array, "*segments"], strain_rate: Float[Array, "*segments"]) -> Array:
+    def tension(self, strain: Float[ArrayLike, "*segments"], strain_rate: Float[ArrayLike, "*segments"]) -> Array:
         """The full tension `T(ε, ε̇)` (N), including damping."""
         viscous = self.damping() * strain_rate * slack_switch(strain, self.slack_width)
         return self.elastic_tension(strain) + viscous
 
-    def elastic_energy_density(self, strain: Float[Array, "*segments"]) -> Array:
+    def elastic_energy_density(self, strain: Float[ArrayLike, "*segments"]) -> Array:
         """`∫₀^ε T_e(e) de` (N, i.e. J per metre of unstretched length).
 
         Exact for both the sharp and the smoothed switch: Gauss–Legendre inside the
         smoothing band, where the integrand is a quintic, and the closed form above it.
         """
+        strain = jnp.asarray(strain)
         shape = jnp.shape(strain)
         c_e = jnp.broadcast_to(self.axial_stiffness, shape)
         c_e1 = jnp.broadcast_to(self.quadratic_stiffness(), shape)

@@ -15,6 +15,7 @@ import abc
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float
 
 from . import _checks as checks
@@ -80,15 +81,17 @@ class AbstractWave(eqx.Module):
         """The crest's elevation η_c (m) above the still-water level."""
 
     @abc.abstractmethod
-    def elevation(self, x: Float[Array, "*batch"], y: Float[Array, "*batch"], t) -> Float[Array, "*batch"]:
+    def elevation(
+        self, x: Float[Array | np.ndarray, "*batch"], y: Float[Array | np.ndarray, "*batch"], t
+    ) -> Float[Array, "*batch"]:
         """The surface elevation η (m) above the still-water level at `(x, y)` (m) and
         time `t` (s)."""
 
     @abc.abstractmethod
-    def velocity(self, position: Float[Array, "*batch 3"], t) -> Float[Array, "*batch 3"]:
+    def velocity(self, position: Float[Array | np.ndarray, "*batch 3"], t) -> Float[Array, "*batch 3"]:
         """The water velocity (m/s) at `position` (m), shape `(..., 3)`, and time `t` (s)."""
 
-    def acceleration(self, position: Float[Array, "*batch 3"], t) -> Float[Array, "*batch 3"]:
+    def acceleration(self, position: Float[Array | np.ndarray, "*batch 3"], t) -> Float[Array, "*batch 3"]:
         """The local acceleration ∂u/∂t (m/s²) at a fixed `position` (m) and time `t` (s).
 
         Morison's inertia force uses the local acceleration, as is common practice (and

@@ -147,6 +147,7 @@ def test_a_new_tolerance_reuses_the_compiled_solve(scene):
     assert len(compiled) == 1
 
 
+@pytest.mark.unchecked
 def test_solver_config_errors_name_the_field():
     with pytest.raises(ValueError, match=r"solver must be one of \('dopri5'.*'picard'\), got 'dopri'"):
         jc.SOLVERS["dopri"]()
@@ -160,6 +161,7 @@ def test_solver_config_errors_name_the_field():
         jc.SolverConfig(rtol=1e-8, stepsize_controller=diffrax.ConstantStepSize())
 
 
+@pytest.mark.unchecked
 def test_simulate_takes_a_configuration_not_a_bare_solver(scene):
     model, env, static = scene
     with pytest.raises(ValueError, match=r"simulate: solver must be a jaxcable.SolverConfig.*SolverConfig\(diffrax"):
