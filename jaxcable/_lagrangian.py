@@ -157,14 +157,14 @@ def mass_per_length(model: CableNetwork, env: Environment, positions) -> Float[A
     )
 
 
-def column_submerged_fraction(z: Array | np.ndarray, height: Array | np.ndarray) -> Array:
+def column_submerged_fraction(z: Array | np.ndarray | float, height: Array | np.ndarray | float) -> Array:
     """The fraction below z = 0 of a vertical column of `height` h (m) centred at `z`
     (m): 1 for a point body (h = 0) wherever it is."""
     safe = jnp.where(height > 0, height, 1.0)
     return jnp.where(height > 0, jnp.clip((0.5 * safe - z) / safe, 0.0, 1.0), 1.0)
 
 
-def column_buoyancy_potential(z: Array | np.ndarray, height: Array | np.ndarray) -> Array:
+def column_buoyancy_potential(z: Array | np.ndarray | float, height: Array | np.ndarray | float) -> Array:
     """Φ(z) (m) with Φ' = −(submerged fraction): a column's buoyancy potential is
     ρ g V Φ(z). Φ = −z while the column is under water, is quadratic while it pierces
     the surface, and 0 once it is clear of it; a point body's Φ is −z everywhere."""
