@@ -66,8 +66,9 @@ def parse():
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--no-fit", action="store_true", help="time the loss and gradients only")
     parser.add_argument("--monte-carlo", type=int, default=0, help="fits on this many noise draws (0: none)")
-    parser.add_argument("--linear-draws", type=int, default=0,
-                        help="linearised estimates on this many noise draws (0: none)")
+    parser.add_argument(
+        "--linear-draws", type=int, default=0, help="linearised estimates on this many noise draws (0: none)"
+    )
     parser.add_argument("--out", default=str(Path(__file__).parent / "results" / "calibration.json"))
     parser.add_argument("--report", action="store_true", help="print the recorded results as a markdown table")
     return parser.parse_args()
@@ -87,13 +88,12 @@ def records_for(name, length, interval, segments, seed=0):
     neutral = 1025.0 * math.pi * 0.0173**2 / 4
     rigs = [
         HorizontalTow(**small, end_mass=100.0, end_volume=0.015, end_drag_area=0.1),
-        HorizontalTow(**small, cable_mass_per_length=1.05 * neutral, end_mass=2.0, end_volume=0.0015,
-                      end_drag_area=0.05),
+        HorizontalTow(
+            **small, cable_mass_per_length=1.05 * neutral, end_mass=2.0, end_volume=0.0015, end_drag_area=0.05
+        ),
     ]
     speed = np.interp(times, [0.0, length / 3, length / 3 + 3.0, length], [1.0, 1.0, 2.0, 2.0])
-    records = [
-        synthetic_record(r, times, {"speed": speed}, seed=seed + k, name=f"tow {k}") for k, r in enumerate(rigs)
-    ]
+    records = [synthetic_record(r, times, {"speed": speed}, seed=seed + k, name=f"tow {k}") for k, r in enumerate(rigs)]
     return records, ("normal_drag", "tangential_drag")
 
 
@@ -272,8 +272,11 @@ def print_table(sessions) -> None:
                 f"| {e['forward_run_s']:.3f} | {e['jacfwd_run_s']:.3f} | {e['jacfwd_run_s'] / e['forward_run_s']:.2f}× "
                 f"| {e['reverse_run_s']:.3f} | {e['reverse_run_s'] / e['forward_run_s']:.2f}× "
                 f"| {e['forward_compile_s']:.1f} / {e['jacfwd_compile_s']:.1f} / {e['reverse_compile_s']:.1f} "
-                + (f"| {fit:.1f} | {fit / e['forward_run_s']:.0f}× | {e['fit_iterations']} | {errors} | {sigmas} "
-                   if fit is not None else "| – | – | – | – | – ")
+                + (
+                    f"| {fit:.1f} | {fit / e['forward_run_s']:.0f}× | {e['fit_iterations']} | {errors} | {sigmas} "
+                    if fit is not None
+                    else "| – | – | – | – | – "
+                )
                 + f"| {device} |"
             )
     carlo = [
@@ -285,14 +288,18 @@ def print_table(sessions) -> None:
     ]
     if carlo:
         print()
-        print("| set | length (s) | coefficient | estimate | draws | mean error (%) | std of error (%) "
-              "| mean reported 1σ (%) | within 2σ |")
+        print(
+            "| set | length (s) | coefficient | estimate | draws | mean error (%) | std of error (%) "
+            "| mean reported 1σ (%) | within 2σ |"
+        )
         print("|---|---|---|---|---|---|---|---|---|")
         for e, n, m, kind in carlo:
             estimate = "fit" if kind == "monte_carlo" else "linearised"
-            print(f"| {e['set']} | {e['length_s']:g} | {n} | {estimate} | {m['draws']} | {m['error_mean_percent']:+.3f} "
-                  f"| {m['error_std_percent']:.3f} | {m['reported_sigma_mean_percent']:.3f} "
-                  f"| {100 * m['within_2_sigma']:.0f} % |")
+            print(
+                f"| {e['set']} | {e['length_s']:g} | {n} | {estimate} | {m['draws']} | {m['error_mean_percent']:+.3f} "
+                f"| {m['error_std_percent']:.3f} | {m['reported_sigma_mean_percent']:.3f} "
+                f"| {100 * m['within_2_sigma']:.0f} % |"
+            )
 
 
 if __name__ == "__main__":

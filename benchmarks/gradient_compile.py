@@ -66,16 +66,31 @@ def parse():
     parser.add_argument("--segments", type=int, nargs="+", help="segment counts (default per study)")
     parser.add_argument("--mass-matrix", nargs="+", default=["lumped"], choices=["lumped", "consistent"])
     parser.add_argument("--duration", type=float, help="simulated time (s); default per study")
-    parser.add_argument("--parameters", type=int, nargs="+", default=[1, 3],
-                        help="gradient: differentiate w.r.t. the first 1 and/or 3 of EA, K_n, K_tau")
-    parser.add_argument("--checkpoints", type=int, nargs="*", default=[],
-                        help="gradient: also time reverse mode with these RecursiveCheckpointAdjoint checkpoints")
+    parser.add_argument(
+        "--parameters",
+        type=int,
+        nargs="+",
+        default=[1, 3],
+        help="gradient: differentiate w.r.t. the first 1 and/or 3 of EA, K_n, K_tau",
+    )
+    parser.add_argument(
+        "--checkpoints",
+        type=int,
+        nargs="*",
+        default=[],
+        help="gradient: also time reverse mode with these RecursiveCheckpointAdjoint checkpoints",
+    )
     parser.add_argument("--no-check", action="store_true", help="gradient: skip the finite-difference check")
     parser.add_argument("--check-rtol", type=float, default=1e-8)
-    parser.add_argument("--fd-steps", type=float, nargs="+", default=[1e-5, 1e-6],
-                        help="relative steps of the central differences")
-    parser.add_argument("--check-duration", type=float, default=3.0,
-                        help="gradient: also check over this shorter horizon (s), before the line first goes slack")
+    parser.add_argument(
+        "--fd-steps", type=float, nargs="+", default=[1e-5, 1e-6], help="relative steps of the central differences"
+    )
+    parser.add_argument(
+        "--check-duration",
+        type=float,
+        default=3.0,
+        help="gradient: also check over this shorter horizon (s), before the line first goes slack",
+    )
     parser.add_argument("--rtol", type=float, default=1e-6)
     parser.add_argument("--max-steps", type=int, default=200_000)
     parser.add_argument("--repeats", type=int, default=3)
@@ -205,8 +220,13 @@ def gradient_study(args):
                         # horizon reuses the compiled programs.
                         config = jc.SolverConfig(rtol=tol, atol=tol, max_steps=args.max_steps, adjoint=adjoint)
                         result = jc.simulate(
-                            scaled(model, theta, names), env, t1, ts=jnp.linspace(0.0, t1, n_out),
-                            initial=static.state, solver=config, throw=False,
+                            scaled(model, theta, names),
+                            env,
+                            t1,
+                            ts=jnp.linspace(0.0, t1, n_out),
+                            initial=static.state,
+                            solver=config,
+                            throw=False,
                         )
                         top = result.tension[:, -1] / TENSION_SCALE
                         slack = jnp.min(result.tension, axis=1) < SLACK_TENSION
@@ -222,13 +242,24 @@ def gradient_study(args):
                 jacfwd = jax.jit(jax.jacfwd(make_loss(diffrax.ForwardMode()), has_aux=True))
                 reverses = {"default": jax.jit(jax.value_and_grad(make_loss(None), has_aux=True))}
                 for c in args.checkpoints:
-                    reverses[str(c)] = jax.jit(jax.value_and_grad(
-                        make_loss(diffrax.RecursiveCheckpointAdjoint(checkpoints=c)), has_aux=True))
+                    reverses[str(c)] = jax.jit(
+                        jax.value_and_grad(make_loss(diffrax.RecursiveCheckpointAdjoint(checkpoints=c)), has_aux=True)
+                    )
 
-                entry = {"study": "gradient", "segments": n, "mass_matrix": mass, "duration_s": duration,
-                         "rtol": args.rtol, "parameters": list(names), "max_steps": args.max_steps}
-                programs = {"forward": forward, "jacfwd": jacfwd,
-                            **{f"reverse {label}": r for label, r in reverses.items()}}
+                entry = {
+                    "study": "gradient",
+                    "segments": n,
+                    "mass_matrix": mass,
+                    "duration_s": duration,
+                    "rtol": args.rtol,
+                    "parameters": list(names),
+                    "max_steps": args.max_steps,
+                }
+                programs = {
+                    "forward": forward,
+                    "jacfwd": jacfwd,
+                    **{f"reverse {label}": r for label, r in reverses.items()},
+                }
                 results, first, events = {}, {}, {}
                 for name, program in programs.items():
                     mark = len(_EVENTS)
@@ -248,21 +279,36 @@ def gradient_study(args):
                 ratio = {name: statistics.median(np.array(w) / np.array(warm["forward"])) for name, w in warm.items()}
                 value, (steps, ok, slack) = results["forward"]
                 g_fwd, _ = results["jacfwd"]
-                entry.update(loss=float(value), steps=int(steps), success=bool(ok), first_slack_s=float(slack),
-                             timing="interleaved", warm_s=warm,
-                             forward_run_s=run["forward"], forward_compile_s=max(first["forward"] - run["forward"], 0.0),
-                             forward_events=events["forward"], load_forward=load_average(),
-                             jacfwd_run_s=run["jacfwd"], jacfwd_compile_s=max(first["jacfwd"] - run["jacfwd"], 0.0),
-                             jacfwd_events=events["jacfwd"], jacfwd_ratio=ratio["jacfwd"],
-                             jacfwd_gradient=np.asarray(g_fwd).tolist(), load_jacfwd=load_average())
+                entry.update(
+                    loss=float(value),
+                    steps=int(steps),
+                    success=bool(ok),
+                    first_slack_s=float(slack),
+                    timing="interleaved",
+                    warm_s=warm,
+                    forward_run_s=run["forward"],
+                    forward_compile_s=max(first["forward"] - run["forward"], 0.0),
+                    forward_events=events["forward"],
+                    load_forward=load_average(),
+                    jacfwd_run_s=run["jacfwd"],
+                    jacfwd_compile_s=max(first["jacfwd"] - run["jacfwd"], 0.0),
+                    jacfwd_events=events["jacfwd"],
+                    jacfwd_ratio=ratio["jacfwd"],
+                    jacfwd_gradient=np.asarray(g_fwd).tolist(),
+                    load_jacfwd=load_average(),
+                )
                 entry["reverse"] = {}
                 for label in reverses:
                     name = f"reverse {label}"
                     (v_r, _), g_rev = results[name]
                     entry["reverse"][label] = {
-                        "run_s": run[name], "compile_s": max(first[name] - run[name], 0.0), "events": events[name],
-                        "ratio": ratio[name], "gradient": np.asarray(g_rev).tolist(),
-                        "value_matches_forward": bool(np.isclose(v_r, value, rtol=1e-12)), "load": load_average(),
+                        "run_s": run[name],
+                        "compile_s": max(first[name] - run[name], 0.0),
+                        "events": events[name],
+                        "ratio": ratio[name],
+                        "gradient": np.asarray(g_rev).tolist(),
+                        "value_matches_forward": bool(np.isclose(v_r, value, rtol=1e-12)),
+                        "load": load_average(),
                     }
                 print(json.dumps({k_: v for k_, v in entry.items() if "events" not in k_}), flush=True)
                 if not args.no_check:
@@ -272,7 +318,8 @@ def gradient_study(args):
                         # check says more about the loss than about the gradient (README).
                         count = k if horizon < duration or k == 1 or args.check_duration >= duration else 1
                         entry["checks"].append(
-                            check_gradient(args, theta, forward, jacfwd, reverses["default"], k, horizon, count))
+                            check_gradient(args, theta, forward, jacfwd, reverses["default"], k, horizon, count)
+                        )
                         print(json.dumps(entry["checks"][-1]), flush=True)
                 entries.append(entry)
                 # Free the compiled programs: their memory maps add up past Linux's 65,530.
@@ -341,10 +388,21 @@ def segments_study(args):
             return jc.simulate(model, env, duration, ts=ts, initial=static.state, solver=config, throw=False)
 
         result, c, r, ev = timed_with_events(run, args.repeats)
-        entry = {"study": "segments", "segments": n, "mass_matrix": "lumped", "solver": "Dopri5",
-                 "duration_s": duration, "rtol": args.rtol, "steps": int(result.stats["num_steps"]),
-                 "success": bool(result.success), "vector_field_equations": equations,
-                 "compile_s": c, "run_s": r, "events": ev, "load": load_average()}
+        entry = {
+            "study": "segments",
+            "segments": n,
+            "mass_matrix": "lumped",
+            "solver": "Dopri5",
+            "duration_s": duration,
+            "rtol": args.rtol,
+            "steps": int(result.stats["num_steps"]),
+            "success": bool(result.success),
+            "vector_field_equations": equations,
+            "compile_s": c,
+            "run_s": r,
+            "events": ev,
+            "load": load_average(),
+        }
         print(json.dumps(entry), flush=True)
         entries.append(entry)
         jax.clear_caches()
@@ -352,11 +410,11 @@ def segments_study(args):
 
 
 def solvers_study(args):
+    import diffrax
     import jax
     import numpy as np
 
     import jaxcable as jc
-    import diffrax
     from jaxcable.examples import seed003_line
 
     duration = args.duration or 0.5
@@ -381,10 +439,21 @@ def solvers_study(args):
 
         equations = count_equations(jax.make_jaxpr(run)())
         result, c, r, ev = timed_with_events(run, args.repeats)
-        entry = {"study": "solvers", "solver": name, "segments": n, "mass_matrix": "lumped",
-                 "duration_s": duration, "rtol": args.rtol, "steps": int(result.stats["num_steps"]),
-                 "success": bool(result.success), "program_equations": equations,
-                 "compile_s": c, "run_s": r, "events": ev, "load": load_average()}
+        entry = {
+            "study": "solvers",
+            "solver": name,
+            "segments": n,
+            "mass_matrix": "lumped",
+            "duration_s": duration,
+            "rtol": args.rtol,
+            "steps": int(result.stats["num_steps"]),
+            "success": bool(result.success),
+            "program_equations": equations,
+            "compile_s": c,
+            "run_s": r,
+            "events": ev,
+            "load": load_average(),
+        }
         print(json.dumps(entry), flush=True)
         entries.append(entry)
     jax.clear_caches()
@@ -412,8 +481,16 @@ def reuse_study(args):
         begin = time.perf_counter()
         out = jax.block_until_ready(fn())
         wall = time.perf_counter() - begin
-        entry = {"study": "reuse", "call": label, "changed": what, "segments": n, "duration_s": duration,
-                 "wall_s": wall, "events": compile_events(start), "load": load_average()}
+        entry = {
+            "study": "reuse",
+            "call": label,
+            "changed": what,
+            "segments": n,
+            "duration_s": duration,
+            "wall_s": wall,
+            "events": compile_events(start),
+            "load": load_average(),
+        }
         print(json.dumps(entry), flush=True)
         entries.append(entry)
         return out
@@ -429,28 +506,47 @@ def reuse_study(args):
     call("simulate #3", "rtol 1e-6 → 1e-7", lambda: sim(rtol=1e-7))
     call("simulate #4", "atol 1e-6 → 1e-8", lambda: sim(atol=1e-8))
     call("simulate #5", f"t1 {duration:g} → {duration / 2:g} s (same number of outputs)", lambda: sim(t1=duration / 2))
-    stiffer = eqx.tree_at(lambda m: m.line.tension_law.axial_stiffness, model,
-                          2 * model.line.tension_law.axial_stiffness)
+    stiffer = eqx.tree_at(
+        lambda m: m.line.tension_law.axial_stiffness, model, 2 * model.line.tension_law.axial_stiffness
+    )
     call("simulate #6", "new model: EA × 2 (same N)", lambda: sim(m=stiffer))
 
     def build(ea_scale):
-        return eqx.tree_at(lambda m: m.line.tension_law.axial_stiffness, model,
-                           ea_scale * model.line.tension_law.axial_stiffness), env
+        return eqx.tree_at(
+            lambda m: m.line.tension_law.axial_stiffness, model, ea_scale * model.line.tension_law.axial_stiffness
+        ), env
 
     batch = 8
     jax.clear_caches()
 
     def sweep(values):
-        return jc.sweep(build, {"ea_scale": values}, duration, ts=ts, initial=static.state,
-                        solver=jc.SolverConfig(max_steps=args.max_steps)).simulation.tension
+        return jc.sweep(
+            build,
+            {"ea_scale": values},
+            duration,
+            ts=ts,
+            initial=static.state,
+            solver=jc.SolverConfig(max_steps=args.max_steps),
+        ).simulation.tension
 
     call("sweep #1", f"first call, {batch} cases", lambda: sweep(np.linspace(0.8, 1.2, batch)))
     call("sweep #2", f"new values, {batch} cases", lambda: sweep(np.linspace(0.7, 1.3, batch)))
     call("sweep #3", f"new values again, {batch} cases", lambda: sweep(np.linspace(0.9, 1.1, batch)))
     call("sweep #4", f"{batch // 2} cases (new batch size)", lambda: sweep(np.linspace(0.8, 1.2, batch // 2)))
-    call("sweep #5", f"rtol 1e-6 → 1e-7, {batch // 2} cases", lambda: jc.sweep(
-        build, {"ea_scale": np.linspace(0.8, 1.2, batch // 2)}, duration, ts=ts, initial=static.state,
-        solver=jc.SolverConfig(rtol=1e-7, max_steps=args.max_steps)).simulation.tension)
+    call(
+        "sweep #5",
+        f"rtol 1e-6 → 1e-7, {batch // 2} cases",
+        lambda: (
+            jc.sweep(
+                build,
+                {"ea_scale": np.linspace(0.8, 1.2, batch // 2)},
+                duration,
+                ts=ts,
+                initial=static.state,
+                solver=jc.SolverConfig(rtol=1e-7, max_steps=args.max_steps),
+            ).simulation.tension
+        ),
+    )
     jax.clear_caches()
     return entries
 
@@ -465,70 +561,91 @@ def report(path: Path) -> None:
     if by("gradient"):
         gradient_tables(by("gradient"))
     if by("segments"):
-        print("| N | vector-field equations | steps | compile (s) | trace / lower / XLA (s) | programs "
-              "| run (s) | load (1 min) |")
+        print(
+            "| N | vector-field equations | steps | compile (s) | trace / lower / XLA (s) | programs "
+            "| run (s) | load (1 min) |"
+        )
         print("|---|---|---|---|---|---|---|---|")
-        for s, e in by("segments"):
+        for _s, e in by("segments"):
             ev = e["events"]
-            print(f"| {e['segments']} | {e['vector_field_equations']} | {e['steps']} | {e['compile_s']:.1f} "
-                  f"| {ev['trace_s']:.1f} / {ev['lower_s']:.1f} / {ev['backend_s']:.1f} | {ev['backend_compiles']} "
-                  f"| {e['run_s']:.3f} | {e['load'][0]:.1f} |")
+            print(
+                f"| {e['segments']} | {e['vector_field_equations']} | {e['steps']} | {e['compile_s']:.1f} "
+                f"| {ev['trace_s']:.1f} / {ev['lower_s']:.1f} / {ev['backend_s']:.1f} | {ev['backend_compiles']} "
+                f"| {e['run_s']:.3f} | {e['load'][0]:.1f} |"
+            )
         print()
     if by("solvers"):
-        print("| solver (N = 20, lumped) | program equations | steps | compile (s) | trace / lower / XLA (s) "
-              "| programs | run (s) | load (1 min) |")
+        print(
+            "| solver (N = 20, lumped) | program equations | steps | compile (s) | trace / lower / XLA (s) "
+            "| programs | run (s) | load (1 min) |"
+        )
         print("|---|---|---|---|---|---|---|---|")
-        for s, e in by("solvers"):
+        for _s, e in by("solvers"):
             ev = e["events"]
-            print(f"| {e['solver']} | {e['program_equations']} | {e['steps']} | {e['compile_s']:.1f} "
-                  f"| {ev['trace_s']:.1f} / {ev['lower_s']:.1f} / {ev['backend_s']:.1f} | {ev['backend_compiles']} "
-                  f"| {e['run_s']:.2f} | {e['load'][0]:.1f} |")
+            print(
+                f"| {e['solver']} | {e['program_equations']} | {e['steps']} | {e['compile_s']:.1f} "
+                f"| {ev['trace_s']:.1f} / {ev['lower_s']:.1f} / {ev['backend_s']:.1f} | {ev['backend_compiles']} "
+                f"| {e['run_s']:.2f} | {e['load'][0]:.1f} |"
+            )
         print()
     if by("reuse"):
         print("| call | what changed | XLA compiles | XLA compile (s) | trace (s) | wall (s) | load (1 min) |")
         print("|---|---|---|---|---|---|---|")
-        for s, e in by("reuse"):
+        for _s, e in by("reuse"):
             ev = e["events"]
-            print(f"| {e['call']} | {e['changed']} | {ev['backend_compiles']} | {ev['backend_s']:.2f} "
-                  f"| {ev['trace_s']:.2f} | {e['wall_s']:.3f} | {e['load'][0]:.1f} |")
+            print(
+                f"| {e['call']} | {e['changed']} | {ev['backend_compiles']} | {ev['backend_s']:.2f} "
+                f"| {ev['trace_s']:.2f} | {e['wall_s']:.3f} | {e['load'][0]:.1f} |"
+            )
         print()
 
 
 def gradient_tables(rows) -> None:
-    print("| mass | N | params | steps | first slack (s) | forward (s) | jacfwd (s) | ratio | reverse (s) | ratio "
-          "| compile fwd / jacfwd / rev (s) | load (1 min) | timing |")
+    print(
+        "| mass | N | params | steps | first slack (s) | forward (s) | jacfwd (s) | ratio | reverse (s) | ratio "
+        "| compile fwd / jacfwd / rev (s) | load (1 min) | timing |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for s, e in rows:
+    for _s, e in rows:
         rev = e["reverse"]["default"]
         loads = [e["load_forward"][0], e["load_jacfwd"][0], rev["load"][0]]
-        print(f"| {e['mass_matrix']} | {e['segments']} | {len(e['parameters'])} | {e['steps']} "
-              f"| {e['first_slack_s']:.2f} | {e['forward_run_s']:.3f} | {e['jacfwd_run_s']:.3f} "
-              f"| {e.get('jacfwd_ratio', e['jacfwd_run_s'] / e['forward_run_s']):.2f}× "
-              f"| {rev['run_s']:.3f} | {rev.get('ratio', rev['run_s'] / e['forward_run_s']):.2f}× "
-              f"| {e['forward_compile_s']:.1f} / {e['jacfwd_compile_s']:.1f} / {rev['compile_s']:.1f} "
-              f"| {min(loads):.1f}–{max(loads):.1f} | {e.get('timing', 'blocked')} |")
+        print(
+            f"| {e['mass_matrix']} | {e['segments']} | {len(e['parameters'])} | {e['steps']} "
+            f"| {e['first_slack_s']:.2f} | {e['forward_run_s']:.3f} | {e['jacfwd_run_s']:.3f} "
+            f"| {e.get('jacfwd_ratio', e['jacfwd_run_s'] / e['forward_run_s']):.2f}× "
+            f"| {rev['run_s']:.3f} | {rev.get('ratio', rev['run_s'] / e['forward_run_s']):.2f}× "
+            f"| {e['forward_compile_s']:.1f} / {e['jacfwd_compile_s']:.1f} / {rev['compile_s']:.1f} "
+            f"| {min(loads):.1f}–{max(loads):.1f} | {e.get('timing', 'blocked')} |"
+        )
     print()
     others = [(s, e, label) for s, e in rows for label in e["reverse"] if label != "default"]
     if others:
         print("| mass | N | params | checkpoints | reverse (s) | ratio to forward | compile (s) | load (1 min) |")
         print("|---|---|---|---|---|---|---|---|")
-        for s, e, label in [(s, e, "default") for s, e in rows if len(e["reverse"]) > 1] + others:
+        for _s, e, label in [(s, e, "default") for s, e in rows if len(e["reverse"]) > 1] + others:
             rev = e["reverse"][label]
             shown = f"default (√(2·max_steps) ≈ {int((2 * e['max_steps']) ** 0.5)})" if label == "default" else label
-            print(f"| {e['mass_matrix']} | {e['segments']} | {len(e['parameters'])} | {shown} | {rev['run_s']:.3f} "
-                  f"| {rev.get('ratio', rev['run_s'] / e['forward_run_s']):.2f}× | {rev['compile_s']:.1f} | {rev['load'][0]:.1f} |")
+            print(
+                f"| {e['mass_matrix']} | {e['segments']} | {len(e['parameters'])} | {shown} | {rev['run_s']:.3f} "
+                f"| {rev.get('ratio', rev['run_s'] / e['forward_run_s']):.2f}× | {rev['compile_s']:.1f} | "
+                f"{rev['load'][0]:.1f} |"
+            )
         print()
     checks = [(s, e, c) for s, e in rows for c in e.get("checks", [])]
     if checks:
-        print("| mass | N | params | horizon (s) | parameter | dL/dθ, FD at each step | jacfwd | reverse "
-              "| rel. error jacfwd / reverse (vs first FD) | steps |")
+        print(
+            "| mass | N | params | horizon (s) | parameter | dL/dθ, FD at each step | jacfwd | reverse "
+            "| rel. error jacfwd / reverse (vs first FD) | steps |"
+        )
         print("|---|---|---|---|---|---|---|---|---|---|")
-        for s, e, c in checks:
+        for _s, e, c in checks:
             for i in range(c["parameters_checked"]):
                 fds = " / ".join(f"{row[i]:.6g} (h={h:g})" for h, row in zip(c["fd_steps"], c["finite_difference"]))
-                print(f"| {e['mass_matrix']} | {e['segments']} | {len(e['parameters'])} | {c['horizon_s']:g} "
-                      f"| {e['parameters'][i]} | {fds} | {c['jacfwd'][i]:.6g} | {c['reverse'][i]:.6g} "
-                      f"| {c['jacfwd_rel_error'][i]:.1e} / {c['reverse_rel_error'][i]:.1e} | {c['check_steps']} |")
+                print(
+                    f"| {e['mass_matrix']} | {e['segments']} | {len(e['parameters'])} | {c['horizon_s']:g} "
+                    f"| {e['parameters'][i]} | {fds} | {c['jacfwd'][i]:.6g} | {c['reverse'][i]:.6g} "
+                    f"| {c['jacfwd_rel_error'][i]:.1e} / {c['reverse_rel_error'][i]:.1e} | {c['check_steps']} |"
+                )
         print()
 
 
@@ -542,13 +659,21 @@ def main():
 
     jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
-    study = {"gradient": gradient_study, "segments": segments_study, "reuse": reuse_study,
-             "solvers": solvers_study}[args.study]
+    study = {"gradient": gradient_study, "segments": segments_study, "reuse": reuse_study, "solvers": solvers_study}[
+        args.study
+    ]
     load_before = load_average()
     entries = study(args)
-    history = append_session(args.out, study=args.study, argv=os.sys.argv[1:], load_before=load_before,
-                             load_after=load_average(), repeats=args.repeats,
-                             compilation_cache_dir=jax.config.jax_compilation_cache_dir, entries=entries)
+    history = append_session(
+        args.out,
+        study=args.study,
+        argv=os.sys.argv[1:],
+        load_before=load_before,
+        load_after=load_average(),
+        repeats=args.repeats,
+        compilation_cache_dir=jax.config.jax_compilation_cache_dir,
+        entries=entries,
+    )
     print()
     _print_session(history[-1])
 

@@ -33,13 +33,12 @@ import jax.numpy as jnp
 import lineax as lx
 import numpy as np
 import optimistix as optx
+from _results import append_session
+from _timing import timed
 
 import jaxcable as jc
 from jaxcable.equations import vector_field
 from jaxcable.examples import seed003_line
-
-from _results import append_session
-from _timing import timed
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -98,8 +97,9 @@ def main():
     parser.add_argument("--steps", type=int, default=20, help="fixed implicit steps per timed run")
     parser.add_argument("--dt", type=float, default=1e-3, help="the fixed step (s), and h γ of the linear solve")
     parser.add_argument("--root-tolerance", type=float, default=1e-6, help="the root finder's rtol and atol")
-    parser.add_argument("--statics-up-to", type=int, default=300,
-                        help="larger N start from this N's equilibrium, interpolated")
+    parser.add_argument(
+        "--statics-up-to", type=int, default=300, help="larger N start from this N's equilibrium, interpolated"
+    )
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--out", default=str(RESULTS / "implicit_scaling.json"))
     parser.add_argument("--report", action="store_true")
@@ -124,7 +124,12 @@ def main():
 
                 def run():
                     return jc.simulate(
-                        model, env, args.steps * args.dt, ts=[args.steps * args.dt], initial=state, solver=config,
+                        model,
+                        env,
+                        args.steps * args.dt,
+                        ts=[args.steps * args.dt],
+                        initial=state,
+                        solver=config,
                         throw=False,
                     )
 
@@ -135,13 +140,18 @@ def main():
             print(json.dumps(row), flush=True)
             rows.append(row)
             jax.clear_caches()
-    append_session(args.out, steps=args.steps, dt=args.dt, root_tolerance=args.root_tolerance, repeats=args.repeats, rows=rows)
+    append_session(
+        args.out, steps=args.steps, dt=args.dt, root_tolerance=args.root_tolerance, repeats=args.repeats, rows=rows
+    )
     report(Path(args.out))
 
 
 def report(path: Path):
     sessions = json.loads(path.read_text())
-    print("| N | Jacobian | linear solve (ms) | Kvaerno5 + Newton step (ms) | Kvaerno5 + VeryChord step (ms) | compile solve / Newton / VeryChord (s) | session, step, root tolerance |")
+    print(
+        "| N | Jacobian | linear solve (ms) | Kvaerno5 + Newton step (ms) | Kvaerno5 + VeryChord step (ms) | compile "
+        "solve / Newton / VeryChord (s) | session, step, root tolerance |"
+    )
     print("|---|---|---|---|---|---|---|")
     for session in sessions:
         for r in session["rows"]:
@@ -152,13 +162,19 @@ def report(path: Path):
                 f"tol {session.get('root_tolerance', 1e-6):g} |"
             )
     latest = sessions[-1]["rows"]
-    print(f"latest session: dt = {sessions[-1].get('dt', 1e-3)} s, root tolerance {sessions[-1].get('root_tolerance', 1e-6)}")
+    print(
+        f"latest session: dt = {sessions[-1].get('dt', 1e-3)} s, root tolerance "
+        f"{sessions[-1].get('root_tolerance', 1e-6)}"
+    )
     for jacobian in ("structured", "dense"):
         by_n = {r["segments"]: r for r in latest if r["jacobian"] == jacobian}
         if 100 in by_n and 1000 in by_n:
             for key in ("solve", "newton", "verychord"):
                 if all(_ok(by_n[n], key) for n in (100, 1000)):
-                    print(f"{jacobian}: {key} at N = 1000 / N = 100 = {_time(by_n[1000], key) / _time(by_n[100], key):.1f}")
+                    print(
+                        f"{jacobian}: {key} at N = 1000 / N = 100 = "
+                        f"{_time(by_n[1000], key) / _time(by_n[100], key):.1f}"
+                    )
     # The chart shows the broadest session (the most N, both Jacobians) and the latest.
     broadest = max(sessions, key=lambda session: len(session["rows"]))
     plot([broadest] if broadest is sessions[-1] else [broadest, sessions[-1]])
@@ -194,8 +210,14 @@ def plot(sessions):
             for (key, marker, label), colour in zip(keys, ("C0", "C1", "C2") if index == 0 else ("C3", "C4", "C5")):
                 ok = [r for r in chosen if _ok(r, key)]
                 if ok:
-                    ax.loglog([r["segments"] for r in ok], [1e3 * _time(r, key) for r in ok], style, color=colour,
-                              marker=marker, label=f"{label}, {jacobian} ({setting})")
+                    ax.loglog(
+                        [r["segments"] for r in ok],
+                        [1e3 * _time(r, key) for r in ok],
+                        style,
+                        color=colour,
+                        marker=marker,
+                        label=f"{label}, {jacobian} ({setting})",
+                    )
     n = np.array([10, 1000])
     ax.loglog(n, 0.05 * n, ":", color="grey", label="∝ N")
     ax.loglog(n, 0.05 * (n / 10) ** 3, "-.", color="grey", label="∝ N³")

@@ -67,11 +67,30 @@ def run_cli(workdir: Path, case: int, rest: np.ndarray, dt_motion: float) -> dic
     """`jaxcable run line.txt --motion ...` for one case; its top tensions and wall time."""
     t = np.arange(0.0, PERIOD + AFTER_RAMP + dt_motion / 2, dt_motion)
     table = workdir / f"case{case}_motion.csv"
-    np.savetxt(table, np.column_stack([t, top_position(t, case, rest)]), delimiter=",",
-               header="time,x,y,z", comments="", fmt="%.9f")
+    np.savetxt(
+        table,
+        np.column_stack([t, top_position(t, case, rest)]),
+        delimiter=",",
+        header="time,x,y,z",
+        comments="",
+        fmt="%.9f",
+    )
     out = workdir / f"case{case}.npz"
-    command = ["jaxcable", "run", str(workdir / "line.txt"), "--motion", str(table), "--out", str(out),
-               "--dt-out", "0.05", "--no-progress", "--channels", "FairTen1", "AnchTen1"]
+    command = [
+        "jaxcable",
+        "run",
+        str(workdir / "line.txt"),
+        "--motion",
+        str(table),
+        "--out",
+        str(out),
+        "--dt-out",
+        "0.05",
+        "--no-progress",
+        "--channels",
+        "FairTen1",
+        "AnchTen1",
+    ]
     start = time.perf_counter()
     completed = subprocess.run(command, capture_output=True, text=True, check=True)
     wall = time.perf_counter() - start
@@ -126,8 +145,12 @@ def run_moordyn(workdir: Path, case: int, dt: float = 0.005) -> dict:
 
 def statics(workdir: Path) -> dict:
     out = workdir / "statics.npz"
-    subprocess.run(["jaxcable", "run", str(workdir / "line.txt"), "--duration", "0", "--out", str(out)],
-                   capture_output=True, text=True, check=True)
+    subprocess.run(
+        ["jaxcable", "run", str(workdir / "line.txt"), "--duration", "0", "--out", str(out)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     data = np.load(out)
     reactions = data["reactions"][0] / 1e3
     order = list(data["constrained_nodes"])
@@ -160,8 +183,12 @@ def main() -> None:
         workdir = Path(tmp)
         shutil.copy(DATA / "line.txt", workdir / "line.txt")  # MoorDyn writes beside its input
         rest = np.array(jc.load_scene(workdir / "line.txt").points[1].position)
-        record = {"statics": statics(workdir), "cases": {}, "machine": f"{platform.machine()} ({_cores()} cores)",
-                  "date": time.strftime("%Y-%m-%d")}
+        record = {
+            "statics": statics(workdir),
+            "cases": {},
+            "machine": f"{platform.machine()} ({_cores()} cores)",
+            "date": time.strftime("%Y-%m-%d"),
+        }
         print("statics:", json.dumps(record["statics"]))
         curves = {}
         for case in args.cases:
@@ -172,7 +199,9 @@ def main() -> None:
                 "jaxcable": {
                     "fairten_error_kN": errors(cli["times"], cli["fairten"], reference),
                     "reaction_error_kN": errors(cli["times"], cli["reaction"], reference),
-                    "cli_wall_s": cli["wall"], "cli_summary": cli["summary"], **timing,
+                    "cli_wall_s": cli["wall"],
+                    "cli_summary": cli["summary"],
+                    **timing,
                 },
             }
             curves[case] = {"reference": reference, "jaxcable": cli}
@@ -225,24 +254,33 @@ def report() -> None:
     history = json.loads(RESULTS.read_text())
     latest = history[-1]
     s = latest["statics"]
-    print(f"statics: top {np.round(s['top_kN'], 3)} kN (error {np.round(s['top_error_kN'], 3)}), "
-          f"bottom {np.round(s['bottom_kN'], 3)} kN (error {np.round(s['bottom_error_kN'], 3)}); "
-          f"|top| {s['top_tension_kN']:.3f} kN")
-    print("| case | engine | top tension | RMS err (kN) | max err (kN) | mean err (kN) | steps | compile (s) | run (s) | run ratio |")
+    print(
+        f"statics: top {np.round(s['top_kN'], 3)} kN (error {np.round(s['top_error_kN'], 3)}), "
+        f"bottom {np.round(s['bottom_kN'], 3)} kN (error {np.round(s['bottom_error_kN'], 3)}); "
+        f"|top| {s['top_tension_kN']:.3f} kN"
+    )
+    print(
+        "| case | engine | top tension | RMS err (kN) | max err (kN) | mean err (kN) | steps | compile (s) | run (s) | "
+        "run ratio |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|")
     for case, entry in latest["cases"].items():
         j = entry["jaxcable"]
         ratio = entry.get("run_time_ratio_jaxcable_to_moordyn")
         for label, key in (("FairTen1", "fairten_error_kN"), ("abs R", "reaction_error_kN")):
             e = j[key]
-            print(f"| {case} | jaxcable | {label} | {e['rms']:.3f} | {e['max']:.3f} | {e['mean']:+.3f} | {j['steps']} | "
-                  f"{j['compile']:.1f} | {j['run']:.1f} | {'' if ratio is None else f'{ratio:.2f}'} |")
+            print(
+                f"| {case} | jaxcable | {label} | {e['rms']:.3f} | {e['max']:.3f} | {e['mean']:+.3f} | {j['steps']} | "
+                f"{j['compile']:.1f} | {j['run']:.1f} | {'' if ratio is None else f'{ratio:.2f}'} |"
+            )
         if "moordyn" in entry:
             m = entry["moordyn"]
             for label, key in (("FairTen", "fairten_error_kN"), ("abs F top node", "reaction_error_kN")):
                 e = m[key]
-                print(f"| {case} | MoorDyn 2 | {label} | {e['rms']:.3f} | {e['max']:.3f} | {e['mean']:+.3f} | "
-                      f"dtM 1 ms | – | {m['run']:.1f} | 1 |")
+                print(
+                    f"| {case} | MoorDyn 2 | {label} | {e['rms']:.3f} | {e['max']:.3f} | {e['mean']:+.3f} | "
+                    f"dtM 1 ms | – | {m['run']:.1f} | 1 |"
+                )
     print(f"({latest['machine']}, {latest['date']})")
 
 

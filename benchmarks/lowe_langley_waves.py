@@ -29,10 +29,9 @@ from pathlib import Path
 
 import jax
 import numpy as np
+from _timing import timed
 
 import jaxcable as jc
-
-from _timing import timed
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -56,13 +55,23 @@ def run_jaxcable(case: int, repeats: int) -> dict:
     built = jc.load_scene(DATA / "line.txt").build()
     still = built.environment
     depth = float(still.depth) if still.depth is not None else 100.0
-    wave = jc.Airy(2 * AMPLITUDE, PERIOD, depth, gravity=still.gravity, heading=heading(case), phase=np.radians(PHASES[case]))
+    wave = jc.Airy(
+        2 * AMPLITUDE, PERIOD, depth, gravity=still.gravity, heading=heading(case), phase=np.radians(PHASES[case])
+    )
     env = jc.Environment(
-        still.water_density, still.gravity, still.current, still.free_surface,
-        depth=depth, waves=wave, wave_ramp=PERIOD, seabed=still.seabed,
+        still.water_density,
+        still.gravity,
+        still.current,
+        still.free_surface,
+        depth=depth,
+        waves=wave,
+        wave_ramp=PERIOD,
+        seabed=still.seabed,
     )
     model = built.model
-    static = jc.solve_statics(model, jc.Environment(still.water_density, still.gravity, free_surface=still.free_surface))
+    static = jc.solve_statics(
+        model, jc.Environment(still.water_density, still.gravity, free_surface=still.free_surface)
+    )
     ts = np.arange(0.0, SETTLE + AFTER + 1e-9, 0.05)
     top = int(np.flatnonzero(np.asarray(model.constrained_nodes) == 1)[0])
 
@@ -72,8 +81,12 @@ def run_jaxcable(case: int, repeats: int) -> dict:
     result, compile_time, wall = timed(run, repeats)
     reaction = np.linalg.norm(np.asarray(result.reactions[:, top]), axis=1) / 1e3
     return {
-        "times": ts, "reaction": reaction, "compile": compile_time, "run": wall,
-        "steps": int(result.stats["num_steps"]), "success": bool(result.success),
+        "times": ts,
+        "reaction": reaction,
+        "compile": compile_time,
+        "run": wall,
+        "steps": int(result.stats["num_steps"]),
+        "success": bool(result.success),
     }
 
 
@@ -119,7 +132,10 @@ def run_moordyn(case: int, dt: float = 0.005) -> dict:
 
 
 def report(entries) -> None:
-    print("| case | heading | jaxcable |R| RMS / max error (kN) | MoorDyn |R| RMS / max error (kN) | jaxcable run (s) | MoorDyn run (s) | ratio |")
+    print(
+        "| case | heading | jaxcable |R| RMS / max error (kN) | MoorDyn |R| RMS / max error (kN) | jaxcable run (s) | "
+        "MoorDyn run (s) | ratio |"
+    )
     print("|---|---|---|---|---|---|---|")
     for e in entries:
         md = e.get("moordyn")
@@ -127,7 +143,8 @@ def report(entries) -> None:
         md_run = f"{md['run']:.2f}" if md else "–"
         ratio = f"{e['jaxcable']['run'] / md['run']:.2f}" if md else "–"
         print(
-            f"| {e['case']} | {heading(e['case']):.0f}° | {e['jaxcable']['error']['rms']:.2f} / {e['jaxcable']['error']['max']:.2f} "
+            f"| {e['case']} | {heading(e['case']):.0f}° | {e['jaxcable']['error']['rms']:.2f} / "
+            f"{e['jaxcable']['error']['max']:.2f} "
             f"| {md_err} | {e['jaxcable']['run']:.2f} (compile {e['jaxcable']['compile']:.1f}) | {md_run} | {ratio} |"
         )
 
@@ -160,7 +177,11 @@ def main() -> None:
 
     record = {
         "date": time.strftime("%Y-%m-%d %H:%M"),
-        "machine": {"platform": platform.platform(), "processor": platform.processor(), "devices": [str(d) for d in jax.devices()]},
+        "machine": {
+            "platform": platform.platform(),
+            "processor": platform.processor(),
+            "devices": [str(d) for d in jax.devices()],
+        },
         "cases": entries,
     }
     history = json.loads(RESULTS.read_text()) if RESULTS.exists() else []

@@ -89,7 +89,9 @@ def main() -> None:
     parser.add_argument("--no-moordyn", action="store_true")
     args = parser.parse_args()
     files = [
-        (folder, path) for folder in args.folders for path in sorted(folder.rglob("*"))
+        (folder, path)
+        for folder in args.folders
+        for path in sorted(folder.rglob("*"))
         if path.suffix in (".txt", ".dat") and _is_moordyn_input(path)
     ]
     results = {}
@@ -106,18 +108,21 @@ def main() -> None:
                 # Relative to the largest tension in the file: an end that MoorDyn
                 # leaves at rest or slack has ~0 tension, and a ratio to it means nothing.
                 largest = max(max(reference.values()), 1e-9)
-                record["largest_relative_difference"] = max(
-                    abs(record["tensions"][k] - v) for k, v in reference.items()
-                ) / largest
+                record["largest_relative_difference"] = (
+                    max(abs(record["tensions"][k] - v) for k, v in reference.items()) / largest
+                )
             except Exception as error:  # MoorDyn itself may reject or fail on a file
                 record["moordyn_error"] = str(error)[:160]
             finally:
                 os.chdir(cwd)
         results[name] = record
         summary = record.get("largest_relative_difference")
-        print(f"{name}: {record['status']}"
-              + (f", max |Δ| / max T = {summary:.2%}" if summary is not None else "")
-              + (f" ({record.get('message', '')})" if record["status"] != "ok" else ""), flush=True)
+        print(
+            f"{name}: {record['status']}"
+            + (f", max |Δ| / max T = {summary:.2%}" if summary is not None else "")
+            + (f" ({record.get('message', '')})" if record["status"] != "ok" else ""),
+            flush=True,
+        )
     args.out.parent.mkdir(exist_ok=True)
     args.out.write_text(json.dumps(results, indent=1))
     print(f"wrote {args.out}")

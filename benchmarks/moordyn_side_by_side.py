@@ -85,38 +85,72 @@ def parse():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--part", choices=["check", "work-precision", "sweep"], default="work-precision")
     parser.add_argument("--slack-width", type=float, default=1e-6, help="jaxcable's slack switch band (strain)")
-    parser.add_argument("--duration", type=float, default=4.0,
-                        help="simulated time over which errors are measured (s): the window where the reference "
-                             "converges (see the module docstring)")
-    parser.add_argument("--window", type=float, default=3.0,
-                        help="errors are measured up to this time (s), before the first slack event; also over the "
-                             "whole --duration")
-    parser.add_argument("--history-duration", type=float, default=30.0,
-                        help="simulated time of the long side-by-side histories (s)")
+    parser.add_argument(
+        "--duration",
+        type=float,
+        default=4.0,
+        help="simulated time over which errors are measured (s): the window where the reference "
+        "converges (see the module docstring)",
+    )
+    parser.add_argument(
+        "--window",
+        type=float,
+        default=3.0,
+        help="errors are measured up to this time (s), before the first slack event; also over the whole --duration",
+    )
+    parser.add_argument(
+        "--history-duration", type=float, default=30.0, help="simulated time of the long side-by-side histories (s)"
+    )
     parser.add_argument("--reference-tol", type=float, default=1e-12, help="Dopri8 reference tolerance")
-    parser.add_argument("--dtm", type=float, nargs="+", default=[2.5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4],
-                        help="MoorDyn time steps (s); each must divide the 0.05 s output interval")
+    parser.add_argument(
+        "--dtm",
+        type=float,
+        nargs="+",
+        default=[2.5e-3, 2e-3, 1e-3, 5e-4, 2.5e-4, 1e-4],
+        help="MoorDyn time steps (s); each must divide the 0.05 s output interval",
+    )
     parser.add_argument("--tols", type=float, nargs="+", default=[1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8])
-    parser.add_argument("--midpoint-dts", type=float, nargs="+", default=None,
-                        help="jaxcable fixed midpoint steps (s); MoorDyn's --dtm by default")
+    parser.add_argument(
+        "--midpoint-dts",
+        type=float,
+        nargs="+",
+        default=None,
+        help="jaxcable fixed midpoint steps (s); MoorDyn's --dtm by default",
+    )
     parser.add_argument("--repeats", type=int, default=3, help="warm runs timed per configuration")
-    parser.add_argument("--levels", type=float, nargs="+", default=[1e-2, 3e-3, 1e-3, 6e-4],
-                        help="RMS errors (relative to the peak) at which wall times are compared")
+    parser.add_argument(
+        "--levels",
+        type=float,
+        nargs="+",
+        default=[1e-2, 3e-3, 1e-3, 6e-4],
+        help="RMS errors (relative to the peak) at which wall times are compared",
+    )
     parser.add_argument("--cases", type=int, default=256)
     parser.add_argument("--span", type=float, nargs=2, default=[0.5, 1.5])
     parser.add_argument("--sweep-duration", type=float, default=10.0)
     parser.add_argument("--sweep-tol", type=float, default=None)
     parser.add_argument("--sweep-dtm", type=float, default=None)
     parser.add_argument("--sweep-repeats", type=int, default=2)
-    parser.add_argument("--moordyn-cases", type=int, default=None,
-                        help="run MoorDyn on only this many of the sweep's cases (evenly spaced) and scale")
-    parser.add_argument("--host-devices", type=int, default=None,
-                        help="on CPU, split the host into this many JAX devices (sets XLA_FLAGS)")
+    parser.add_argument(
+        "--moordyn-cases",
+        type=int,
+        default=None,
+        help="run MoorDyn on only this many of the sweep's cases (evenly spaced) and scale",
+    )
+    parser.add_argument(
+        "--host-devices",
+        type=int,
+        default=None,
+        help="on CPU, split the host into this many JAX devices (sets XLA_FLAGS)",
+    )
     parser.add_argument("--max-steps", type=int, default=2_000_000)
     parser.add_argument("--out", type=Path, default=RESULTS)
     parser.add_argument("--report", action="store_true")
-    parser.add_argument("--replot", action="store_true",
-                        help="redraw the work-precision and sweep figures from the latest sessions in the JSON")
+    parser.add_argument(
+        "--replot",
+        action="store_true",
+        help="redraw the work-precision and sweep figures from the latest sessions in the JSON",
+    )
     return parser.parse_args()
 
 
@@ -156,11 +190,20 @@ def moordyn_input(model, env, dtm: float, depth_margin: float = 100.0) -> str:
     fairlead = [float(v) for v in np.asarray(model.node_positions[1])]
     length = float(np.sum(model.segment_length))
     depth = -min(anchor[2], fairlead[2]) + depth_margin
-    row = " ".join(repr(v) for v in (
-        first(line.diameter), first(line.mass_per_length), first(law.axial_stiffness), 0.0, 0.0,
-        first(line.normal_drag), first(line.normal_added_mass), first(line.tangential_drag),
-        first(line.tangential_added_mass),
-    ))
+    row = " ".join(
+        repr(v)
+        for v in (
+            first(line.diameter),
+            first(line.mass_per_length),
+            first(law.axial_stiffness),
+            0.0,
+            0.0,
+            first(line.normal_drag),
+            first(line.normal_added_mass),
+            first(line.tangential_drag),
+            first(line.tangential_added_mass),
+        )
+    )
     return f"""jaxcable seed 003 line (benchmarks/moordyn_side_by_side.py)
 ----------------------- LINE TYPES ------------------------------------------
 TypeName   Diam     Mass/m     EA         BA/-zeta    EI         Cd     Ca     CdAx    CaAx
@@ -292,9 +335,9 @@ def run_jaxcable(model, env, initial, duration, *, solver, repeats) -> dict:
     """`simulate` timed with the `jc.SolverConfig` `solver`: compile apart, median of
     `repeats` warm runs."""
     import numpy as np
+    from _timing import timed
 
     import jaxcable as jc
-    from _timing import timed
 
     ts = np.linspace(0.0, duration, round(duration / OUTPUT_DT) + 1)
 
@@ -374,13 +417,24 @@ def part_check(args) -> dict:
     order = [0, *range(2, SEGMENTS + 1), 1]  # seed003_line's nodes from anchor to fairlead
     statics_positions = np.asarray(static.state.positions)[order]
     coefficients = {}
-    for name in ("mass_per_length", "diameter", "normal_drag", "tangential_drag", "normal_added_mass",
-                 "tangential_added_mass"):
+    for name in (
+        "mass_per_length",
+        "diameter",
+        "normal_drag",
+        "tangential_drag",
+        "normal_added_mass",
+        "tangential_added_mass",
+    ):
         a, b = np.asarray(getattr(model.line, name)), np.asarray(getattr(back.line, name))
         coefficients[name] = float(np.max(np.abs(a - b) / np.abs(a)))
-    coefficients["axial_stiffness"] = float(np.max(np.abs(
-        np.asarray(model.line.tension_law.axial_stiffness) - np.asarray(back.line.tension_law.axial_stiffness)
-    ) / np.asarray(model.line.tension_law.axial_stiffness)))
+    coefficients["axial_stiffness"] = float(
+        np.max(
+            np.abs(
+                np.asarray(model.line.tension_law.axial_stiffness) - np.asarray(back.line.tension_law.axial_stiffness)
+            )
+            / np.asarray(model.line.tension_law.axial_stiffness)
+        )
+    )
 
     # Dynamics: 10 s of each, same solver and tolerance.
     ts = np.linspace(0.0, 10.0, 201)
@@ -395,8 +449,8 @@ def part_check(args) -> dict:
         "input_file": text,
         "readback_coefficient_max_rel_diff": coefficients,
         "readback_model": f"{type(back.line.tension_law).__name__} law, seabed at "
-                          f"{None if back_env.seabed is None else float(back_env.depth)} m, "
-                          f"free surface {bool(back_env.free_surface)}",
+        f"{None if back_env.seabed is None else float(back_env.depth)} m, "
+        f"free surface {bool(back_env.free_surface)}",
         "readback_notes": list(read.notes),
         "statics_top_tension_N": float(static.tension[-1]),
         "readback_statics_top_tension_N": float(back_static.tension[top_segment]),
@@ -424,25 +478,49 @@ def part_work_precision(args) -> dict:
     fairlead = np.asarray(model.node_positions[1])
     amplitude = float(jc.examples.seed003_amplitude(PERIOD))
     duration = args.duration
-    record = {"settings": {k: getattr(args, k) for k in (
-        "slack_width", "duration", "window", "history_duration", "reference_tol", "dtm", "tols", "midpoint_dts", "repeats", "levels")}}
+    record = {
+        "settings": {
+            k: getattr(args, k)
+            for k in (
+                "slack_width",
+                "duration",
+                "window",
+                "history_duration",
+                "reference_tol",
+                "dtm",
+                "tols",
+                "midpoint_dts",
+                "repeats",
+                "levels",
+            )
+        }
+    }
     record["settings"]["amplitude_m"] = amplitude
     record["settings"]["segments"] = SEGMENTS
 
     print(f"reference: Dopri8 at rtol = atol = {args.reference_tol:g} (load {load()})", flush=True)
+
     def adaptive(solver, tol):
         return jc.SolverConfig(solver, rtol=tol, atol=tol, max_steps=args.max_steps)
 
-    ref = run_jaxcable(model, env, static.state, duration, solver=adaptive(diffrax.Dopri8(), args.reference_tol),
-                       repeats=0)
+    ref = run_jaxcable(
+        model, env, static.state, duration, solver=adaptive(diffrax.Dopri8(), args.reference_tol), repeats=0
+    )
     reference = ref["tension"]
-    record["reference"] = {"steps": ref["steps"], "rejected": ref["rejected"], "success": ref["success"],
-                           "wall_s": ref["compile_s"] + ref["run_s"], "peak_N": float(reference.max()),
-                           "min_N": float(reference.min()), "load_average": load()}
+    record["reference"] = {
+        "steps": ref["steps"],
+        "rejected": ref["rejected"],
+        "success": ref["success"],
+        "wall_s": ref["compile_s"] + ref["run_s"],
+        "peak_N": float(reference.max()),
+        "min_N": float(reference.min()),
+        "load_average": load(),
+    }
     print(json.dumps(record["reference"]), flush=True)
     # A second reference at 10× the tolerance bounds the reference's own error.
-    check = run_jaxcable(model, env, static.state, duration, solver=adaptive(diffrax.Dopri8(), 10 * args.reference_tol),
-                         repeats=0)
+    check = run_jaxcable(
+        model, env, static.state, duration, solver=adaptive(diffrax.Dopri8(), 10 * args.reference_tol), repeats=0
+    )
     window = np.linspace(0.0, duration, reference.size) <= args.window + 1e-9
     record["reference"]["error_of_10x_tolerance"] = errors(check["tension"], reference)
     record["reference"]["error_of_10x_tolerance_window"] = errors(check["tension"][window], reference[window])
@@ -462,10 +540,18 @@ def part_work_precision(args) -> dict:
             path = Path(tmp) / f"seed003_dtm{dtm:g}.txt"
             path.write_text(moordyn_input(model, env, dtm))
             runs = [run_moordyn(path, fairlead, amplitude, duration, dtm) for _ in range(args.repeats)]
-            row = {"engine": "MoorDyn RK2", "setting": f"dtM {dtm:g}", "dt": dtm, "steps": runs[0]["steps"],
-                   "evaluations": 2 * runs[0]["steps"], "run_s": statistics.median(r["run_s"] for r in runs),
-                   "ic_s": statistics.median(r["ic_s"] for r in runs), "compile_s": 0.0,
-                   **measure(runs[0]["tension"]), "load_average": load()}
+            row = {
+                "engine": "MoorDyn RK2",
+                "setting": f"dtM {dtm:g}",
+                "dt": dtm,
+                "steps": runs[0]["steps"],
+                "evaluations": 2 * runs[0]["steps"],
+                "run_s": statistics.median(r["run_s"] for r in runs),
+                "ic_s": statistics.median(r["ic_s"] for r in runs),
+                "compile_s": 0.0,
+                **measure(runs[0]["tension"]),
+                "load_average": load(),
+            }
             rows.append(row)
             series[row["setting"]] = runs[0]["tension"]
             print(json.dumps(row), flush=True)
@@ -475,27 +561,50 @@ def part_work_precision(args) -> dict:
 
     jax.clear_caches()
     for tol in args.tols:
-        r = run_jaxcable(model, env, static.state, duration, solver=adaptive(diffrax.Dopri5(), tol),
-                         repeats=args.repeats)
-        row = {"engine": "jaxcable Dopri5", "setting": f"tol {tol:g}", "tol": tol, "steps": r["steps"],
-               "rejected": r["rejected"], "evaluations": 6 * r["steps"], "run_s": r["run_s"],
-               "compile_s": r["compile_s"], "success": r["success"], **measure(r["tension"]),
-               "load_average": load()}
+        r = run_jaxcable(
+            model, env, static.state, duration, solver=adaptive(diffrax.Dopri5(), tol), repeats=args.repeats
+        )
+        row = {
+            "engine": "jaxcable Dopri5",
+            "setting": f"tol {tol:g}",
+            "tol": tol,
+            "steps": r["steps"],
+            "rejected": r["rejected"],
+            "evaluations": 6 * r["steps"],
+            "run_s": r["run_s"],
+            "compile_s": r["compile_s"],
+            "success": r["success"],
+            **measure(r["tension"]),
+            "load_average": load(),
+        }
         rows.append(row)
         series[row["engine"] + " " + row["setting"]] = r["tension"]
         print(json.dumps(row), flush=True)
 
     jax.clear_caches()
     for dt in args.midpoint_dts or args.dtm:
-        fixed = jc.SolverConfig(diffrax.Midpoint(), dt0=dt, stepsize_controller=diffrax.ConstantStepSize(),
-                                max_steps=args.max_steps)
+        fixed = jc.SolverConfig(
+            diffrax.Midpoint(), dt0=dt, stepsize_controller=diffrax.ConstantStepSize(), max_steps=args.max_steps
+        )
         r = run_jaxcable(model, env, static.state, duration, solver=fixed, repeats=args.repeats)
         md = series.get(f"dtM {dt:g}")
-        row = {"engine": "jaxcable midpoint", "setting": f"dt {dt:g}", "dt": dt, "steps": r["steps"],
-               "evaluations": 2 * r["steps"], "run_s": r["run_s"], "compile_s": r["compile_s"],
-               "success": r["success"], **measure(r["tension"]),
-               "vs_moordyn_same_dt": None if md is None else measure(r["tension"], md) if np.all(np.isfinite(md))
-               else None, "load_average": load()}
+        row = {
+            "engine": "jaxcable midpoint",
+            "setting": f"dt {dt:g}",
+            "dt": dt,
+            "steps": r["steps"],
+            "evaluations": 2 * r["steps"],
+            "run_s": r["run_s"],
+            "compile_s": r["compile_s"],
+            "success": r["success"],
+            **measure(r["tension"]),
+            "vs_moordyn_same_dt": None
+            if md is None
+            else measure(r["tension"], md)
+            if np.all(np.isfinite(md))
+            else None,
+            "load_average": load(),
+        }
         rows.append(row)
         series[row["engine"] + " " + row["setting"]] = r["tension"]
         print(json.dumps(row), flush=True)
@@ -525,14 +634,21 @@ def part_work_precision(args) -> dict:
         d = np.abs(tension - tight) / peak if np.all(np.isfinite(tension)) else np.full_like(tight, np.inf)
         apart = np.flatnonzero(d > 0.01)
         record["histories"][name] = {
-            "run_s": run_s, "steps": steps, "peak_N": float(np.max(tension)),
-            "mean_N": float(np.mean(tension)), "rms_diff_from_tight": float(np.sqrt(np.mean(d**2))),
+            "run_s": run_s,
+            "steps": steps,
+            "peak_N": float(np.max(tension)),
+            "mean_N": float(np.mean(tension)),
+            "rms_diff_from_tight": float(np.sqrt(np.mean(d**2))),
             "first_time_1pc_apart_s": None if apart.size == 0 else float(apart[0] * OUTPUT_DT),
             "load_average": load(),
         }
         print(name, json.dumps(record["histories"][name]), flush=True)
-    plot_histories({k: v[0] for k, v in long.items()}, args.history_duration, duration,
-                   FIGURES / "moordyn_side_by_side_histories.png")
+    plot_histories(
+        {k: v[0] for k, v in long.items()},
+        args.history_duration,
+        duration,
+        FIGURES / "moordyn_side_by_side_histories.png",
+    )
     return record
 
 
@@ -569,9 +685,17 @@ def matched(rows, levels) -> list[dict]:
         md, md_bound = wall_at([(r["rms"], r["run_s"]) for r in rows if r["engine"] == "MoorDyn RK2"], level)
         for engine in ("jaxcable Dopri5", "jaxcable midpoint"):
             jx, jx_bound = wall_at([(r["rms"], r["run_s"]) for r in rows if r["engine"] == engine], level)
-            out.append({"rms_level": level, "engine": engine, "jaxcable_s": jx, "jaxcable_upper_bound": jx_bound,
-                        "moordyn_s": md, "moordyn_upper_bound": md_bound,
-                        "ratio": None if jx is None or md is None or md_bound else jx / md})
+            out.append(
+                {
+                    "rms_level": level,
+                    "engine": engine,
+                    "jaxcable_s": jx,
+                    "jaxcable_upper_bound": jx_bound,
+                    "moordyn_s": md,
+                    "moordyn_upper_bound": md_bound,
+                    "ratio": None if jx is None or md is None or md_bound else jx / md,
+                }
+            )
     return out
 
 
@@ -603,7 +727,9 @@ def part_sweep(args) -> dict:
         history = json.loads(args.out.read_text()) if args.out.exists() else []
         sessions = [s for s in history if s.get("part") == "work-precision" and s.get("sweep_pair")]
         if not sessions:
-            raise SystemExit("no work-precision session to take the matched pair from: give --sweep-tol and --sweep-dtm")
+            raise SystemExit(
+                "no work-precision session to take the matched pair from: give --sweep-tol and --sweep-dtm"
+            )
         pair = sessions[-1]["sweep_pair"]
     tol = args.sweep_tol if args.sweep_tol is not None else pair["tol"]
     dtm = args.sweep_dtm if args.sweep_dtm is not None else pair["dtm"]
@@ -617,8 +743,11 @@ def part_sweep(args) -> dict:
     amplitudes = steepness * wavelength / 2
     duration = args.sweep_duration
     ts = np.linspace(0.0, duration, round(duration / OUTPUT_DT) + 1)
-    print(f"sweep: {args.cases} cases, {duration:g} s, Dopri5 tol {tol:.3g}, MoorDyn dtM {dtm:g}, "
-          f"{len(jax.devices())} device(s), load {load()}", flush=True)
+    print(
+        f"sweep: {args.cases} cases, {duration:g} s, Dopri5 tol {tol:.3g}, MoorDyn dtM {dtm:g}, "
+        f"{len(jax.devices())} device(s), load {load()}",
+        flush=True,
+    )
 
     def build(amplitude):
         return with_amplitude(model, amplitude), env
@@ -645,19 +774,39 @@ def part_sweep(args) -> dict:
     jx_early = jx_top[:, early].max(axis=1)
     steps = np.asarray(result.simulation.stats["num_steps"])
     record = {
-        "settings": {"cases": args.cases, "span": args.span, "duration_s": duration, "tol": tol, "dtm": dtm,
-                     "matched_pair_from_work_precision": pair, "slack_width": args.slack_width,
-                     "repeats": args.sweep_repeats, "n_devices": len(jax.devices()),
-                     "wavelength_m": wavelength, "steepness_min": float(steepness[0]),
-                     "steepness_max": float(steepness[-1]), "steepness_seed003": 2 * base / wavelength},
-        "jaxcable": {"compile_s": compile_time, "run_s": run_time, "warm_runs_s": warm, "steps_max": int(steps.max()),
-                     "steps_mean": float(steps.mean()), "all_successful": bool(np.all(result.success)),
-                     "load_average_before": load_before, "load_average_after": load()},
+        "settings": {
+            "cases": args.cases,
+            "span": args.span,
+            "duration_s": duration,
+            "tol": tol,
+            "dtm": dtm,
+            "matched_pair_from_work_precision": pair,
+            "slack_width": args.slack_width,
+            "repeats": args.sweep_repeats,
+            "n_devices": len(jax.devices()),
+            "wavelength_m": wavelength,
+            "steepness_min": float(steepness[0]),
+            "steepness_max": float(steepness[-1]),
+            "steepness_seed003": 2 * base / wavelength,
+        },
+        "jaxcable": {
+            "compile_s": compile_time,
+            "run_s": run_time,
+            "warm_runs_s": warm,
+            "steps_max": int(steps.max()),
+            "steps_mean": float(steps.mean()),
+            "all_successful": bool(np.all(result.success)),
+            "load_average_before": load_before,
+            "load_average_after": load(),
+        },
     }
     print(json.dumps(record["jaxcable"]), flush=True)
 
-    picks = np.arange(args.cases) if not args.moordyn_cases else np.unique(
-        np.linspace(0, args.cases - 1, args.moordyn_cases).round().astype(int))
+    picks = (
+        np.arange(args.cases)
+        if not args.moordyn_cases
+        else np.unique(np.linspace(0, args.cases - 1, args.moordyn_cases).round().astype(int))
+    )
     md_peak = np.full(args.cases, np.nan)
     md_early = np.full(args.cases, np.nan)
     md_run, md_ic = [], []
@@ -675,20 +824,31 @@ def part_sweep(args) -> dict:
         total = time.perf_counter() - start
     scale = args.cases / len(picks)
     diff = np.abs(jx_peak - md_peak) / md_peak
-    record["moordyn"] = {"cases_run": int(len(picks)), "run_s": float(np.sum(md_run)) * scale,
-                         "ic_s": float(np.sum(md_ic)) * scale, "total_s": total * scale,
-                         "per_case_run_s_median": float(np.median(md_run)),
-                         "load_average_before": load_before, "load_average_after": load()}
+    record["moordyn"] = {
+        "cases_run": int(len(picks)),
+        "run_s": float(np.sum(md_run)) * scale,
+        "ic_s": float(np.sum(md_ic)) * scale,
+        "total_s": total * scale,
+        "per_case_run_s_median": float(np.median(md_run)),
+        "load_average_before": load_before,
+        "load_average_after": load(),
+    }
     record["ratio_moordyn_over_jaxcable"] = record["moordyn"]["run_s"] / run_time
     record["ratio_moordyn_with_ic_over_jaxcable"] = record["moordyn"]["total_s"] / run_time
     early_diff = np.abs(jx_early - md_early) / md_early
-    record["peaks"] = {"steepness": steepness.tolist(), "jaxcable_N": jx_peak.tolist(),
-                       "moordyn_N": md_peak.tolist(), "jaxcable_early_N": jx_early.tolist(),
-                       "moordyn_early_N": md_early.tolist(), "early_s": EARLY,
-                       "max_rel_diff": float(np.nanmax(diff)), "median_rel_diff": float(np.nanmedian(diff)),
-                       "max_abs_diff_N": float(np.nanmax(np.abs(jx_peak - md_peak))),
-                       "early_max_rel_diff": float(np.nanmax(early_diff)),
-                       "early_median_rel_diff": float(np.nanmedian(early_diff))}
+    record["peaks"] = {
+        "steepness": steepness.tolist(),
+        "jaxcable_N": jx_peak.tolist(),
+        "moordyn_N": md_peak.tolist(),
+        "jaxcable_early_N": jx_early.tolist(),
+        "moordyn_early_N": md_early.tolist(),
+        "early_s": EARLY,
+        "max_rel_diff": float(np.nanmax(diff)),
+        "median_rel_diff": float(np.nanmedian(diff)),
+        "max_abs_diff_N": float(np.nanmax(np.abs(jx_peak - md_peak))),
+        "early_max_rel_diff": float(np.nanmax(early_diff)),
+        "early_median_rel_diff": float(np.nanmedian(early_diff)),
+    }
     print(json.dumps({k: v for k, v in record.items() if k != "peaks"}), flush=True)
     print({k: v for k, v in record["peaks"].items() if "diff" in k})
     plot_sweep(record, FIGURES / "moordyn_side_by_side_sweep.png")
@@ -721,8 +881,11 @@ def plot_work_precision(rows, path, record):
         axis.grid(True, which="both", alpha=0.3)
     axes[0].legend(fontsize=8)
     s = record["settings"]
-    figure.suptitle(f"Seed 003, N = {s['segments']}, lumped, linear EA: top-tension error over t ≤ "
-                    f"{s.get('window', s['duration']):g} s against Dopri8 at tol {s['reference_tol']:g}", fontsize=10)
+    figure.suptitle(
+        f"Seed 003, N = {s['segments']}, lumped, linear EA: top-tension error over t ≤ "
+        f"{s.get('window', s['duration']):g} s against Dopri8 at tol {s['reference_tol']:g}",
+        fontsize=10,
+    )
     figure.savefig(path, dpi=120)
     print(f"wrote {path}")
 
@@ -765,14 +928,23 @@ def plot_sweep(record, path):
     figure, axis = plt.subplots(figsize=(8, 4), layout="constrained")
     axis.plot(p["steepness"], np.asarray(p["jaxcable_N"]) / 1e3, ".", ms=3, label="jaxcable sweep")
     axis.plot(p["steepness"], np.asarray(p["moordyn_N"], float) / 1e3, "x", ms=3, label="MoorDyn, sequential")
-    axis.plot(p["steepness"], np.asarray(p["jaxcable_early_N"]) / 1e3, ".", ms=3, label=f"jaxcable, t ≤ {p['early_s']:g} s")
-    axis.plot(p["steepness"], np.asarray(p["moordyn_early_N"], float) / 1e3, "+", ms=3,
-              label=f"MoorDyn, t ≤ {p['early_s']:g} s")
+    axis.plot(
+        p["steepness"], np.asarray(p["jaxcable_early_N"]) / 1e3, ".", ms=3, label=f"jaxcable, t ≤ {p['early_s']:g} s"
+    )
+    axis.plot(
+        p["steepness"],
+        np.asarray(p["moordyn_early_N"], float) / 1e3,
+        "+",
+        ms=3,
+        label=f"MoorDyn, t ≤ {p['early_s']:g} s",
+    )
     axis.set_xlabel("steepness H/λ")
     axis.set_ylabel("peak top tension at 20 Hz (kN)")
     s = record["settings"]
-    axis.set_title(f"{s['cases']} cases, {s['duration_s']:g} s each: Dopri5 tol {s['tol']:.2g}, MoorDyn dtM {s['dtm']:g}",
-                   fontsize=10)
+    axis.set_title(
+        f"{s['cases']} cases, {s['duration_s']:g} s each: Dopri5 tol {s['tol']:.2g}, MoorDyn dtM {s['dtm']:g}",
+        fontsize=10,
+    )
     axis.grid(True, alpha=0.3)
     axis.legend(fontsize=8)
     figure.savefig(path, dpi=120)
@@ -783,37 +955,50 @@ def report(path: Path, levels=(1e-2, 3e-3, 1e-3, 6e-4)) -> None:
     history = json.loads(path.read_text())
     latest = {}
     for session in history:
-        latest[session["part"] + (f" ({session.get('settings', {}).get('n_devices', 1)} dev)"
-                                  if session["part"] == "sweep" else "")] = session
+        latest[
+            session["part"]
+            + (f" ({session.get('settings', {}).get('n_devices', 1)} dev)" if session["part"] == "sweep" else "")
+        ] = session
     if "check" in latest:
         c = latest["check"]
-        print(f"**Check** ({c['time']}, load {c['load_average']}): statics top tension jaxcable "
-              f"{c['statics_top_tension_N']:.2f} N, read back {c['readback_statics_top_tension_N']:.2f} N, MoorDyn IC "
-              f"{c['moordyn_ic_top_tension_N']:.2f} N ({c['moordyn_ic_top_tension_rel_diff']:+.2e}); MoorDyn IC nodes "
-              f"within {c['moordyn_ic_max_node_distance_m']:.2e} m of jaxcable's statics; read-back dynamics (10 s) within "
-              f"{c['readback_dynamics_max_diff_rel_peak']:.1e} of the peak; FairTen − EA·strain = "
-              f"{c['moordyn_fairten_minus_ea_strain_N']:.1e} N.")
+        print(
+            f"**Check** ({c['time']}, load {c['load_average']}): statics top tension jaxcable "
+            f"{c['statics_top_tension_N']:.2f} N, read back {c['readback_statics_top_tension_N']:.2f} N, MoorDyn IC "
+            f"{c['moordyn_ic_top_tension_N']:.2f} N ({c['moordyn_ic_top_tension_rel_diff']:+.2e}); MoorDyn IC nodes "
+            f"within {c['moordyn_ic_max_node_distance_m']:.2e} m of jaxcable's statics; read-back dynamics (10 s) "
+            "within "
+            f"{c['readback_dynamics_max_diff_rel_peak']:.1e} of the peak; FairTen − EA·strain = "
+            f"{c['moordyn_fairten_minus_ea_strain_N']:.1e} N."
+        )
         print()
     if "work-precision" in latest:
         w = latest["work-precision"]
         ref = w["reference"]
-        print(f"**Work-precision** ({w['time']}, {w['machine']}): {w['settings']['duration']:g} s simulated; reference "
-              f"Dopri8 tol {w['settings']['reference_tol']:g}: {ref['steps']} steps, peak {ref['peak_N'] / 1e3:.2f} kN, "
-              f"its 10× tolerance differs by {ref['error_of_10x_tolerance']['rms']:.1e} RMS / "
-              f"{ref['error_of_10x_tolerance']['max']:.1e} max. MoorDyn's Python loop costs "
-              f"{w['moordyn_python_loop_s_per_step'] * 1e6:.2f} µs a step.")
+        print(
+            f"**Work-precision** ({w['time']}, {w['machine']}): {w['settings']['duration']:g} s simulated; reference "
+            f"Dopri8 tol {w['settings']['reference_tol']:g}: {ref['steps']} steps, peak {ref['peak_N'] / 1e3:.2f} kN, "
+            f"its 10× tolerance differs by {ref['error_of_10x_tolerance']['rms']:.1e} RMS / "
+            f"{ref['error_of_10x_tolerance']['max']:.1e} max. MoorDyn's Python loop costs "
+            f"{w['moordyn_python_loop_s_per_step'] * 1e6:.2f} µs a step."
+        )
         print()
         win, dur = w["settings"]["window"], w["settings"]["duration"]
-        print(f"| engine | setting | steps | RMS / max err, t ≤ {win:g} s | RMS / max err, t ≤ {dur:g} s | compile (s) "
-              f"| run (s) | µs / step | µs / evaluation | midpoint vs MoorDyn, t ≤ {win:g} s (RMS / max) | load |")
+        print(
+            f"| engine | setting | steps | RMS / max err, t ≤ {win:g} s | RMS / max err, t ≤ {dur:g} s | compile (s) "
+            f"| run (s) | µs / step | µs / evaluation | midpoint vs MoorDyn, t ≤ {win:g} s (RMS / max) | load |"
+        )
         print("|---|---|---|---|---|---|---|---|---|---|---|")
         for r in w["rows"]:
             vs = r.get("vs_moordyn_same_dt")
             vs = f"{vs['rms']:.1e} / {vs['max']:.1e}" if vs else "–"
-            print(f"| {r['engine']} | {r['setting']} | {r['steps']}" + (f" ({r['rejected']})" if "rejected" in r else "")
-                  + f" | {r['rms']:.1e} / {r['max']:.1e} | {r['rms_full']:.1e} / {r['max_full']:.1e} | {r['compile_s']:.1f} | {r['run_s']:.3f} "
-                  f"| {r['run_s'] / r['steps'] * 1e6:.1f} | {r['run_s'] / r['evaluations'] * 1e6:.1f} | {vs} "
-                  f"| {r['load_average']} |")
+            print(
+                f"| {r['engine']} | {r['setting']} | {r['steps']}"
+                + (f" ({r['rejected']})" if "rejected" in r else "")
+                + f" | {r['rms']:.1e} / {r['max']:.1e} | {r['rms_full']:.1e} / {r['max_full']:.1e} "
+                f"| {r['compile_s']:.1f} | {r['run_s']:.3f} "
+                f"| {r['run_s'] / r['steps'] * 1e6:.1f} | {r['run_s'] / r['evaluations'] * 1e6:.1f} | {vs} "
+                f"| {r['load_average']} |"
+            )
         print()
         if "histories" in w:
             print(f"Long histories ({w['settings']['history_duration']:g} s), each against the last:")
@@ -822,8 +1007,10 @@ def report(path: Path, levels=(1e-2, 3e-3, 1e-3, 6e-4)) -> None:
             print("|---|---|---|---|---|---|---|---|")
             for name, h in w["histories"].items():
                 first = "–" if h["first_time_1pc_apart_s"] is None else f"{h['first_time_1pc_apart_s']:.2f}"
-                print(f"| {name} | {h['steps']} | {h['run_s']:.2f} | {h['peak_N'] / 1e3:.2f} | {h['mean_N'] / 1e3:.2f} "
-                      f"| {h['rms_diff_from_tight']:.2e} | {first} | {h['load_average']} |")
+                print(
+                    f"| {name} | {h['steps']} | {h['run_s']:.2f} | {h['peak_N'] / 1e3:.2f} | {h['mean_N'] / 1e3:.2f} "
+                    f"| {h['rms_diff_from_tight']:.2e} | {first} | {h['load_average']} |"
+                )
             print()
         print(f"Wall time at matched RMS error (t ≤ {win:g} s), interpolated in log-log on each engine's Pareto front:")
         print()
@@ -842,33 +1029,45 @@ def report(path: Path, levels=(1e-2, 3e-3, 1e-3, 6e-4)) -> None:
                 ok = "missed by every measured setting"
             else:
                 ok = f"missed ({ratio / 0.5:.1f}× over)"
-            print(f"| {m['rms_level']:.0e} | {m['engine']} | {fmt(m['jaxcable_s'], m['jaxcable_upper_bound'])} "
-                  f"| {fmt(m['moordyn_s'], m['moordyn_upper_bound'])} "
-                  f"| {fmt(ratio, m['jaxcable_upper_bound'])} | {ok} |")
+            print(
+                f"| {m['rms_level']:.0e} | {m['engine']} | {fmt(m['jaxcable_s'], m['jaxcable_upper_bound'])} "
+                f"| {fmt(m['moordyn_s'], m['moordyn_upper_bound'])} "
+                f"| {fmt(ratio, m['jaxcable_upper_bound'])} | {ok} |"
+            )
         print()
     for key, s in latest.items():
         if not key.startswith("sweep"):
             continue
         st, j, m, p = s["settings"], s["jaxcable"], s["moordyn"], s["peaks"]
-        print(f"**Sweep** ({s['time']}, {st['n_devices']} device(s)): {st['cases']} steepnesses "
-              f"{st['steepness_min']:.4f}–{st['steepness_max']:.4f} (seed 003: {st['steepness_seed003']:.4f}), "
-              f"{st['duration_s']:g} s each; Dopri5 tol {st['tol']:.3g}, MoorDyn dtM {st['dtm']:g}.")
+        print(
+            f"**Sweep** ({s['time']}, {st['n_devices']} device(s)): {st['cases']} steepnesses "
+            f"{st['steepness_min']:.4f}–{st['steepness_max']:.4f} (seed 003: {st['steepness_seed003']:.4f}), "
+            f"{st['duration_s']:g} s each; Dopri5 tol {st['tol']:.3g}, MoorDyn dtM {st['dtm']:g}."
+        )
         print()
         print("| engine | compile (s) | run (s) | with IC (s) | steps max (mean) | load before / after |")
         print("|---|---|---|---|---|---|")
-        print(f"| jaxcable sweep | {j['compile_s']:.1f} | {j['run_s']:.2f} | – | {j['steps_max']} ({j['steps_mean']:.0f}) "
-              f"| {j['load_average_before']} / {j['load_average_after']} |")
-        print(f"| MoorDyn × {st['cases']}" + ("" if m["cases_run"] == st["cases"] else f" (from {m['cases_run']})")
-              + f" | – | {m['run_s']:.2f} | {m['total_s']:.2f} | {round(st['duration_s'] / st['dtm'])} each "
-              f"| {m['load_average_before']} / {m['load_average_after']} |")
+        print(
+            f"| jaxcable sweep | {j['compile_s']:.1f} | {j['run_s']:.2f} | – | {j['steps_max']} "
+            f"({j['steps_mean']:.0f}) "
+            f"| {j['load_average_before']} / {j['load_average_after']} |"
+        )
+        print(
+            f"| MoorDyn × {st['cases']}"
+            + ("" if m["cases_run"] == st["cases"] else f" (from {m['cases_run']})")
+            + f" | – | {m['run_s']:.2f} | {m['total_s']:.2f} | {round(st['duration_s'] / st['dtm'])} each "
+            f"| {m['load_average_before']} / {m['load_average_after']} |"
+        )
         print()
         r = s["ratio_moordyn_over_jaxcable"]
-        print(f"Sequential MoorDyn / jaxcable batch: {r:.2f}× (target ≥ 10×: {'met' if r >= 10 else 'missed'}); "
-              f"with MoorDyn's IC generation counted: {s['ratio_moordyn_with_ic_over_jaxcable']:.2f}×. Peak top "
-              f"tension, jaxcable against MoorDyn case by case: largest difference {p['max_rel_diff']:.2%} "
-              f"({p['max_abs_diff_N'] / 1e3:.2f} kN), median {p['median_rel_diff']:.2%}; over the first "
-              f"{p['early_s']:g} s (before the first slack event): largest {p['early_max_rel_diff']:.3%}, median "
-              f"{p['early_median_rel_diff']:.3%}.")
+        print(
+            f"Sequential MoorDyn / jaxcable batch: {r:.2f}× (target ≥ 10×: {'met' if r >= 10 else 'missed'}); "
+            f"with MoorDyn's IC generation counted: {s['ratio_moordyn_with_ic_over_jaxcable']:.2f}×. Peak top "
+            f"tension, jaxcable against MoorDyn case by case: largest difference {p['max_rel_diff']:.2%} "
+            f"({p['max_abs_diff_N'] / 1e3:.2f} kN), median {p['median_rel_diff']:.2%}; over the first "
+            f"{p['early_s']:g} s (before the first slack event): largest {p['early_max_rel_diff']:.3%}, median "
+            f"{p['early_median_rel_diff']:.3%}."
+        )
         print()
 
 

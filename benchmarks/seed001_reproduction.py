@@ -31,10 +31,10 @@ import numpy as np  # noqa: E402
 
 # The paper studies live in the repository's `studies/` folder, not in the package.
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from studies import seed001 as s1  # noqa: E402
-from jaxcable.examples.seed001 import SPECIFIC_DRAG  # noqa: E402
-
 from _results import append_session  # noqa: E402
+
+from jaxcable.examples.seed001 import SPECIFIC_DRAG  # noqa: E402
+from studies import seed001 as s1  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -52,7 +52,11 @@ def main():
         return
 
     free = s1.free_study(**s1.FULL)
-    print(f"free: {free.run_s:.1f} s; drift / Stokes {np.round(free.drift_ratio, 4)} at St {np.round(free.inertia_number, 5)}", flush=True)
+    print(
+        f"free: {free.run_s:.1f} s; drift / Stokes {np.round(free.drift_ratio, 4)} at St "
+        f"{np.round(free.inertia_number, 5)}",
+        flush=True,
+    )
     tethered = s1.tethered_study(**s1.FULL)
     cage = s1.tethered_study(CAGE_WEIGHTS, specific_drag=SPECIFIC_DRAG, **s1.FULL)
     print(f"tethered: {tethered.run_s:.1f} s, the cage: {cage.run_s:.1f} s", flush=True)
@@ -75,8 +79,14 @@ def main():
             "lift_m": (study.positions[:, :, 2].mean(axis=1) - study.static_depth).tolist(),
             "never_slack_from": s1.never_slack_from(study),
             "impulse_fits": {
-                str(rho): {"duration_s": float(f.times[-1] - f.times[0]), "sine": f.sine, "sine_rms": f.sine_rms,
-                           "parabola": f.parabola, "parabola_rms": f.parabola_rms, "rectangle_rms": f.rectangle_rms}
+                str(rho): {
+                    "duration_s": float(f.times[-1] - f.times[0]),
+                    "sine": f.sine,
+                    "sine_rms": f.sine_rms,
+                    "parabola": f.parabola,
+                    "parabola_rms": f.parabola_rms,
+                    "rectangle_rms": f.rectangle_rms,
+                }
                 for rho, f in fits.items()
             },
         }

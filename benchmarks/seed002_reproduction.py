@@ -31,10 +31,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 # The paper studies live in the repository's `studies/` folder, not in the package.
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from studies import seed002_net as s2n  # noqa: E402
-from studies import seed002 as s2  # noqa: E402
-
 from _results import append_session  # noqa: E402
+
+from studies import seed002 as s2  # noqa: E402
+from studies import seed002_net as s2n  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -97,9 +97,16 @@ def net(out: str) -> None:
         heave={b: vars(h) for b, h in s2n.heave(run).items()},
         drift={b: vars(d) for b, d in s2n.drift(run).items()},
         places={
-            name: {"still_N": p.still, "min_N": p.min, "max_N": p.max, "max_20ms_N": p.max_smoothed, "mean_N": p.mean,
-                   "slack_spells": len(p.spells), "slack_fraction": p.slack_fraction,
-                   "snap_peaks_N": [x.peak for x in p.spells]}
+            name: {
+                "still_N": p.still,
+                "min_N": p.min,
+                "max_N": p.max,
+                "max_20ms_N": p.max_smoothed,
+                "mean_N": p.mean,
+                "slack_spells": len(p.spells),
+                "slack_fraction": p.slack_fraction,
+                "snap_peaks_N": [x.peak for x in p.spells],
+            }
             for name, p in s2n.places(run).items()
         },
         verdict=verdict,

@@ -18,15 +18,14 @@ import argparse
 import json
 from pathlib import Path
 
-import jax
 import diffrax
+import jax
 import numpy as np
+from _results import append_session
+from _timing import timed
 
 import jaxcable as jc
 from jaxcable.examples import seed003_line
-
-from _results import append_session
-from _timing import timed
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -43,14 +42,20 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--segments", type=int, nargs="+", default=[10, 20, 50, 100])
     parser.add_argument("--duration", type=float, default=60.0)
-    parser.add_argument("--solvers", nargs="+", default=["default", "dopri5", "kvaerno5-newton"], choices=sorted(SOLVERS))
+    parser.add_argument(
+        "--solvers", nargs="+", default=["default", "dopri5", "kvaerno5-newton"], choices=sorted(SOLVERS)
+    )
     parser.add_argument("--mass-matrix", default="consistent", choices=["consistent", "lumped"])
     parser.add_argument("--rtol", type=float, default=1e-6)
     parser.add_argument("--atol", type=float, default=1e-6)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--max-steps", type=int, default=2_000_000)
-    parser.add_argument("--reference-rtol", type=float, default=1e-9,
-                        help="tolerance of the Tsit5 reference solve that accuracy is measured against")
+    parser.add_argument(
+        "--reference-rtol",
+        type=float,
+        default=1e-9,
+        help="tolerance of the Tsit5 reference solve that accuracy is measured against",
+    )
     parser.add_argument("--no-reference", action="store_true", help="skip the accuracy reference solve")
     parser.add_argument("--out", default=str(Path(__file__).parent / "results" / "seed003.json"))
     parser.add_argument("--report", action="store_true", help="print the recorded results as a markdown table")
@@ -75,7 +80,13 @@ def main():
             def run():
                 config = jc.SolverConfig(solver, rtol=args.rtol, atol=args.atol, max_steps=args.max_steps)
                 return jc.simulate(
-                    model, env, args.duration, ts=ts, initial=static.state, solver=config, throw=False,
+                    model,
+                    env,
+                    args.duration,
+                    ts=ts,
+                    initial=static.state,
+                    solver=config,
+                    throw=False,
                 )
 
             result, compile_time, run_time = timed(run, args.repeats)
@@ -108,13 +119,17 @@ def main():
 
 def report(path: Path) -> None:
     """Print every recorded run as one markdown table, one row per configuration."""
-    print("| N | mass | solver | steps (rejected) | compile (s) | run (s) | peak T (kN) | peak err | max err / peak | machine |")
+    print(
+        "| N | mass | solver | steps (rejected) | compile (s) | run (s) | peak T (kN) | peak err | max err / peak | "
+        "machine |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|")
     for session in json.loads(path.read_text()):
         for r in session["records"]:
             accuracy = (
                 f"{100 * r['peak_tension_rel_error']:.2f} % | {100 * r['max_tension_error_rel_peak']:.1f} %"
-                if "peak_tension_rel_error" in r else "– | –"
+                if "peak_tension_rel_error" in r
+                else "– | –"
             )
             print(
                 f"| {r['segments']} | {r['mass_matrix']} | {r['solver']} | {r['steps']} ({r['rejected_steps']}) "

@@ -57,17 +57,25 @@ PAPER_FIGURES = {30.0: "Fig. 2 (C_E1 = 0.1, 0.2 C_E)", 45.0: "Fig. 3 (all four)"
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--axial-stiffness", type=float, default=3e7, help="C_E (N) of the main study")
-    parser.add_argument("--stiffnesses", type=float, nargs="*", default=[1e6, 3e6, 1e7],
-                        help="further C_E (N) for the key comparisons")
+    parser.add_argument(
+        "--stiffnesses", type=float, nargs="*", default=[1e6, 3e6, 1e7], help="further C_E (N) for the key comparisons"
+    )
     parser.add_argument("--segments", type=int, default=FULL["n_segments"])
     parser.add_argument("--rtol", type=float, default=FULL["rtol"])
-    parser.add_argument("--convergence", nargs="*", default=["10:1e-8", "10:1e-9", "10:1e-10", "20:1e-9", "40:1e-8"],
-                        help="N:rtol pairs for the convergence check at 30° (the main study gives N = --segments)")
+    parser.add_argument(
+        "--convergence",
+        nargs="*",
+        default=["10:1e-8", "10:1e-9", "10:1e-10", "20:1e-9", "40:1e-8"],
+        help="N:rtol pairs for the convergence check at 30° (the main study gives N = --segments)",
+    )
     parser.add_argument("--out", default=str(RESULTS / "seed003_reproduction.json"))
     parser.add_argument("--report", action="store_true", help="reprint the last record")
-    parser.add_argument("--notebook", action="store_true",
-                        help="only execute notebooks/seed003_reproduction.ipynb with JAXCABLE_FULL=1, saving the "
-                             "executed copy as results/seed003_reproduction_full.ipynb")
+    parser.add_argument(
+        "--notebook",
+        action="store_true",
+        help="only execute notebooks/seed003_reproduction.ipynb with JAXCABLE_FULL=1, saving the "
+        "executed copy as results/seed003_reproduction_full.ipynb",
+    )
     args = parser.parse_args()
     out = Path(args.out)
     if args.report:
@@ -156,7 +164,9 @@ def make_figures(main_study, studies, c_e, folder: Path) -> list[str]:
     stiff = sorted(studies)
     for angle in ANGLES:
         linear = [studies[k].case(angle, 0.0).peak_top / 1e4 for k in stiff]
-        change = [100 * (studies[k].case(angle, 0.2).peak_top / studies[k].case(angle, 0.0).peak_top - 1) for k in stiff]
+        change = [
+            100 * (studies[k].case(angle, 0.2).peak_top / studies[k].case(angle, 0.0).peak_top - 1) for k in stiff
+        ]
         axes[0].plot(stiff, linear, "o-", label=f"{angle:g}°")
         axes[1].plot(stiff, change, "o-", label=f"{angle:g}°")
     for ratio, style in ((0.0, "o-"), (0.2, "s--")):
@@ -192,8 +202,9 @@ def run_notebook(folder: Path) -> None:
     notebook = nbformat.read(NOTEBOOK, as_version=4)
     os.environ["JAXCABLE_FULL"] = "1"
     start = time.perf_counter()
-    NotebookClient(notebook, timeout=3600, kernel_name="python3",
-                   resources={"metadata": {"path": str(NOTEBOOK.parent)}}).execute()
+    NotebookClient(
+        notebook, timeout=3600, kernel_name="python3", resources={"metadata": {"path": str(NOTEBOOK.parent)}}
+    ).execute()
     elapsed = time.perf_counter() - start
     target = folder / "seed003_reproduction_full.ipynb"
     nbformat.write(notebook, target)
@@ -204,9 +215,11 @@ def report(session: dict) -> None:
     main_ = session["main"]
     s = main_["settings"]
     print(f"## Seed 003 reproduction — {session['time']}, {session['machine']}, load {session.get('load_average')}")
-    print(f"\nMain study: C_E = {s['axial_stiffness_N']:.0e} N, N = {s['n_segments']}, {s['mass_matrix']} mass, "
-          f"{s['solver']} rtol = atol = {s['rtol']:g}, window {s['window_s']} s, {s['sample_rate_Hz']:g} Hz; "
-          f"compile {main_['compile_s']:.1f} s, run {main_['run_s']:.1f} s (12 cases, 3 batches of 4).\n")
+    print(
+        f"\nMain study: C_E = {s['axial_stiffness_N']:.0e} N, N = {s['n_segments']}, {s['mass_matrix']} mass, "
+        f"{s['solver']} rtol = atol = {s['rtol']:g}, window {s['window_s']} s, {s['sample_rate_Hz']:g} Hz; "
+        f"compile {main_['compile_s']:.1f} s, run {main_['run_s']:.1f} s (12 cases, 3 batches of 4).\n"
+    )
     _print_table(main_["cases"])
     print("\n### Verdict (top-segment peak, t = 30–48 s)\n")
     print(verdict(main_["cases"])["text"])
@@ -219,24 +232,35 @@ def report(session: dict) -> None:
     for k, v in session["stiffness"].items():
         print(f"- C_E = {k} N: compile {v['compile_s']:.1f} s, run {v['run_s']:.1f} s")
     print("\n### Convergence (α = 30°, top-segment peak in the window)\n")
-    print("| N | rtol | peak, C_E1 = 0 (kN) | peak, C_E1 = 0.2 C_E (kN) | 0.2 vs 0 | slack top, 0 / 0.2 (s) | steps (C_E1 = 0) | run (s) |")
+    print(
+        "| N | rtol | peak, C_E1 = 0 (kN) | peak, C_E1 = 0.2 C_E (kN) | 0.2 vs 0 | slack top, 0 / 0.2 (s) | steps "
+        "(C_E1 = 0) | run (s) |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for c in sorted(session["convergence"], key=lambda c: (c["n_segments"], -c["rtol"])):
         p = c["peak_top_N"]
-        print(f"| {c['n_segments']} | {c['rtol']:g} | {p['0.0'] / 1e3:.2f} | {p['0.2'] / 1e3:.2f} | {100 * c['ratio_effect']:+.1f} % "
-              f"| {c['slack_top_s']['0.0']:.2f} / {c['slack_top_s']['0.2']:.2f} | {c['steps']['0.0']} "
-              f"| {c['run_s']:.1f}{' (main study, batch of 4)' if c['from_main_study'] else ''} |")
+        print(
+            f"| {c['n_segments']} | {c['rtol']:g} | {p['0.0'] / 1e3:.2f} | {p['0.2'] / 1e3:.2f} | "
+            f"{100 * c['ratio_effect']:+.1f} % "
+            f"| {c['slack_top_s']['0.0']:.2f} / {c['slack_top_s']['0.2']:.2f} | {c['steps']['0.0']} "
+            f"| {c['run_s']:.1f}{' (main study, batch of 4)' if c['from_main_study'] else ''} |"
+        )
     print(f"\nFigures: {', '.join(session['figures'])}; wall time {session['wall_s'] / 60:.1f} min.")
 
 
 def _print_table(rows):
-    print("| α | C_E1/C_E | static top (kN) | peak top (kN) | min top (kN) | peak anchor (kN) | peak on line (kN) | peak ε | slack top (s) | slack top (%) | steps | ok |")
+    print(
+        "| α | C_E1/C_E | static top (kN) | peak top (kN) | min top (kN) | peak anchor (kN) | peak on line (kN) | peak "
+        "ε | slack top (s) | slack top (%) | steps | ok |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(
             f"| {r['angle_deg']:g}° | {r['ratio']:g} | {r['static_top_N'] / 1e3:.1f} | {r['peak_top_N'] / 1e3:.1f} "
-            f"| {r['min_top_N'] / 1e3:.2f} | {r['peak_anchor_N'] / 1e3:.1f} | {r['peak_line_N'] / 1e3:.1f} | {r['peak_strain']:.4f} "
-            f"| {r['slack_top_s']:.2f} | {100 * r['slack_top_fraction']:.1f} | {r['steps']} | {'yes' if r['success'] else 'NO'} |"
+            f"| {r['min_top_N'] / 1e3:.2f} | {r['peak_anchor_N'] / 1e3:.1f} | {r['peak_line_N'] / 1e3:.1f} | "
+            f"{r['peak_strain']:.4f} "
+            f"| {r['slack_top_s']:.2f} | {100 * r['slack_top_fraction']:.1f} | {r['steps']} | "
+            f"{'yes' if r['success'] else 'NO'} |"
         )
 
 

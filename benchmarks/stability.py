@@ -62,12 +62,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
+from _results import append_session
 
 import jaxcable as jc
 from jaxcable.equations import kinetic_energy, potential_energy
 from jaxcable.examples import seed003_line
-
-from _results import append_session
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -110,10 +109,10 @@ def imaginary_axis_limit(solver, tol=1e-9, hi=6.0) -> float:
     """The largest y = ω dt (–) with |R(iy)| ≤ 1 near the origin for one step of `solver`.
 
     `tol` is the growth per step allowed: 1e-9 for the strict limit, 0.01 for the step at
-    which an undamped mode grows by 1 % a step. R is measured, not looked up: one step of the solver on the undamped oscillator
-    x' = ω v, v' = −ω x (eigenvalues ±iω) gives the step's amplification matrix, whose
-    spectral radius is |R(iω dt)|. 0 where the region touches the imaginary axis only at
-    the origin (as for every two-stage second-order Runge–Kutta method).
+    which an undamped mode grows by 1 % a step. R is measured, not looked up: one step of the
+    solver on the undamped oscillator x' = ω v, v' = −ω x (eigenvalues ±iω) gives the step's
+    amplification matrix, whose spectral radius is |R(iω dt)|. 0 where the region touches the
+    imaginary axis only at the origin (as for every two-stage second-order Runge–Kutta method).
     """
 
     @jax.jit
@@ -159,17 +158,22 @@ def build(config):
     model = eqx.tree_at(
         lambda m: (m.line.tension_law.axial_stiffness, m.line.tension_law.quadratic_coefficient),
         model,
-        (law.axial_stiffness * config["stiffness"] / BASE_STIFFNESS,
-         law.quadratic_coefficient * config["stiffness"] / BASE_STIFFNESS),
+        (
+            law.axial_stiffness * config["stiffness"] / BASE_STIFFNESS,
+            law.quadratic_coefficient * config["stiffness"] / BASE_STIFFNESS,
+        ),
     )
     model = eqx.tree_at(lambda m: m.motions[1].amplitude, model, model.motions[1].amplitude * config["amplitude_scale"])
     if config["current"]:
-        env = jc.Environment(water_density=env.water_density, gravity=env.gravity, current=(config["current"], 0.0, 0.0))
+        env = jc.Environment(
+            water_density=env.water_density, gravity=env.gravity, current=(config["current"], 0.0, 0.0)
+        )
     static = jc.solve_statics(model, env)
     line = model.line
     # Per-segment arrays; the line is uniform, so every segment has the same ω_n.
     axial_mass = np.asarray(line.mass_per_length) + float(env.water_density) * np.asarray(line.area) * np.asarray(
-        line.tangential_added_mass)
+        line.tangential_added_mass
+    )
     stiffness = np.asarray(line.tension_law.axial_stiffness)
     length = np.asarray(model.segment_length)
     omega = float(np.max(2.0 / length * np.sqrt(stiffness / axial_mass)))
@@ -219,7 +223,11 @@ class Case:
         first seen (s). NaNs never leave here: they become the `non-finite` mode."""
         code = result_name(r.result)
         positions, velocities, tension = (np.asarray(a) for a in (r.positions, r.velocities, r.tension))
-        finite = np.isfinite(positions).all(axis=(1, 2)) & np.isfinite(velocities).all(axis=(1, 2)) & np.isfinite(tension).all(axis=1)
+        finite = (
+            np.isfinite(positions).all(axis=(1, 2))
+            & np.isfinite(velocities).all(axis=(1, 2))
+            & np.isfinite(tension).all(axis=1)
+        )
         energy = np.full(len(self.ts), np.inf)
         if finite.any():
             e = np.asarray(total_energy(self.model, self.env, r.positions, r.velocities))
@@ -307,7 +315,9 @@ def study_method(name, cases, args):
     compiled = False
     for case in cases:
         if not case.reference_ok:
-            records.append({"method": name, "kind": kind, **case.config, "omega_n": case.omega, "skipped": "reference failed"})
+            records.append(
+                {"method": name, "kind": kind, **case.config, "omega_n": case.omega, "skipped": "reference failed"}
+            )
             continue
         wall = {"stable": 0.0, "accurate": 0.0}
 
@@ -319,7 +329,12 @@ def study_method(name, cases, args):
                     solver, dt0=dt, stepsize_controller=diffrax.ConstantStepSize(), max_steps=max_steps
                 )
                 r = jc.simulate(
-                    case.model, case.env, args.window, ts=case.ts, initial=case.static.state, solver=config,
+                    case.model,
+                    case.env,
+                    args.window,
+                    ts=case.ts,
+                    initial=case.static.state,
+                    solver=config,
                     throw=False,
                 )
                 jax.block_until_ready(r.positions)
@@ -334,15 +349,22 @@ def study_method(name, cases, args):
                     ok = False
                     record["mode"] = "inaccurate"
                 return ok, record
+
             return trial
 
         first_call_times = []
         floor = max(args.dt_floor, 0.02 / case.omega)
         guess = 2.0 / case.omega if kind == "explicit" else min(20.0 / case.omega, args.dt_cap)
-        lo, hi, lo_rec, hi_rec, trials = bracket_and_bisect(make_trial("stable", False), guess, floor, args.dt_cap, args.ratio)
+        lo, hi, lo_rec, hi_rec, trials = bracket_and_bisect(
+            make_trial("stable", False), guess, floor, args.dt_cap, args.ratio
+        )
         record = {
-            "method": name, "kind": kind, **case.config, "omega_n": case.omega,
-            "dt_stable": lo, "dt_first_fail": hi,
+            "method": name,
+            "kind": kind,
+            **case.config,
+            "omega_n": case.omega,
+            "dt_stable": lo,
+            "dt_first_fail": hi,
             "omega_dt_stable": None if lo is None else lo * case.omega,
             "failure_mode": None if hi_rec is None else hi_rec["mode"],
             "failure_time_s": None if hi_rec is None else hi_rec["fail_time_s"],
@@ -356,8 +378,12 @@ def study_method(name, cases, args):
             else:
                 # Implicit steps are dear: do not search below a step count the budget allows.
                 acc_floor = max(floor, args.window / args.implicit_step_budget) if kind == "implicit" else floor
-                alo, ahi, _, _, atrials = bracket_and_bisect(make_trial("accurate", True), lo / 2, acc_floor, lo, args.ratio ** 3)
-                record.update(dt_accurate=alo, dt_accurate_floor=acc_floor if alo is None else None, accurate_trials=atrials)
+                alo, ahi, _, _, atrials = bracket_and_bisect(
+                    make_trial("accurate", True), lo / 2, acc_floor, lo, args.ratio**3
+                )
+                record.update(
+                    dt_accurate=alo, dt_accurate_floor=acc_floor if alo is None else None, accurate_trials=atrials
+                )
         # The first call compiles: its time is compile plus one run, not part of the walls below.
         record["first_call_s"] = first_call_times[0] if first_call_times else None
         record["wall_stable_s"], record["wall_accurate_s"] = wall["stable"], wall["accurate"]
@@ -378,18 +404,31 @@ def study_adaptive(cases, args):
             start = time.perf_counter()
             config = jc.SolverConfig(solver, rtol=args.adaptive_rtol, atol=args.adaptive_rtol, max_steps=max_steps)
             r = jc.simulate(
-                case.model, case.env, args.window, ts=case.ts, initial=case.static.state, solver=config, throw=False,
+                case.model,
+                case.env,
+                args.window,
+                ts=case.ts,
+                initial=case.static.state,
+                solver=config,
+                throw=False,
             )
             jax.block_until_ready(r.positions)
             wall = time.perf_counter() - start
             _, verdict = case.judge(r, args)
             record = {
-                "solver": label, **case.config, "omega_n": case.omega, "rtol": args.adaptive_rtol,
-                "max_steps": max_steps, "result": result_name(r.result),
-                "steps": int(r.stats["num_steps"]), "rejected_steps": int(r.stats["num_rejected_steps"]),
-                "mode": verdict["mode"], "fail_time_s": verdict["fail_time_s"],
+                "solver": label,
+                **case.config,
+                "omega_n": case.omega,
+                "rtol": args.adaptive_rtol,
+                "max_steps": max_steps,
+                "result": result_name(r.result),
+                "steps": int(r.stats["num_steps"]),
+                "rejected_steps": int(r.stats["num_rejected_steps"]),
+                "mode": verdict["mode"],
+                "fail_time_s": verdict["fail_time_s"],
                 "peak_tension_rel_error": verdict["peak_tension_rel_error"],
-                "wall_s_including_compile": wall, "load_average": os.getloadavg(),
+                "wall_s_including_compile": wall,
+                "load_average": os.getloadavg(),
             }
             records.append(record)
             print(json.dumps(record), flush=True)
@@ -401,8 +440,13 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--stiffness", type=float, nargs="+", default=[3e5, 3e6, 3e7, 3e8], help="C_E values (N)")
     parser.add_argument("--segments", type=int, nargs="+", default=[5, 10, 20])
-    parser.add_argument("--implicit-segments", type=int, nargs="+", default=[5, 10],
-                        help="segment counts for implicit methods (a dense Jacobian costs O(N^3) per step)")
+    parser.add_argument(
+        "--implicit-segments",
+        type=int,
+        nargs="+",
+        default=[5, 10],
+        help="segment counts for implicit methods (a dense Jacobian costs O(N^3) per step)",
+    )
     parser.add_argument("--study-segments", type=int, default=10, help="N of the slack and forcing studies")
     parser.add_argument("--slack-widths", type=float, nargs="+", default=[1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 0.0])
     parser.add_argument("--amplitude-scales", type=float, nargs="+", default=[0.25, 0.5, 1.0, 1.5, 2.0])
@@ -416,8 +460,9 @@ def main():
     parser.add_argument("--energy-factor", type=float, default=10.0)
     parser.add_argument("--tension-factor", type=float, default=3.0)
     parser.add_argument("--accuracy", type=float, default=0.05, help="peak-tension error of an accurate step (–)")
-    parser.add_argument("--implicit-step-budget", type=int, default=600,
-                        help="most fixed steps an implicit accuracy trial may take")
+    parser.add_argument(
+        "--implicit-step-budget", type=int, default=600, help="most fixed steps an implicit accuracy trial may take"
+    )
     parser.add_argument("--adaptive-rtol", type=float, default=1e-6)
     parser.add_argument("--adaptive-max-steps", type=int, default=200_000)
     parser.add_argument("--adaptive-max-steps-implicit", type=int, default=20_000)
@@ -425,8 +470,11 @@ def main():
     parser.add_argument("--out", default=str(RESULTS / "stability.json"))
     parser.add_argument("--report", action="store_true", help="print the latest session as markdown tables")
     parser.add_argument("--plot", action="store_true", help="chart the latest session")
-    parser.add_argument("--summary", action="store_true",
-                        help="print the latest session as compact tables (one row per method), as in benchmarks/README.md")
+    parser.add_argument(
+        "--summary",
+        action="store_true",
+        help="print the latest session as compact tables (one row per method), as in benchmarks/README.md",
+    )
     args = parser.parse_args()
     if args.report:
         report(Path(args.out))
@@ -449,8 +497,12 @@ def main():
     ts = np.linspace(0.0, args.window, int(round(args.window * args.output_rate)) + 1)
     base = {"stiffness": BASE_STIFFNESS, "slack_width": 1e-5, "amplitude_scale": 1.0, "current": 0.0}
     limits = {
-        name: {"strict": imaginary_axis_limit(METHODS[name][0]()), "growth_1pct": imaginary_axis_limit(METHODS[name][0](), tol=0.01)}
-        for name in args.methods if METHODS[name][1] == "explicit"
+        name: {
+            "strict": imaginary_axis_limit(METHODS[name][0]()),
+            "growth_1pct": imaginary_axis_limit(METHODS[name][0](), tol=0.01),
+        }
+        for name in args.methods
+        if METHODS[name][1] == "explicit"
     }
     print("imaginary-axis limits", limits, flush=True)
 
@@ -492,10 +544,16 @@ def main():
 
     append_session(
         args.out,
-        window_s=args.window, output_rate_hz=args.output_rate, ratio=args.ratio,
-        energy_factor=args.energy_factor, tension_factor=args.tension_factor, accuracy=args.accuracy,
-        imaginary_axis_limits=limits, quick=args.quick,
-        load_average_start=load_start, load_average_end=os.getloadavg(),
+        window_s=args.window,
+        output_rate_hz=args.output_rate,
+        ratio=args.ratio,
+        energy_factor=args.energy_factor,
+        tension_factor=args.tension_factor,
+        accuracy=args.accuracy,
+        imaginary_axis_limits=limits,
+        quick=args.quick,
+        load_average_start=load_start,
+        load_average_end=os.getloadavg(),
         wall_s=time.perf_counter() - started,
         records=[r for r in records if "references" not in r],
         references=[ref for r in records if "references" in r for ref in r["references"]],
@@ -517,60 +575,100 @@ def _fmt_dt(value, bound=None):
 def report(path: Path) -> None:
     """Print the latest session as markdown tables: one per axis, and the adaptive runs."""
     s = _latest(path)
-    print(f"Session {s['time']}, commit {s['commit']}, {s['machine']}, load average "
-          f"{s['load_average_start'][0]:.1f} → {s['load_average_end'][0]:.1f}, {s['wall_s'] / 60:.0f} min"
-          f"{' (quick)' if s.get('quick') else ''}.\n")
-    print("Imaginary-axis limits y = ω dt of each explicit method, measured from one step on an undamped oscillator "
-          "(strict: |R(iy)| ≤ 1; 1 %: |R(iy)| ≤ 1.01): " + ", ".join(
-              f"{k} {v['strict']:.2f} / {v['growth_1pct']:.2f}" for k, v in s["imaginary_axis_limits"].items()) + ".\n")
+    print(
+        f"Session {s['time']}, commit {s['commit']}, {s['machine']}, load average "
+        f"{s['load_average_start'][0]:.1f} → {s['load_average_end'][0]:.1f}, {s['wall_s'] / 60:.0f} min"
+        f"{' (quick)' if s.get('quick') else ''}.\n"
+    )
+    print(
+        "Imaginary-axis limits y = ω dt of each explicit method, measured from one step on an undamped oscillator "
+        "(strict: |R(iy)| ≤ 1; 1 %: |R(iy)| ≤ 1.01): "
+        + ", ".join(f"{k} {v['strict']:.2f} / {v['growth_1pct']:.2f}" for k, v in s["imaginary_axis_limits"].items())
+        + ".\n"
+    )
     columns = {
         "stiffness": ("C_E (N)", lambda r: f"{r['stiffness']:.0e}"),
         "slack": ("slack width", lambda r: "0 (sharp)" if r["slack_width"] == 0 else f"{r['slack_width']:.0e}"),
-        "forcing": ("forcing", lambda r: f"current {r['current']} m/s" if r["current"] else f"amplitude × {r['amplitude_scale']}"),
+        "forcing": (
+            "forcing",
+            lambda r: f"current {r['current']} m/s" if r["current"] else f"amplitude × {r['amplitude_scale']}",
+        ),
     }
     for axis, (label, cell) in columns.items():
         rows = [r for r in s["records"] if r.get("axis") == axis and "skipped" not in r]
         if not rows:
             continue
         print(f"**{axis}**\n")
-        print(f"| method | N | {label} | ω_n (rad/s) | dt_max (s) | ω_n·dt_max | failure above it (at t) | "
-              "peak err at dt_max | dt accurate (s) |")
+        print(
+            f"| method | N | {label} | ω_n (rad/s) | dt_max (s) | ω_n·dt_max | failure above it (at t) | "
+            "peak err at dt_max | dt accurate (s) |"
+        )
         print("|---|---|---|---|---|---|---|---|---|")
         for r in rows:
-            stable = _fmt_dt(r["dt_stable"]) if r["dt_first_fail"] is not None or r["dt_stable"] is None else f"≥ {r['dt_stable']:.3g}"
+            stable = (
+                _fmt_dt(r["dt_stable"])
+                if r["dt_first_fail"] is not None or r["dt_stable"] is None
+                else f"≥ {r['dt_stable']:.3g}"
+            )
             if r["dt_stable"] is None:
                 stable = f"< {r['dt_first_fail']:.3g}"
-            fail = "none up to the cap" if r["failure_mode"] is None else (
-                r["failure_mode"] + (f" ({r['failure_time_s']:.2f} s)" if r["failure_time_s"] is not None else ""))
+            fail = (
+                "none up to the cap"
+                if r["failure_mode"] is None
+                else (
+                    r["failure_mode"] + (f" ({r['failure_time_s']:.2f} s)" if r["failure_time_s"] is not None else "")
+                )
+            )
             err = r["peak_tension_rel_error_at_dt_stable"]
             acc = _fmt_dt(r.get("dt_accurate"), r.get("dt_accurate_floor"))
-            print(f"| {r['method']} | {r['segments']} | {cell(r)} | {r['omega_n']:.0f} | {stable} | "
-                  f"{'–' if r['omega_dt_stable'] is None else format(r['omega_dt_stable'], '.2f')} | {fail} | "
-                  f"{'–' if err is None else f'{100 * err:.1f} %'} | {acc} |")
+            print(
+                f"| {r['method']} | {r['segments']} | {cell(r)} | {r['omega_n']:.0f} | {stable} | "
+                f"{'–' if r['omega_dt_stable'] is None else format(r['omega_dt_stable'], '.2f')} | {fail} | "
+                f"{'–' if err is None else f'{100 * err:.1f} %'} | {acc} |"
+            )
         print()
     if s["adaptive"]:
         print("**adaptive defaults**\n")
         print("| solver | N | case | result | steps (rejected) | peak err | wall incl. compile (s) |")
         print("|---|---|---|---|---|---|---|")
         for r in s["adaptive"]:
-            case = (f"slack width {r['slack_width']:.0e}" if r["axis"] == "slack" else
-                    f"current {r['current']} m/s" if r["current"] else f"amplitude × {r['amplitude_scale']}")
+            case = (
+                f"slack width {r['slack_width']:.0e}"
+                if r["axis"] == "slack"
+                else f"current {r['current']} m/s"
+                if r["current"]
+                else f"amplitude × {r['amplitude_scale']}"
+            )
             err = r["peak_tension_rel_error"]
             result = r["result"] if r["mode"] is None or r["mode"] == r["result"] else f"{r['result']}, {r['mode']}"
-            print(f"| {r['solver']} | {r['segments']} | {case} | {result} | {r['steps']} ({r['rejected_steps']}) | "
-                  f"{'–' if err is None else f'{100 * err:.2f} %'} | {r['wall_s_including_compile']:.1f} |")
+            print(
+                f"| {r['solver']} | {r['segments']} | {case} | {result} | {r['steps']} ({r['rejected_steps']}) | "
+                f"{'–' if err is None else f'{100 * err:.2f} %'} | {r['wall_s_including_compile']:.1f} |"
+            )
         print()
     print("**references** (Dopri5, rtol = atol = 1e-8)\n")
-    print("| N | C_E (N) | slack width | amplitude × | current (m/s) | steps | peak T (kN) | first slack (s) | slack fraction |")
+    print(
+        "| N | C_E (N) | slack width | amplitude × | current (m/s) | steps | peak T (kN) | first slack (s) | slack "
+        "fraction |"
+    )
     print("|---|---|---|---|---|---|---|---|---|")
     for r in s["references"]:
         first = "none" if r["first_slack_s"] is None else f"{r['first_slack_s']:.2f}"
-        print(f"| {r['segments']} | {r['stiffness']:.0e} | {r['slack_width']:.0e} | {r['amplitude_scale']} | {r['current']} | "
-              f"{r['steps']} | {r['peak_tension_N'] / 1e3:.1f} | {first} | {100 * r['slack_segment_fraction']:.1f} % |")
+        print(
+            f"| {r['segments']} | {r['stiffness']:.0e} | {r['slack_width']:.0e} | {r['amplitude_scale']} | "
+            f"{r['current']} | "
+            f"{r['steps']} | {r['peak_tension_N'] / 1e3:.1f} | {first} | {100 * r['slack_segment_fraction']:.1f} % |"
+        )
 
 
-SHORT = {"tension blow-up": "T", "energy blow-up": "E", "non-finite": "NaN", "nonlinear_max_steps_reached": "N",
-         "nonlinear_divergence": "ND", None: "cap"}
+SHORT = {
+    "tension blow-up": "T",
+    "energy blow-up": "E",
+    "non-finite": "NaN",
+    "nonlinear_max_steps_reached": "N",
+    "nonlinear_divergence": "ND",
+    None: "cap",
+}
 
 
 def summary(path: Path) -> None:
@@ -579,51 +677,87 @@ def summary(path: Path) -> None:
     s = _latest(path)
     records = [r for r in s["records"] if "skipped" not in r]
     methods = [m for m in METHODS if any(r["method"] == m for r in records)]
-    print("Cells: largest stable fixed step dt_max (s) / ω_n·dt_max, then the failure just above it: "
-          "T tension blow-up, E energy blow-up, NaN non-finite state, N Newton did not converge "
-          "(`nonlinear_max_steps_reached`), cap: none up to the 1 s cap.\n")
+    print(
+        "Cells: largest stable fixed step dt_max (s) / ω_n·dt_max, then the failure just above it: "
+        "T tension blow-up, E energy blow-up, NaN non-finite state, N Newton did not converge "
+        "(`nonlinear_max_steps_reached`), cap: none up to the 1 s cap.\n"
+    )
     rows = [r for r in records if r["axis"] == "stiffness"]
     cases = sorted({(r["segments"], r["stiffness"]) for r in rows})
     print("| method | " + " | ".join(f"N={n}, EA={ea:.0e}" for n, ea in cases) + " |")
     print("|---|" + "---|" * len(cases))
-    print("| ω_n (rad/s) | " + " | ".join(
-        f"{next(r['omega_n'] for r in rows if (r['segments'], r['stiffness']) == c):.0f}" for c in cases) + " |")
+    print(
+        "| ω_n (rad/s) | "
+        + " | ".join(f"{next(r['omega_n'] for r in rows if (r['segments'], r['stiffness']) == c):.0f}" for c in cases)
+        + " |"
+    )
     for m in methods:
         cells = []
         for c in cases:
             r = next((r for r in rows if r["method"] == m and (r["segments"], r["stiffness"]) == c), None)
-            cells.append("–" if r is None else
-                         f"{_fmt_dt(r['dt_stable'])} / {r['omega_dt_stable']:.2f} {SHORT.get(r['failure_mode'], r['failure_mode'])}"
-                         if r["dt_stable"] is not None else f"< {r['dt_first_fail']:.3g}")
+            cells.append(
+                "–"
+                if r is None
+                else f"{_fmt_dt(r['dt_stable'])} / {r['omega_dt_stable']:.2f} "
+                f"{SHORT.get(r['failure_mode'], r['failure_mode'])}"
+                if r["dt_stable"] is not None
+                else f"< {r['dt_first_fail']:.3g}"
+            )
         print(f"| {m} | " + " | ".join(cells) + " |")
     print()
     for axis, key, label in (("slack", "slack_width", "w"), ("forcing", "amplitude_scale", "A ×")):
         rows = [r for r in records if r["axis"] == axis]
         if not rows:
             continue
+
         def case_of(r):
             return ("current", r["current"]) if r["current"] else (key, r[key])
-        cases = sorted({case_of(r) for r in rows}, key=lambda c: (c[0] == "current", -c[1] if axis == "slack" else c[1]))
-        head = [f"U = {v} m/s" if k == "current" else (f"{label} {v:g}" if v else f"{label} 0 (sharp)") for k, v in cases]
+
+        cases = sorted(
+            {case_of(r) for r in rows}, key=lambda c: (c[0] == "current", -c[1] if axis == "slack" else c[1])
+        )
+        head = [
+            f"U = {v} m/s" if k == "current" else (f"{label} {v:g}" if v else f"{label} 0 (sharp)") for k, v in cases
+        ]
         print(f"| method, N = {rows[0]['segments']}, EA = {rows[0]['stiffness']:.0e} | " + " | ".join(head) + " |")
         print("|---|" + "---|" * len(cases))
         for m in methods:
             cells = []
             for c in cases:
                 r = next((r for r in rows if r["method"] == m and case_of(r) == c), None)
-                cells.append("–" if r is None or r["dt_stable"] is None else
-                             f"{_fmt_dt(r['dt_stable'])} {SHORT.get(r['failure_mode'], r['failure_mode'])}")
+                cells.append(
+                    "–"
+                    if r is None or r["dt_stable"] is None
+                    else f"{_fmt_dt(r['dt_stable'])} {SHORT.get(r['failure_mode'], r['failure_mode'])}"
+                )
             print(f"| {m} | " + " | ".join(cells) + " |")
         accurate = [r for r in rows if r["method"] in methods]
-        print("| *accurate dt (5 %)* | " + " | ".join(
-            "; ".join(f"{r['method']} {_fmt_dt(r.get('dt_accurate'), r.get('dt_accurate_floor'))}"
-                      for r in accurate if case_of(r) == c and r["method"] in ("dopri5", "kvaerno5"))
-            for c in cases) + " |")
+        print(
+            "| *accurate dt (5 %)* | "
+            + " | ".join(
+                "; ".join(
+                    f"{r['method']} {_fmt_dt(r.get('dt_accurate'), r.get('dt_accurate_floor'))}"
+                    for r in accurate
+                    if case_of(r) == c and r["method"] in ("dopri5", "kvaerno5")
+                )
+                for c in cases
+            )
+            + " |"
+        )
         print()
 
 
-MARKERS = {"heun": "o", "midpoint": "s", "tsit5": "^", "dopri5": "v", "picard3": "D",
-           "implicit-euler": "x", "kvaerno3": "+", "kvaerno4": "1", "kvaerno5": "*"}
+MARKERS = {
+    "heun": "o",
+    "midpoint": "s",
+    "tsit5": "^",
+    "dopri5": "v",
+    "picard3": "D",
+    "implicit-euler": "x",
+    "kvaerno3": "+",
+    "kvaerno4": "1",
+    "kvaerno5": "*",
+}
 
 
 def plot(path: Path) -> None:
@@ -664,17 +798,34 @@ def plot(path: Path) -> None:
             ax1.text(grid[-1], c / grid[-1], f" dt = {c:g}/ω_n", fontsize=8, color="0.4", va="center")
         for name, y in s["imaginary_axis_limits"].items():
             ax2.axhline(y["growth_1pct"], color=colors[name], linestyle="--", linewidth=0.8)
-        ax1.set(xscale="log", yscale="log", xlabel="ω_n = 2√(EA/m′)/l (rad/s)", ylabel="largest stable fixed step dt_max (s)",
-                title="Largest stable step against the axial frequency")
-        ax2.set(xscale="log", yscale="log", xlabel="ω_n (rad/s)", ylabel="ω_n · dt_max (–)",
-                title="ω_n·dt_max; dashed: ω dt where an undamped mode grows 1 %/step")
+        ax1.set(
+            xscale="log",
+            yscale="log",
+            xlabel="ω_n = 2√(EA/m′)/l (rad/s)",
+            ylabel="largest stable fixed step dt_max (s)",
+            title="Largest stable step against the axial frequency",
+        )
+        ax2.set(
+            xscale="log",
+            yscale="log",
+            xlabel="ω_n (rad/s)",
+            ylabel="ω_n · dt_max (–)",
+            title="ω_n·dt_max; dashed: ω dt where an undamped mode grows 1 %/step",
+        )
         ax1.legend(fontsize=8, ncol=2)
         segments = sorted({r["segments"] for r in rows})
         stiffness = sorted({r["stiffness"] for r in rows})
-        fig.text(0.01, 0.01, "Points at dt = 1 s (hollow where the marker allows): no failure up to the 1 s cap. "
-                 f"Seed 003 line, lumped mass, {s['window_s']:g} s from statics; EA = "
-                 + ", ".join(f"{ea:.0e}" for ea in stiffness) + " N; N = " + ", ".join(map(str, segments)) + ".",
-                 fontsize=8)
+        fig.text(
+            0.01,
+            0.01,
+            "Points at dt = 1 s (hollow where the marker allows): no failure up to the 1 s cap. "
+            f"Seed 003 line, lumped mass, {s['window_s']:g} s from statics; EA = "
+            + ", ".join(f"{ea:.0e}" for ea in stiffness)
+            + " N; N = "
+            + ", ".join(map(str, segments))
+            + ".",
+            fontsize=8,
+        )
         fig.tight_layout(rect=(0, 0.03, 1, 1))
         fig.savefig(path.parent / "stability_stiffness.png", dpi=120)
         plt.close(fig)
@@ -708,19 +859,37 @@ def plot(path: Path) -> None:
             steps = np.array([r["steps"] for r in mine], dtype=float)
             rejected = np.array([r["rejected_steps"] for r in mine], dtype=float)
             failed = np.array([r["mode"] is not None for r in mine])
-            line, = ax2.plot(x, steps, marker="o", label=f"{label}: steps")
-            ax2.plot(x, np.maximum(rejected, 0.5), marker=".", linestyle="--", color=line.get_color(), label=f"{label}: rejected")
+            (line,) = ax2.plot(x, steps, marker="o", label=f"{label}: steps")
+            ax2.plot(
+                x,
+                np.maximum(rejected, 0.5),
+                marker=".",
+                linestyle="--",
+                color=line.get_color(),
+                label=f"{label}: rejected",
+            )
             ax2.plot(x[failed], steps[failed], marker="X", markersize=12, linestyle="none", color="red")
         ax1.set(xscale="log", yscale="log", xlabel=xlabel, ylabel="largest stable fixed step dt_max (s)", title=title)
-        ax2.set(xscale="log", yscale="log", xlabel=xlabel, ylabel="steps over the window",
-                title=f"Adaptive defaults at rtol = atol = {s['adaptive'][0]['rtol'] if s['adaptive'] else ''} (red X: failed)")
+        ax2.set(
+            xscale="log",
+            yscale="log",
+            xlabel=xlabel,
+            ylabel="steps over the window",
+            title=f"Adaptive defaults at rtol = atol = {s['adaptive'][0]['rtol'] if s['adaptive'] else ''} "
+            "(red X: failed)",
+        )
         ax1.legend(fontsize=8, ncol=2)
         ax2.legend(fontsize=8)
         return fig, ax1, ax2
 
-    out = axis_chart("slack", "slack_width", "slack smoothing width w (strain)",
-                     "stability_slack.png", "Largest stable step against the slack switch's width",
-                     lambda r: r["slack_width"] if r["slack_width"] > 0 else 1e-8)
+    out = axis_chart(
+        "slack",
+        "slack_width",
+        "slack smoothing width w (strain)",
+        "stability_slack.png",
+        "Largest stable step against the slack switch's width",
+        lambda r: r["slack_width"] if r["slack_width"] > 0 else 1e-8,
+    )
     if out:
         fig, ax1, ax2 = out
         for ax in (ax1, ax2):
@@ -730,14 +899,21 @@ def plot(path: Path) -> None:
         fig.tight_layout()
         fig.savefig(path.parent / "stability_slack.png", dpi=120)
         plt.close(fig)
-    out = axis_chart("forcing", "amplitude_scale", "fairlead amplitude / seed 003's 1.573 m", "stability_forcing.png",
-                     "Largest stable step against the forcing", lambda r: r["amplitude_scale"])
+    out = axis_chart(
+        "forcing",
+        "amplitude_scale",
+        "fairlead amplitude / seed 003's 1.573 m",
+        "stability_forcing.png",
+        "Largest stable step against the forcing",
+        lambda r: r["amplitude_scale"],
+    )
     if out:
         fig, ax1, _ = out
         currents = [r for r in records if r["axis"] == "forcing" and r["current"]]
         if currents:
             text = "Current (amplitude × 1): " + "; ".join(
-                f"{r['method']} {r['current']} m/s: {_fmt_dt(r['dt_stable'])} s" for r in currents)
+                f"{r['method']} {r['current']} m/s: {_fmt_dt(r['dt_stable'])} s" for r in currents
+            )
             fig.text(0.01, 0.005, text, fontsize=6, wrap=True)
         fig.tight_layout(rect=(0, 0.06, 1, 1))
         fig.savefig(path.parent / "stability_forcing.png", dpi=120)

@@ -25,13 +25,12 @@ from pathlib import Path
 import diffrax
 import jax
 import numpy as np
+from _results import append_session
+from _timing import timed
 
 import jaxcable as jc
 from jaxcable.equations import vector_field
 from jaxcable.examples import seed003_line
-
-from _results import append_session
-from _timing import timed
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -96,12 +95,16 @@ def main():
 
 def report(path: Path):
     sessions = json.loads(path.read_text())
-    print("| N | field (µs) | Euler step (µs) | Euler step − field | Dopri5 step, 1 output (µs) | Dopri5 step, 20 Hz (µs) | Dopri5 step − 6 fields | session |")
+    print(
+        "| N | field (µs) | Euler step (µs) | Euler step − field | Dopri5 step, 1 output (µs) | Dopri5 step, 20 Hz "
+        "(µs) | Dopri5 step − 6 fields | session |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for session in sessions:
         for r in session["rows"]:
             print(
-                f"| {r['segments']} | {r['field_us']:.1f} | {r['euler_step_us']:.1f} | {r['euler_step_us'] - r['field_us']:.1f} | "
+                f"| {r['segments']} | {r['field_us']:.1f} | {r['euler_step_us']:.1f} | "
+                f"{r['euler_step_us'] - r['field_us']:.1f} | "
                 f"{r['dopri5_step_us_1_output']:.1f} | {r['dopri5_step_us_20hz']:.1f} | "
                 f"{r['dopri5_step_us_1_output'] - 6 * r['field_us']:.1f} | {session['time'][:16]} |"
             )

@@ -50,10 +50,14 @@ def parse():
     parser.add_argument("--atol", type=float, default=1e-6)
     parser.add_argument("--max-steps", type=int, default=200_000)
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--host-devices", type=int, default=None,
-                        help="on CPU, split the host into this many JAX devices (sets XLA_FLAGS). With as "
-                             "many devices as cores, large batches deadlocked in jaxlib's batched LU, since replaced "
-                             "by a closed-form 3x3 inverse: on 2 cores, 32 cases over 2 devices hung")
+    parser.add_argument(
+        "--host-devices",
+        type=int,
+        default=None,
+        help="on CPU, split the host into this many JAX devices (sets XLA_FLAGS). With as "
+        "many devices as cores, large batches deadlocked in jaxlib's batched LU, since replaced "
+        "by a closed-form 3x3 inverse: on 2 cores, 32 cases over 2 devices hung",
+    )
     parser.add_argument("--out", default=str(Path(__file__).parent / "results" / "sweep_throughput.json"))
     parser.add_argument("--report", action="store_true", help="print the recorded results as a markdown table")
     return parser.parse_args()
@@ -84,6 +88,7 @@ def main():
     fairlead = int(np.flatnonzero(np.asarray(base_model.constrained_nodes) == 1)[0])
 
     if args.parameter == "amplitude":
+
         def build(amplitude):
             model = eqx.tree_at(lambda m: m.motions[fairlead].amplitude, base_model, amplitude)
             return model, env
@@ -91,6 +96,7 @@ def main():
         def values(n):
             return seed003_amplitude() * np.linspace(0.5, 1.5, n)
     else:
+
         def build(quadratic_ratio):
             return seed003_line(args.segments, quadratic_ratio=quadratic_ratio, mass_matrix=args.mass_matrix)
 
@@ -145,9 +151,7 @@ def main():
             results = []
             for model, case_env in cases:
                 start = jc.solve_statics(model, case_env).state if args.initial == "statics" else None
-                results.append(
-                    jc.simulate(model, case_env, args.duration, initial=start, throw=False, **options)
-                )
+                results.append(jc.simulate(model, case_env, args.duration, initial=start, throw=False, **options))
             return results
 
         results, compile_time, run_time = timed(loop, args.repeats)
@@ -173,7 +177,8 @@ def print_table(sessions) -> None:
     for session in sessions:
         loops = {
             (r["segments"], r["mass_matrix"], r["parameter"], r["initial"], r["duration_s"]): r["cases_per_s"]
-            for r in session["records"] if r["mode"] == "loop"
+            for r in session["records"]
+            if r["mode"] == "loop"
         }
         for r in session["records"]:
             key = (r["segments"], r["mass_matrix"], r["parameter"], r["initial"], r["duration_s"])

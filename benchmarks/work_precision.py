@@ -33,7 +33,8 @@ size collapse; a fixed step that diverges to non-finite states) are recorded wit
 `success = false`. Implicit methods use whatever Jacobian `jc.simulate` picks by default.
 
     python benchmarks/work_precision.py --scene seed003_taut      # one scene at a time
-    python benchmarks/work_precision.py --scene jumper --duration 5 --tolerances 1e-4 1e-6 --methods dopri5 kvaerno5-newton
+    python benchmarks/work_precision.py --scene jumper --duration 5 --tolerances 1e-4 1e-6 \\
+        --methods dopri5 kvaerno5-newton
     python benchmarks/work_precision.py --plot seed003_slack      # a chart from the results file
     python benchmarks/work_precision.py --report                  # the tables in benchmarks/README.md
 
@@ -50,17 +51,16 @@ import statistics
 import time
 from pathlib import Path
 
-import jax
 import diffrax
 import equinox as eqx
+import jax
 import numpy as np
+from _results import append_session
+from _timing import timed
 
 import jaxcable as jc
 from jaxcable.equations import stiffest_axial_mode
 from jaxcable.examples import seed003_line
-
-from _results import append_session
-from _timing import timed
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -111,8 +111,9 @@ def build(scene: str, segments: int = 20, mass_matrix: str = "lumped"):
     if scene.startswith("seed003") or scene == "segments":
         model, env = seed003_line(segments, mass_matrix=mass_matrix)
         if scene == "seed003_taut":
-            model = eqx.tree_at(lambda m: m.motions[1].amplitude, model,
-                                model.motions[1].amplitude * TAUT_AMPLITUDE_SCALE)
+            model = eqx.tree_at(
+                lambda m: m.motions[1].amplitude, model, model.motions[1].amplitude * TAUT_AMPLITUDE_SCALE
+            )
         return model, env, segments - 1  # the fairlead is the branch's end B
     if scene == "y_branch":
         built = jc.load_scene(Y_BRANCH).build()
@@ -123,7 +124,8 @@ def build(scene: str, segments: int = 20, mass_matrix: str = "lumped"):
         top = next(k for k, p in enumerate(points) if p.kind == "coupled")
         # lowe_langley.py case 1: A sin(2πt/T) along x with the smoothstep ramp over one period.
         points[top] = dataclasses.replace(
-            points[top], motion=jc.Harmonic(10.0, 27.0, direction=(1.0, 0.0, 0.0), ramp=27.0))
+            points[top], motion=jc.Harmonic(10.0, 27.0, direction=(1.0, 0.0, 0.0), ramp=27.0)
+        )
         built = source.replace(points=tuple(points)).build()
         return built.model, built.environment, int(built.line_segments[0][-1])
     raise ValueError(scene)
@@ -180,9 +182,16 @@ def run_scene(scene: str, args) -> dict:
     ts = np.linspace(0.0, duration, int(round(duration * 20)) + 1)  # 20 Hz output
     masses = ["lumped"] + (["consistent"] if scene == "seed003_slack" and not args.no_consistent else [])
     extra = simulate_kwargs()
-    session = {"scene": scene, "duration_s": duration, "output_hz": 20, "simulate_options": extra,
-               "structured_jacobian_module": (ROOT / "jaxcable" / "_jacobian.py").exists(),
-               "load_before": os.getloadavg(), "references": {}, "records": []}
+    session = {
+        "scene": scene,
+        "duration_s": duration,
+        "output_hz": 20,
+        "simulate_options": extra,
+        "structured_jacobian_module": (ROOT / "jaxcable" / "_jacobian.py").exists(),
+        "load_before": os.getloadavg(),
+        "references": {},
+        "records": [],
+    }
     for mass in masses:
         model, env, top = build(scene, mass_matrix=mass)
         # The fixed steps scale with the fastest axial eigenvalue |λ| (damping included;
@@ -191,16 +200,25 @@ def run_scene(scene: str, args) -> dict:
         static = jc.solve_statics(model, env.without_waves())
         initial = static.state
         ref, ref_t, ref_s = reference(model, env, initial, duration, ts, args.reference_tol, args.max_steps)
-        check, check_t, check_s = reference(model, env, initial, duration, ts, args.reference_tol / 10,
-                                            args.max_steps)
+        check, check_t, check_s = reference(model, env, initial, duration, ts, args.reference_tol / 10, args.max_steps)
         floor = errors(ref_t, check_t, top)
         session["references"][mass] = {
-            "solver": "dopri8", "tol": args.reference_tol, "steps": int(ref.stats["num_steps"]),
-            "success": bool(ref.success), "wall_s": ref_s, "check_tol": args.reference_tol / 10,
-            "check_steps": int(check.stats["num_steps"]), "check_success": bool(check.success),
-            "check_wall_s": check_s, "floor": floor, "omega_n_rad_s": omega, "fastest_rad_s": fastest,
-            "peak_tension_N": float(ref_t.max()), "min_tension_N": float(ref_t.min()),
-            "top_min_tension_N": float(ref_t[:, top].min()), "top_peak_tension_N": float(ref_t[:, top].max()),
+            "solver": "dopri8",
+            "tol": args.reference_tol,
+            "steps": int(ref.stats["num_steps"]),
+            "success": bool(ref.success),
+            "wall_s": ref_s,
+            "check_tol": args.reference_tol / 10,
+            "check_steps": int(check.stats["num_steps"]),
+            "check_success": bool(check.success),
+            "check_wall_s": check_s,
+            "floor": floor,
+            "omega_n_rad_s": omega,
+            "fastest_rad_s": fastest,
+            "peak_tension_N": float(ref_t.max()),
+            "min_tension_N": float(ref_t.min()),
+            "top_min_tension_N": float(ref_t[:, top].min()),
+            "top_peak_tension_N": float(ref_t[:, top].max()),
             "segments": int(model.segment_length.shape[0]),
         }
         print(f"[{scene}/{mass}] reference:", json.dumps(session["references"][mass]), flush=True)
@@ -219,8 +237,15 @@ def run_scene(scene: str, args) -> dict:
             max_steps = args.implicit_max_steps if implicit else args.max_steps
             stop = None
             for i, (what, value) in enumerate(points):
-                record = {"method": name, "mass": mass, "kind": kind, "order": order, "implicit": implicit,
-                          "max_steps": max_steps, what: value}
+                record = {
+                    "method": name,
+                    "mass": mass,
+                    "kind": kind,
+                    "order": order,
+                    "implicit": implicit,
+                    "max_steps": max_steps,
+                    what: value,
+                }
                 if kind == "fixed":
                     record["lambda_dt"] = value * fastest
                 if stop:
@@ -233,8 +258,9 @@ def run_scene(scene: str, args) -> dict:
                     if kind == "adaptive":
                         config = jc.SolverConfig(solver, rtol=value, atol=value, max_steps=max_steps)
                     else:
-                        config = jc.SolverConfig(solver, dt0=value, stepsize_controller=diffrax.ConstantStepSize(),
-                                                 max_steps=args.max_steps)
+                        config = jc.SolverConfig(
+                            solver, dt0=value, stepsize_controller=diffrax.ConstantStepSize(), max_steps=args.max_steps
+                        )
                     return jc.simulate(
                         model, env, duration, ts=ts, initial=initial, solver=config, throw=False, **extra
                     )
@@ -259,8 +285,12 @@ def run_scene(scene: str, args) -> dict:
                 # An unstable fixed step ends in inf/NaN states without a diffrax failure.
                 diverged = bool(result.success) and not np.all(np.isfinite(tension))
                 record.update(
-                    success=bool(result.success) and not diverged, diverged=diverged, steps=int(result.stats["num_steps"]),
-                    rejected=int(result.stats["num_rejected_steps"]), run_s=run_s, load=os.getloadavg()[0],
+                    success=bool(result.success) and not diverged,
+                    diverged=diverged,
+                    steps=int(result.stats["num_steps"]),
+                    rejected=int(result.stats["num_rejected_steps"]),
+                    run_s=run_s,
+                    load=os.getloadavg()[0],
                 )
                 if record["success"]:
                     record.update(errors(tension, ref_t, top))
@@ -300,11 +330,20 @@ def run_segments(args) -> dict:
         result, compile_s, run_s = timed(run, 1)
         tension = np.asarray(result.tension)
         histories[n] = tension[:, top]
-        records.append({"segments": n, "success": bool(result.success), "steps": int(result.stats["num_steps"]),
-                        "rejected": int(result.stats["num_rejected_steps"]), "compile_s": compile_s, "run_s": run_s,
-                        "omega_n_rad_s": stiffest_axial_mode(model, env)[0], "load": os.getloadavg()[0],
-                        "top_peak_tension_N": float(histories[n].max()),
-                        "static_top_tension_N": float(static.tension[top])})
+        records.append(
+            {
+                "segments": n,
+                "success": bool(result.success),
+                "steps": int(result.stats["num_steps"]),
+                "rejected": int(result.stats["num_rejected_steps"]),
+                "compile_s": compile_s,
+                "run_s": run_s,
+                "omega_n_rad_s": stiffest_axial_mode(model, env)[0],
+                "load": os.getloadavg()[0],
+                "top_peak_tension_N": float(histories[n].max()),
+                "static_top_tension_N": float(static.tension[top]),
+            }
+        )
         print(json.dumps(records[-1]), flush=True)
         jax.clear_caches()
     finest = max(histories)
@@ -314,9 +353,17 @@ def run_segments(args) -> dict:
         r["top_peak_rel_err"] = float(abs(h.max() - fine.max()) / fine.max())
         r["top_rms_rel_err"] = float(np.sqrt(np.mean((h - fine) ** 2)) / fine.max())
         r["top_max_rel_err"] = float(np.max(np.abs(h - fine)) / fine.max())
-    session = {"scene": "segments", "duration_s": duration, "output_hz": 20, "solver": "dopri5",
-               "tol": args.segments_tol, "finest_segments": finest, "load_before": load_before,
-               "load_after": os.getloadavg(), "records": records}
+    session = {
+        "scene": "segments",
+        "duration_s": duration,
+        "output_hz": 20,
+        "solver": "dopri5",
+        "tol": args.segments_tol,
+        "finest_segments": finest,
+        "load_before": load_before,
+        "load_after": os.getloadavg(),
+        "records": records,
+    }
     append_session(args.out, **session)
     plot_segments(args.out)
     return session
@@ -335,12 +382,19 @@ def latest(path: Path, scene: str) -> dict | None:
     base = full[-1] if full else len(sessions) - 1
     merged = dict(sessions[base], supplements=[])
     records = list(merged["records"])
-    for later in sessions[base + 1:]:
+    for later in sessions[base + 1 :]:
         keys = {(r["method"], r["mass"]) for r in later["records"]}
         records = [r for r in records if (r["method"], r["mass"]) not in keys] + later["records"]
-        merged["supplements"].append({"commit": later["commit"], "time": later["time"],
-                                      "methods": sorted({k[0] for k in keys}), "load_before": later["load_before"],
-                                      "load_after": later["load_after"], "references": later["references"]})
+        merged["supplements"].append(
+            {
+                "commit": later["commit"],
+                "time": later["time"],
+                "methods": sorted({k[0] for k in keys}),
+                "load_before": later["load_before"],
+                "load_after": later["load_after"],
+                "references": later["references"],
+            }
+        )
     merged["records"] = records
     return merged
 
@@ -365,18 +419,30 @@ def plot_scene(scene: str, path: Path) -> None:
     markers = "os^vD<>pPX*hH8d"
     keys = list(dict.fromkeys((r["method"], r["mass"]) for r in session["records"]))
     for k, (method, mass) in enumerate(keys):
-        points = [r for r in session["records"] if r["method"] == method and r["mass"] == mass
-                  and r.get("success") and r.get("max_err") is not None]
+        points = [
+            r
+            for r in session["records"]
+            if r["method"] == method and r["mass"] == mass and r.get("success") and r.get("max_err") is not None
+        ]
         if not points:
             continue
         for axis, field in zip(axes, ("max_err", "rms_err")):
-            axis.loglog([r["run_s"] for r in points], [max(r[field], 1e-16) for r in points],
-                        marker=markers[k % len(markers)], linestyle="--" if mass == "consistent" else "-",
-                        label=method + (" (consistent)" if mass == "consistent" else ""), color=colour(method))
+            axis.loglog(
+                [r["run_s"] for r in points],
+                [max(r[field], 1e-16) for r in points],
+                marker=markers[k % len(markers)],
+                linestyle="--" if mass == "consistent" else "-",
+                label=method + (" (consistent)" if mass == "consistent" else ""),
+                color=colour(method),
+            )
     for mass, ref in session["references"].items():
         for axis, field in zip(axes, ("max_err", "rms_err")):
-            axis.axhline(max(ref["floor"][field], 1e-16), color="grey", linewidth=0.8,
-                         linestyle="--" if mass == "consistent" else ":")
+            axis.axhline(
+                max(ref["floor"][field], 1e-16),
+                color="grey",
+                linewidth=0.8,
+                linestyle="--" if mass == "consistent" else ":",
+            )
     titles = ("largest tension error / peak tension", "RMS tension error / peak tension")
     for axis, title in zip(axes, titles):
         axis.set_xlabel("run time after compilation (s)")
@@ -384,9 +450,12 @@ def plot_scene(scene: str, path: Path) -> None:
         axis.grid(True, which="major", alpha=0.3)
     axes[1].legend(fontsize=8, ncol=2)
     load = session["load_before"][0]
-    figure.suptitle(f"{scene}: {session['duration_s']:g} s simulated, all segments at 20 Hz, against Dopri8 at "
-                    f"{session['references']['lumped']['tol']:g} (grey: reference's own error); "
-                    f"shared 2-core CPU, load {load:.1f}", fontsize=10)
+    figure.suptitle(
+        f"{scene}: {session['duration_s']:g} s simulated, all segments at 20 Hz, against Dopri8 at "
+        f"{session['references']['lumped']['tol']:g} (grey: reference's own error); "
+        f"shared 2-core CPU, load {load:.1f}",
+        fontsize=10,
+    )
     figure.savefig(RESULTS / f"work_precision_{scene}.png", dpi=110)
     plt.close(figure)
 
@@ -409,8 +478,9 @@ def plot_segments(path: Path) -> None:
     left.legend()
     everything = session["records"]
     right.loglog([r["segments"] for r in everything], [r["run_s"] for r in everything], "o-", label="run")
-    right.loglog([r["segments"] for r in everything], [max(r["compile_s"], 1e-3) for r in everything], "s--",
-                 label="compile")
+    right.loglog(
+        [r["segments"] for r in everything], [max(r["compile_s"], 1e-3) for r in everything], "s--", label="compile"
+    )
     right.set_xlabel("segments N")
     right.set_ylabel("wall time (s)")
     right.legend()
@@ -418,8 +488,11 @@ def plot_segments(path: Path) -> None:
         axis.grid(True, which="major", alpha=0.3)
         axis.set_xticks([r["segments"] for r in everything], [str(r["segments"]) for r in everything])
         axis.minorticks_off()
-    figure.suptitle(f"seed 003 with slack, Dopri5 at rtol = atol = {session['tol']:g}, "
-                    f"{session['duration_s']:g} s simulated; load {session['load_before'][0]:.1f}", fontsize=10)
+    figure.suptitle(
+        f"seed 003 with slack, Dopri5 at rtol = atol = {session['tol']:g}, "
+        f"{session['duration_s']:g} s simulated; load {session['load_before'][0]:.1f}",
+        fontsize=10,
+    )
     figure.savefig(RESULTS / "work_precision_segments.png", dpi=110)
     plt.close(figure)
 
@@ -443,24 +516,33 @@ def report(path: Path, everything: bool) -> None:
         session = latest(path, scene)
         if session is None:
             continue
-        print(f"\n#### {scene}: {session['duration_s']:g} s simulated (load average {session['load_before'][0]:.2f} "
-              f"before, {session['load_after'][0]:.2f} after; {session['commit']})\n")
+        print(
+            f"\n#### {scene}: {session['duration_s']:g} s simulated (load average {session['load_before'][0]:.2f} "
+            f"before, {session['load_after'][0]:.2f} after; {session['commit']})\n"
+        )
         for extra in session.get("supplements", []):
             ref = extra["references"].get("lumped", {})
-            print(f"- {', '.join(extra['methods'])}: run later ({extra['commit']}, {extra['time']}; load average "
-                  f"{extra['load_before'][0]:.2f} before, {extra['load_after'][0]:.2f} after) against their own "
-                  f"reference, {ref.get('steps')} steps, largest difference from the 1e-12 check "
-                  f"{ref.get('floor', {}).get('max_err', float('nan')):.1e}")
+            print(
+                f"- {', '.join(extra['methods'])}: run later ({extra['commit']}, {extra['time']}; load average "
+                f"{extra['load_before'][0]:.2f} before, {extra['load_after'][0]:.2f} after) against their own "
+                f"reference, {ref.get('steps')} steps, largest difference from the 1e-12 check "
+                f"{ref.get('floor', {}).get('max_err', float('nan')):.1e}"
+            )
         for mass, ref in session["references"].items():
-            print(f"- reference ({mass}, N = {ref['segments']}, ω_n = {ref['omega_n_rad_s']:.0f} rad/s): Dopri8 at "
-                  f"{ref['tol']:g}, {ref['steps']} steps, {ref['wall_s']:.1f} s; against {ref['check_tol']:g}: largest "
-                  f"{ref['floor']['max_err']:.1e}, RMS {ref['floor']['rms_err']:.1e} of the peak "
-                  f"{ref['peak_tension_N'] / 1e3:.1f} kN; least tension {ref['min_tension_N'] / 1e3:.2f} kN "
-                  f"(top segment {ref['top_min_tension_N'] / 1e3:.2f} kN)")
+            print(
+                f"- reference ({mass}, N = {ref['segments']}, ω_n = {ref['omega_n_rad_s']:.0f} rad/s): Dopri8 at "
+                f"{ref['tol']:g}, {ref['steps']} steps, {ref['wall_s']:.1f} s; against {ref['check_tol']:g}: largest "
+                f"{ref['floor']['max_err']:.1e}, RMS {ref['floor']['rms_err']:.1e} of the peak "
+                f"{ref['peak_tension_N'] / 1e3:.1f} kN; least tension {ref['min_tension_N'] / 1e3:.2f} kN "
+                f"(top segment {ref['top_min_tension_N'] / 1e3:.2f} kN)"
+            )
         print()
         header = " | ".join(f"≤ {level:g}" for level in LEVELS)
-        print(f"| method | mass | compile (s) | {header} | tightest run: tol or &#124;λ&#124; dt, steps (rejected), run (s), "
-              "largest / RMS err |")
+        print(
+            f"| method | mass | compile (s) | {header} | tightest run: tol or &#124;λ&#124; dt, steps (rejected), run "
+            "(s), "
+            "largest / RMS err |"
+        )
         print("|---|---|---|" + "---|" * len(LEVELS) + "---|")
         keys = list(dict.fromkeys((r["method"], r["mass"]) for r in session["records"]))
         for method, mass in keys:
@@ -481,42 +563,70 @@ def report(path: Path, everything: bool) -> None:
                 tail = "–"
             else:
                 where = f"{last['tol']:g}" if "tol" in last else f"{last.get('lambda_dt', last.get('omega_dt')):.3g}"
-                err = (f"{last['max_err']:.1e} / {last['rms_err']:.1e}" if "max_err" in last
-                       else "diverged" if last.get("diverged") else f"failed: {short(last.get('result', ''))}")
+                err = (
+                    f"{last['max_err']:.1e} / {last['rms_err']:.1e}"
+                    if "max_err" in last
+                    else "diverged"
+                    if last.get("diverged")
+                    else f"failed: {short(last.get('result', ''))}"
+                )
                 tail = f"{where}, {last['steps']} ({last['rejected']}), {last['run_s']:.2f}, {err}"
             failed = sum(1 for r in rows if r.get("success") is False and not r.get("diverged"))
             diverged = sum(1 for r in rows if r.get("diverged"))
             skipped = sum(1 for r in rows if "skipped" in r)
-            notes = (f"; {failed} failed" if failed else "") + (f"; {diverged} diverged" if diverged else "") + (f"; {skipped} skipped (time cap)" if skipped else "")
+            notes = (
+                (f"; {failed} failed" if failed else "")
+                + (f"; {diverged} diverged" if diverged else "")
+                + (f"; {skipped} skipped (time cap)" if skipped else "")
+            )
             print(f"| {method} | {mass} | {compile_s} | " + " | ".join(cells) + f" | {tail}{notes} |")
         if everything:
-            print("\n| method | mass | tol or &#124;λ&#124; dt | steps (rejected) | run (s) | largest err | RMS err | top largest "
-                  "| top RMS | note |")
+            print(
+                "\n| method | mass | tol or &#124;λ&#124; dt | steps (rejected) | run (s) | largest err | RMS err | "
+                "top largest "
+                "| top RMS | note |"
+            )
             print("|---|---|---|---|---|---|---|---|---|---|")
             for r in session["records"]:
                 where = f"{r['tol']:g}" if "tol" in r else f"{r.get('lambda_dt', r.get('omega_dt')):.3g}"
                 if "run_s" not in r:
-                    print(f"| {r['method']} | {r['mass']} | {where} | – | – | – | – | – | – | "
-                          f"{r.get('skipped') or r.get('error', '')[:80]} |")
+                    print(
+                        f"| {r['method']} | {r['mass']} | {where} | – | – | – | – | – | – | "
+                        f"{r.get('skipped') or r.get('error', '')[:80]} |"
+                    )
                     continue
                 e = [f"{r[k]:.2e}" if k in r else "–" for k in ("max_err", "rms_err", "top_max_err", "top_rms_err")]
-                note = ("" if r["success"] else "diverged (non-finite tension)" if r.get("diverged")
-                        else f"failed: {short(r.get('result', ''))}")
-                print(f"| {r['method']} | {r['mass']} | {where} | {r['steps']} ({r['rejected']}) | {r['run_s']:.2f} | "
-                      + " | ".join(e) + f" | {note} |")
+                note = (
+                    ""
+                    if r["success"]
+                    else "diverged (non-finite tension)"
+                    if r.get("diverged")
+                    else f"failed: {short(r.get('result', ''))}"
+                )
+                print(
+                    f"| {r['method']} | {r['mass']} | {where} | {r['steps']} ({r['rejected']}) | {r['run_s']:.2f} | "
+                    + " | ".join(e)
+                    + f" | {note} |"
+                )
     session = latest(path, "segments")
     if session is not None:
-        print(f"\n#### segments: seed 003 with slack, Dopri5 at {session['tol']:g}, {session['duration_s']:g} s "
-              f"(load average {session['load_before'][0]:.2f} before, {session['load_after'][0]:.2f} after; "
-              f"{session['commit']})\n")
-        print(f"| N | ω_n (rad/s) | steps (rejected) | compile (s) | run (s) | peak top T (kN) | peak err vs "
-              f"N = {session['finest_segments']} | RMS err | largest err |")
+        print(
+            f"\n#### segments: seed 003 with slack, Dopri5 at {session['tol']:g}, {session['duration_s']:g} s "
+            f"(load average {session['load_before'][0]:.2f} before, {session['load_after'][0]:.2f} after; "
+            f"{session['commit']})\n"
+        )
+        print(
+            f"| N | ω_n (rad/s) | steps (rejected) | compile (s) | run (s) | peak top T (kN) | peak err vs "
+            f"N = {session['finest_segments']} | RMS err | largest err |"
+        )
         print("|---|---|---|---|---|---|---|---|---|")
         for r in session["records"]:
-            print(f"| {r['segments']} | {r['omega_n_rad_s']:.0f} | {r['steps']} ({r['rejected']}) | "
-                  f"{r['compile_s']:.1f} | {r['run_s']:.2f} | {r['top_peak_tension_N'] / 1e3:.1f} | "
-                  f"{100 * r['top_peak_rel_err']:.2f} % | {100 * r['top_rms_rel_err']:.2f} % | "
-                  f"{100 * r['top_max_rel_err']:.1f} % |")
+            print(
+                f"| {r['segments']} | {r['omega_n_rad_s']:.0f} | {r['steps']} ({r['rejected']}) | "
+                f"{r['compile_s']:.1f} | {r['run_s']:.2f} | {r['top_peak_tension_N'] / 1e3:.1f} | "
+                f"{100 * r['top_peak_rel_err']:.2f} % | {100 * r['top_rms_rel_err']:.2f} % | "
+                f"{100 * r['top_max_rel_err']:.1f} % |"
+            )
 
 
 def main() -> None:
@@ -525,8 +635,13 @@ def main() -> None:
     parser.add_argument("--duration", type=float, default=None, help="simulated time (s); per scene by default")
     parser.add_argument("--methods", nargs="+", default=DEFAULT_METHODS, choices=list(METHODS))
     parser.add_argument("--tolerances", type=float, nargs="+", default=list(TOLERANCES))
-    parser.add_argument("--step-factors", type=float, nargs="+", default=list(STEP_FACTORS),
-                        help="fixed steps as |λ| dt, |λ| the fastest axial eigenvalue")
+    parser.add_argument(
+        "--step-factors",
+        type=float,
+        nargs="+",
+        default=list(STEP_FACTORS),
+        help="fixed steps as |λ| dt, |λ| the fastest axial eigenvalue",
+    )
     parser.add_argument("--reference-tol", type=float, default=1e-11)
     parser.add_argument("--repeats", type=int, default=3, help="warm runs timed (one if a run takes over 2 s)")
     parser.add_argument("--time-cap", type=float, default=30.0, help="a run's time (s) that ends its method's sweep")
@@ -536,8 +651,9 @@ def main() -> None:
     parser.add_argument("--segment-counts", type=int, nargs="+", default=[5, 10, 20, 40, 80])
     parser.add_argument("--segments-tol", type=float, default=1e-8)
     parser.add_argument("--out", type=Path, default=OUT)
-    parser.add_argument("--plot", nargs="+", default=[], choices=[*SCENES, "segments"],
-                        help="redraw charts from the results file")
+    parser.add_argument(
+        "--plot", nargs="+", default=[], choices=[*SCENES, "segments"], help="redraw charts from the results file"
+    )
     parser.add_argument("--report", action="store_true", help="print the markdown tables from the results file")
     parser.add_argument("--all", action="store_true", help="with --report: every point too")
     args = parser.parse_args()

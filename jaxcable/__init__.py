@@ -20,42 +20,80 @@ public modules:
 
 from importlib.metadata import version as _version
 
-from ._advice import Advice as Advice, advise as advise
-from ._calibrate import CalibrationResult as CalibrationResult, calibrate as calibrate
+from . import calibration as calibration
+from . import equations as equations
+from . import examples as examples
+from . import io as io
+from . import plot as plot
+from ._advice import Advice as Advice
+from ._advice import advise as advise
+from ._calibrate import CalibrationResult as CalibrationResult
+from ._calibrate import calibrate as calibrate
 from ._checks import Float64Error as Float64Error
-from ._cnoidal import Cnoidal as Cnoidal, cnoidal_coefficients as cnoidal_coefficients
+from ._cnoidal import Cnoidal as Cnoidal
+from ._cnoidal import cnoidal_coefficients as cnoidal_coefficients
+from ._config import (
+    SOLVERS as SOLVERS,
+)
+from ._config import (
+    SolverConfig as SolverConfig,
+)
+from ._config import (
+    default_solver as default_solver,
+)
+from ._config import (
+    stiff_solver as stiff_solver,
+)
+from ._environment import CurrentProfile as CurrentProfile
+from ._environment import Environment as Environment
+from ._environment import Seabed as Seabed
 from ._jacobian import NetworkJacobian as NetworkJacobian
-from ._environment import CurrentProfile as CurrentProfile, Environment as Environment, Seabed as Seabed
 from ._materials import (
     AbstractTensionLaw as AbstractTensionLaw,
+)
+from ._materials import (
     KelvinVoigt as KelvinVoigt,
+)
+from ._materials import (
     LinearElastic as LinearElastic,
+)
+from ._materials import (
     NonlinearElastic as NonlinearElastic,
 )
 from ._motion import (
     AbstractMotion as AbstractMotion,
+)
+from ._motion import (
     Fixed as Fixed,
+)
+from ._motion import (
     Harmonic as Harmonic,
+)
+from ._motion import (
     Sampled as Sampled,
+)
+from ._motion import (
     Towing as Towing,
 )
-from ._network import Body as Body, Branch as Branch, CableNetwork as CableNetwork, LineType as LineType
+from ._network import Body as Body
+from ._network import Branch as Branch
+from ._network import CableNetwork as CableNetwork
+from ._network import LineType as LineType
 from ._picard import PicardTrapezoid as PicardTrapezoid
-from ._config import (
-    SOLVERS as SOLVERS,
-    SolverConfig as SolverConfig,
-    default_solver as default_solver,
-    stiff_solver as stiff_solver,
-)
-from ._simulate import SimulationResult as SimulationResult, simulate as simulate
+from ._simulate import SimulationResult as SimulationResult
+from ._simulate import simulate as simulate
 from ._state import State as State
-from ._sweep import SweepResult as SweepResult, sweep as sweep, sweep_grid as sweep_grid
-from ._statics import StaticSolution as StaticSolution, solve_statics as solve_statics
-from ._waves import AbstractWave as AbstractWave, Airy as Airy, airy_wavenumber as airy_wavenumber
+from ._statics import StaticSolution as StaticSolution
+from ._statics import solve_statics as solve_statics
+from ._sweep import SweepResult as SweepResult
+from ._sweep import sweep as sweep
+from ._sweep import sweep_grid as sweep_grid
+from ._waves import AbstractWave as AbstractWave
+from ._waves import Airy as Airy
+from ._waves import airy_wavenumber as airy_wavenumber
 from .io._moordyn import read_moordyn as read_moordyn
-from .io._run import load_scene as load_scene, run_scene as run_scene
+from .io._run import load_scene as load_scene
+from .io._run import run_scene as run_scene
 from .io._scene_file import read_scene as read_scene
-
-from . import calibration as calibration, equations as equations, examples as examples, io as io, plot as plot
 
 __version__ = _version("jaxcable")

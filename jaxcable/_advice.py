@@ -164,8 +164,10 @@ def seabed_mode(model: CableNetwork, env: Environment, touching=None) -> tuple[f
         return 0.0, ""
     line = model.line
     rho, g = float(env.water_density), float(env.gravity)
-    fields = {f: np.broadcast_to(np.asarray(getattr(line, f)), (model.n_segments,)) for f in
-              ("mass_per_length", "area", "diameter", "normal_added_mass", "tangential_added_mass")}
+    fields = {
+        f: np.broadcast_to(np.asarray(getattr(line, f)), (model.n_segments,))
+        for f in ("mass_per_length", "area", "diameter", "normal_added_mass", "tangential_added_mass")
+    }
     mask = np.ones(model.n_segments, bool) if touching is None else np.asarray(touching, bool)
     if not mask.any():
         return 0.0, ""
@@ -373,7 +375,9 @@ def wave_fit(wave: AbstractWave, index: int = 0) -> WaveFit:
     length = float(wave.wavelength)
     ursell = height * length**2 / depth**3
     relative = depth / length
-    regime = "deep" if relative > DEEP_RELATIVE_DEPTH else "shallow" if relative < SHALLOW_RELATIVE_DEPTH else "intermediate"
+    regime = (
+        "deep" if relative > DEEP_RELATIVE_DEPTH else "shallow" if relative < SHALLOW_RELATIVE_DEPTH else "intermediate"
+    )
     miche = BREAKING_STEEPNESS * np.tanh(2 * np.pi * relative)
     if height / depth > BREAKING_HEIGHT_RATIO or height / length > miche:
         fits = "breaking"
@@ -397,8 +401,21 @@ def wave_fit(wave: AbstractWave, index: int = 0) -> WaveFit:
             "Airy understates the crest's kinematics, and cnoidal's long-wave approximation is weak"
         )
     theory = "cnoidal" if isinstance(wave, Cnoidal) else "airy" if isinstance(wave, Airy) else type(wave).__name__
-    return WaveFit(index, theory, height, period, length, depth, ursell, relative, height / depth,
-                   height / length, regime, fits, reason)
+    return WaveFit(
+        index,
+        theory,
+        height,
+        period,
+        length,
+        depth,
+        ursell,
+        relative,
+        height / depth,
+        height / length,
+        regime,
+        fits,
+        reason,
+    )
 
 
 def particle_speed(wave: AbstractWave, position, samples: int = 720) -> float:
@@ -440,8 +457,9 @@ def segments_needed(length: float, curvature: float, tolerance: float) -> int:
     return max(1, int(np.ceil(length * np.sqrt(np.sqrt(2) * curvature / (8 * tolerance)) - 1e-9)))
 
 
-def terminal_speed(mass_per_length: float, area: float, diameter: float, normal_drag: float, density: float,
-                   gravity: float) -> float:
+def terminal_speed(
+    mass_per_length: float, area: float, diameter: float, normal_drag: float, density: float, gravity: float
+) -> float:
     """√(2 w / (ρ K_n d)) (m/s): how fast a line of wet weight w = (m − ρF) g per length
     falls sideways through still water; NaN for a buoyant or weightless line."""
     w = (mass_per_length - density * area) * gravity
@@ -498,7 +516,7 @@ def advise(
         positions = np.asarray(static.state.positions)
 
     touching = None
-    if statics_error is None and env.seabed is not None:
+    if statics_error is None and env.seabed is not None and env.depth is not None:  # (a seabed has a depth)
         low = positions[:, 2] < -float(env.depth)
         touching = low[np.asarray(model.segment_nodes)].any(axis=1)
     bed, limit = seabed_mode(model, env, touching)
@@ -517,8 +535,24 @@ def advise(
         tension = np.asarray(static.tension)
         rest_min, rest_max = float(tension.min()), float(tension.max())
         slack = _slack(model, held, still, labels, chains, static, rest_max)
-    return Advice(omega, magnitude, segment, bed, limit, step, duration, steps, waves, inertia, env.fluid_inertia,
-                  discretisation, rest_min, rest_max, slack, statics_error)
+    return Advice(
+        omega,
+        magnitude,
+        segment,
+        bed,
+        limit,
+        step,
+        duration,
+        steps,
+        waves,
+        inertia,
+        env.fluid_inertia,
+        discretisation,
+        rest_min,
+        rest_max,
+        slack,
+        statics_error,
+    )
 
 
 def _unpack(model, env, labels):
@@ -532,8 +566,15 @@ def _unpack(model, env, labels):
 
 
 def _without_waves(env: Environment) -> Environment:
-    return Environment(env.water_density, env.gravity, env.current, env.free_surface, depth=env.depth,
-                       seabed=env.seabed, fluid_inertia=env.fluid_inertia)
+    return Environment(
+        env.water_density,
+        env.gravity,
+        env.current,
+        env.free_surface,
+        depth=env.depth,
+        seabed=env.seabed,
+        fluid_inertia=env.fluid_inertia,
+    )
 
 
 def _held(model: CableNetwork) -> CableNetwork:
@@ -585,8 +626,16 @@ def _discretisation(name, nodes, segments, model, positions, tolerance, absolute
     k = int(np.argmax(curvature)) if curvature.size else -1
     kappa = float(curvature[k]) if curvature.size else 0.0
     deviation = np.sqrt(2) / 8 * (length / n) ** 2 * kappa
-    return Discretisation(name, length, n, kappa, int(nodes[k + 1]) if k >= 0 else -1, deviation, allowed,
-                          segments_needed(length, kappa, allowed))
+    return Discretisation(
+        name,
+        length,
+        n,
+        kappa,
+        int(nodes[k + 1]) if k >= 0 else -1,
+        deviation,
+        allowed,
+        segments_needed(length, kappa, allowed),
+    )
 
 
 def _inertia(model, env, labels, chains, positions) -> tuple[InertiaCheck, ...]:
@@ -595,7 +644,9 @@ def _inertia(model, env, labels, chains, positions) -> tuple[InertiaCheck, ...]:
         return ()
     line = model.line
     rho = float(env.water_density)
-    fields = {name: np.asarray(getattr(line, name)) for name in ("diameter", "area", "normal_drag", "normal_added_mass")}
+    fields = {
+        name: np.asarray(getattr(line, name)) for name in ("diameter", "area", "normal_drag", "normal_added_mass")
+    }
     groups: dict[str, list[int]] = {}  # element name → its segments
     if labels is not None:
         for line_type, (_, _, segments) in zip(labels.line_types, chains):
@@ -613,26 +664,48 @@ def _inertia(model, env, labels, chains, positions) -> tuple[InertiaCheck, ...]:
         s = segments[0]
         nodes = np.unique(edges[segments])
         top = nodes[np.argmax(positions[nodes, 2])]
-        elements.append((name, positions[top], fields["diameter"][s], fields["area"][s],
-                         fields["normal_added_mass"][s], fields["normal_drag"][s] * fields["diameter"][s]))
+        elements.append(
+            (
+                name,
+                positions[top],
+                fields["diameter"][s],
+                fields["area"][s],
+                fields["normal_added_mass"][s],
+                fields["normal_drag"][s] * fields["diameter"][s],
+            )
+        )
     body = model.body
     volume = np.asarray(body.volume)
     for k in np.flatnonzero(volume > 0):
-        name = f"body at point {labels.points[k]}" if labels is not None and k < len(labels.points) \
+        name = (
+            f"body at point {labels.points[k]}"
+            if labels is not None and k < len(labels.points)
             else f"body at node {k}"
-        drag_area = float(body.drag_area[k]) + 2 * float(body.specific_drag[k] * body.organism_mass[k]) * float(
-            env.gravity) / rho
-        elements.append((name, positions[k], (6 * volume[k] / np.pi) ** (1 / 3), volume[k],
-                         float(body.added_mass[k]), drag_area))
+        )
+        drag_area = (
+            float(body.drag_area[k])
+            + 2 * float(body.specific_drag[k] * body.organism_mass[k]) * float(env.gravity) / rho
+        )
+        elements.append(
+            (name, positions[k], (6 * volume[k] / np.pi) ** (1 / 3), volume[k], float(body.added_mass[k]), drag_area)
+        )
     checks = []
     for w, wave in enumerate(env.waves):
         period = float(wave.period)
         for name, position, diameter, v, added, drag_area in elements:
             speed = particle_speed(wave, position)
-            checks.append(InertiaCheck(
-                name, w, period, float(min(position[2], 0.0)), speed, float(diameter), speed * period / diameter,
-                inertia_ratio(float(v), float(added), float(drag_area), speed, period),
-            ))
+            checks.append(
+                InertiaCheck(
+                    name,
+                    w,
+                    period,
+                    float(min(position[2], 0.0)),
+                    speed,
+                    float(diameter),
+                    speed * period / diameter,
+                    inertia_ratio(float(v), float(added), float(drag_area), speed, period),
+                )
+            )
     return tuple(checks)
 
 
@@ -678,8 +751,16 @@ def _slack(model, held, still, labels, chains, static, rest_max) -> tuple[SlackC
             continue
         name = labels.points[node] if labels is not None and node < len(labels.points) else str(node)
         attached = np.flatnonzero((edges[:, 0] == node) | (edges[:, 1] == node))
-        speeds = [terminal_speed(*(float(np.asarray(getattr(line, f))[s]) for f in
-                                   ("mass_per_length", "area", "diameter", "normal_drag")), rho, g) for s in attached]
+
+        def value(field, s):
+            return float(np.asarray(getattr(line, field))[s])
+
+        speeds = [
+            terminal_speed(
+                value("mass_per_length", s), value("area", s), value("diameter", s), value("normal_drag", s), rho, g
+            )
+            for s in attached
+        ]
         speeds = [v for v in speeds if np.isfinite(v)]
         fall = min(speeds) if speeds else float("nan")
         share = _harmonic_share(model, node)
@@ -694,9 +775,20 @@ def _slack(model, held, still, labels, chains, static, rest_max) -> tuple[SlackC
             tension = np.asarray(solution.tension)
             s = int(np.argmin(tension))
             slack = not converged or bool(tension[s] < SLACK_FRACTION * rest_max)
-            checks.append(SlackCheck(name, node, tuple(float(x) + 0.0 for x in shift), converged,
-                                     float(tension[s]) if converged else float("nan"), str(segment_line[s]), s, slack,
-                                     _peak_speed(motion), fall))
+            checks.append(
+                SlackCheck(
+                    name,
+                    node,
+                    (float(shift[0]) + 0.0, float(shift[1]) + 0.0, float(shift[2]) + 0.0),
+                    converged,
+                    float(tension[s]) if converged else float("nan"),
+                    str(segment_line[s]),
+                    s,
+                    slack,
+                    _peak_speed(motion),
+                    fall,
+                )
+            )
     return tuple(checks)
 
 

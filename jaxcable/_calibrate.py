@@ -174,7 +174,9 @@ def synthetic_record(
     observables = tuple(rig.observables if observables is None else observables)
     unknown = [o for o in observables if o not in rig.observables]
     if unknown:
-        raise ValueError(f"synthetic_record: {type(rig).__name__} has no observable {unknown[0]!r}; it has {rig.observables}")
+        raise ValueError(
+            f"synthetic_record: {type(rig).__name__} has no observable {unknown[0]!r}; it has {rig.observables}"
+        )
     inputs = dict(inputs or {})
     missing = [i for i in rig.inputs if i not in inputs]
     if missing:
@@ -297,9 +299,7 @@ def _pair(test, index) -> tuple[AbstractTowingRig, TowingRecord]:
     if missing:
         raise ValueError(f"calibrate: {label} has no {missing[0]!r} column, which {type(rig).__name__} needs as input")
     if not any(k in record.columns for k in rig.observables):
-        raise ValueError(
-            f"calibrate: {label} measures none of {type(rig).__name__}'s observables {rig.observables}"
-        )
+        raise ValueError(f"calibrate: {label} measures none of {type(rig).__name__}'s observables {rig.observables}")
     return rig, record
 
 
@@ -318,23 +318,38 @@ def _groups(pairs) -> list[_Group]:
         names = tuple(k for k in rigs[0].observables if any(k in r.columns for r in records))
 
         def pad(values, n):
-            return np.concatenate([values, np.full(size - n, values[-1])])
+            return np.concatenate([values, np.full(size - n, values[-1])])  # noqa: B023 (called within this iteration)
 
-        times = np.stack([np.concatenate([r.times, r.times[-1] + _PAD_STEP * np.arange(1, size - len(r.times) + 1)])
-                          for r in records])
+        times = np.stack(
+            [
+                np.concatenate([r.times, r.times[-1] + _PAD_STEP * np.arange(1, size - len(r.times) + 1)])
+                for r in records
+            ]
+        )
         inputs = {k: np.stack([pad(r.columns[k], len(r.times)) for r in records]) for k in rigs[0].inputs}
         observed, mask, scale = {}, {}, {}
         for k in names:
-            observed[k] = np.stack([pad(r.columns[k], len(r.times)) if k in r.columns else np.zeros(size) for r in records])
+            observed[k] = np.stack(
+                [pad(r.columns[k], len(r.times)) if k in r.columns else np.zeros(size) for r in records]
+            )
             mask[k] = np.stack([(np.arange(size) < len(r.times)) & (k in r.columns) for r in records]).astype(float)
             scale[k] = jnp.asarray(
                 [max(float(np.sqrt(np.mean(r.columns[k] ** 2))), 1e-12) if k in r.columns else 1.0 for r in records]
             )
         stacked = jax.tree.map(lambda *leaves: jnp.stack(leaves), *rigs)
-        groups.append(_Group(tuple(indices), lengths, names, stacked, jnp.asarray(times),
-                             {k: jnp.asarray(v) for k, v in inputs.items()},
-                             {k: jnp.asarray(v) for k, v in observed.items()},
-                             {k: jnp.asarray(v) for k, v in mask.items()}, scale))
+        groups.append(
+            _Group(
+                tuple(indices),
+                lengths,
+                names,
+                stacked,
+                jnp.asarray(times),
+                {k: jnp.asarray(v) for k, v in inputs.items()},
+                {k: jnp.asarray(v) for k, v in observed.items()},
+                {k: jnp.asarray(v) for k, v in mask.items()},
+                scale,
+            )
+        )
     return groups
 
 
@@ -401,6 +416,7 @@ def _predict(log_values, names, groups, solver):
     values = dict(zip(names, jnp.exp(log_values)))
     out = []
     for group in groups:
+
         def one(rig, times, inputs):
             run = rig.with_coefficients(values).simulate(times, inputs, solver)
             return run.observables, run.success

@@ -18,9 +18,12 @@ from typing import NamedTuple
 
 import equinox as eqx
 import jax
+import jax.core
 import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Bool, Float
+
+from ._typing import RealLike
 
 
 class Float64Error(RuntimeError):
@@ -34,7 +37,7 @@ def require_float64() -> None:
     rounding. jaxcable does not enable it itself, since a library must not change its
     caller's global configuration, so every constructor checks here instead.
     """
-    if not jax.config.jax_enable_x64:
+    if not jax.config.read("jax_enable_x64"):
         raise Float64Error(
             "jaxcable computes in float64, but JAX's float64 is off. Enable it once, before "
             'building any model: jax.config.update("jax_enable_x64", True), or set '
@@ -59,7 +62,7 @@ def finite(name: str, value: ArrayLike) -> Condition:
     return Condition(name, ~jnp.isfinite(value), value, "must be finite")
 
 
-def sign(name: str, value: ArrayLike, allow_zero: bool = False) -> Condition:
+def sign(name: str, value: Array | np.ndarray, allow_zero: bool = False) -> Condition:
     """Positive (or, with `allow_zero`, non-negative) entries; NaN breaks it too."""
     kept = value >= 0 if allow_zero else value > 0
     return Condition(name, ~kept, value, "must be " + ("non-negative" if allow_zero else "positive"))
@@ -147,17 +150,16 @@ def first_violation(
     return None
 
 
-def float_array(name: str, value: ArrayLike, shape: tuple[int, ...] | None = None) -> Array:
+def float_array(name: str, value: RealLike, shape: tuple[int, ...] | None = None) -> Array:
     """`value` as a float array, checked finite and, if `shape` is given, broadcast to it.
 
     Raises `ValueError` naming `name` if the value is not finite or cannot take `shape`,
     and [`jaxcable.Float64Error`][] if JAX's float64 is off.
     """
     require_float64()
-    if not isinstance(value, jax.core.Tracer):
-        value = np.asarray(value, dtype=float)
-    enforce([finite(name, value)])
-    array = jnp.asarray(value, dtype=float)
+    concrete = value if isinstance(value, jax.core.Tracer) else np.asarray(value, dtype=float)
+    enforce([finite(name, concrete)])
+    array = jnp.asarray(concrete, dtype=float)
     if shape is not None:
         if array.ndim != 0 and array.shape != shape:
             raise ValueError(f"{name} must have shape {shape} (or be a scalar), got shape {array.shape}")

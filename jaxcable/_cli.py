@@ -29,7 +29,7 @@ from ._advice import advise
 from ._calibrate import calibrate, calibration_solver, default_optimizer
 from ._config import SOLVERS
 from ._motion import Harmonic, Sampled
-from .examples import scene_path, scene_names
+from .examples import scene_names, scene_path
 from .io import Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
 from .io._run import load_scene, run_scene
@@ -89,9 +89,14 @@ def _parser() -> argparse.ArgumentParser:
 
     calibrate = commands.add_parser("calibrate", help="fit drag coefficients to towing records")
     calibrate.add_argument("records", nargs="+", type=Path, help="towing records (CSV) whose headers name their rigs")
-    calibrate.add_argument("--fit", nargs="+", required=True, metavar="NAME=START",
-                           help="coefficients to fit, with starting values: normal_drag (K_n), tangential_drag "
-                                "(K_τ), specific_drag (k₀, s²/m²)")
+    calibrate.add_argument(
+        "--fit",
+        nargs="+",
+        required=True,
+        metavar="NAME=START",
+        help="coefficients to fit, with starting values: normal_drag (K_n), tangential_drag "
+        "(K_τ), specific_drag (k₀, s²/m²)",
+    )
     calibrate.add_argument("--optimizer", choices=tuple(OPTIMIZERS), default="lbfgs", help="optax optimizer")
     calibrate.add_argument("--max-steps", type=int, default=50, help="most optimizer iterations (default 50)")
     calibrate.add_argument("--learning-rate", type=float, default=0.05, help="Adam's step in log coefficients")
@@ -147,8 +152,10 @@ def _run(args) -> int:
         scene, duration=duration, dt_out=args.dt_out, solver=settings.solver_config(), progress=not args.no_progress
     )
     static = run.static
-    print(f"equilibrium: {int(static.steps)} iterations, {run.statics_seconds:.1f} s; largest tension "
-          f"{float(np.max(static.tension)) / 1e3:.3f} kN, smallest {float(np.min(static.tension)) / 1e3 + 0.0:.3f} kN")
+    print(
+        f"equilibrium: {int(static.steps)} iterations, {run.statics_seconds:.1f} s; largest tension "
+        f"{float(np.max(static.tension)) / 1e3:.3f} kN, smallest {float(np.min(static.tension)) / 1e3 + 0.0:.3f} kN"
+    )
     sys.stdout.flush()  # keep stdout and stderr lines in the order they were written
     for note in run.notes:
         print(f"warning: {note}", file=sys.stderr)
@@ -173,51 +180,73 @@ def _info(args) -> int:
     print(f"{scene.source}" + (f": {scene.title}" if scene.title else ""))
     depth = "unbounded" if water.depth is None else f"{water.depth:g} m"
     profile = water.current_profile
-    current = (f"{water.current} m/s" if profile is None else
-               f"profile {profile.speeds} m/s at z = {profile.heights} m, towards {profile.heading:g}°")
-    print(f"water: density {water.density:g} kg/m³, g = {water.gravity:g} m/s², depth {depth}, current {current}, "
-          f"free surface {'on' if water.free_surface else 'off (lines wholly submerged)'}, "
-          f"fluid inertia {'on' if water.fluid_inertia else 'off (waves load by drag only)'}")
+    current = (
+        f"{water.current} m/s"
+        if profile is None
+        else f"profile {profile.speeds} m/s at z = {profile.heights} m, towards {profile.heading:g}°"
+    )
+    print(
+        f"water: density {water.density:g} kg/m³, g = {water.gravity:g} m/s², depth {depth}, current {current}, "
+        f"free surface {'on' if water.free_surface else 'off (lines wholly submerged)'}, "
+        f"fluid inertia {'on' if water.fluid_inertia else 'off (waves load by drag only)'}"
+    )
     for k, wave in enumerate(water.waves, start=1):
         size = f"H = {wave.height:g} m" if wave.height is not None else f"H/λ = {wave.steepness:g}"
-        print(f"wave {k}: {wave.theory}, {size}, T = {wave.period:g} s, heading {wave.heading:g}°, "
-              f"phase {wave.phase:g} rad" + (", Wheeler stretching" if wave.wheeler else ""))
-    if water.seabed is not None:
+        print(
+            f"wave {k}: {wave.theory}, {size}, T = {wave.period:g} s, heading {wave.heading:g}°, "
+            f"phase {wave.phase:g} rad" + (", Wheeler stretching" if wave.wheeler else "")
+        )
+    # build() refused a seabed without a depth.
+    if water.seabed is not None and water.depth is not None:
         bed = water.seabed
         friction = f"friction μ = {bed.friction:g}" + (
-            f" (viscous below {bed.friction_speed:.4g} m/s)" if bed.friction else " (none)")
-        print(f"seabed: at z = {-water.depth:g} m, stiffness {bed.stiffness:g} Pa/m, damping {bed.damping:g} Pa·s/m, "
-              f"{friction}")
-    print(f"model: {model.n_nodes} nodes ({model.free_nodes.size} free), {model.n_segments} segments, "
-          f"{model.mass_matrix} mass matrix")
+            f" (viscous below {bed.friction_speed:.4g} m/s)" if bed.friction else " (none)"
+        )
+        print(
+            f"seabed: at z = {-water.depth:g} m, stiffness {bed.stiffness:g} Pa/m, damping {bed.damping:g} Pa·s/m, "
+            f"{friction}"
+        )
+    print(
+        f"model: {model.n_nodes} nodes ({model.free_nodes.size} free), {model.n_segments} segments, "
+        f"{model.mass_matrix} mass matrix"
+    )
     print("line types:")
     for t in scene.line_types:
         damping = (
-            f"C_v = {t.axial_damping:g} N·s" if not t.axial_damping_ratio
+            f"C_v = {t.axial_damping:g} N·s"
+            if not t.axial_damping_ratio
             else f"ζ = {t.axial_damping_ratio:g} of critical per segment"
         )
-        print(f"  {t.name}: m = {t.mass_per_length:g} kg/m, d = {t.diameter:g} m, EA = {t.axial_stiffness:g} N, "
-              f"C_E1 = {t.quadratic_stiffness:g} N, {damping}, K_n = {t.normal_drag:g}, K_τ = {t.tangential_drag:g}, "
-              f"C_a = {t.normal_added_mass:g}, C_aτ = {t.tangential_added_mass:g}")
+        print(
+            f"  {t.name}: m = {t.mass_per_length:g} kg/m, d = {t.diameter:g} m, EA = {t.axial_stiffness:g} N, "
+            f"C_E1 = {t.quadratic_stiffness:g} N, {damping}, K_n = {t.normal_drag:g}, K_τ = {t.tangential_drag:g}, "
+            f"C_a = {t.normal_added_mass:g}, C_aτ = {t.tangential_added_mass:g}"
+        )
     print("points:")
-    for k, p in enumerate(scene.points):
+    for p in scene.points:
         extra = ""
         if p.kind == "coupled":
             extra = ", " + _describe_motion(p.motion)
         if p.body is not None:
-            extra += (f", body: mass {float(p.body.mass):g} kg, volume {float(p.body.volume):g} m³, "
-                      f"CdA {float(p.body.drag_area):g} m²")
+            extra += (
+                f", body: mass {float(p.body.mass):g} kg, volume {float(p.body.volume):g} m³, "
+                f"CdA {float(p.body.drag_area):g} m²"
+            )
         print(f"  {p.name} ({p.kind}) at {p.position}{extra}")
     print("lines:")
     for k, line in enumerate(scene.lines):
         segments = built.line_segments[k]
         damping = float(np.asarray(model.line.tension_law.damping())[segments[0]])
         a, b = scene.points[line.start].name, scene.points[line.end].name
-        print(f"  {line.name}: {line.line_type} from {a} to {b}, {line.length:g} m in {line.segments} segments "
-              f"of {line.length / line.segments:.4g} m, C_v = {damping:.4g} N·s")
+        print(
+            f"  {line.name}: {line.line_type} from {a} to {b}, {line.length:g} m in {line.segments} segments "
+            f"of {line.length / line.segments:.4g} m, C_v = {damping:.4g} N·s"
+        )
     run = scene.run
-    print(f"run: {duration:g} s, solver {run.solver} (rtol {run.rtol:g}, atol {run.atol:g}), output every "
-          f"{run.dt_out or 0.1:g} s")
+    print(
+        f"run: {duration:g} s, solver {run.solver} (rtol {run.rtol:g}, atol {run.atol:g}), output every "
+        f"{run.dt_out or 0.1:g} s"
+    )
     print("channels: " + " ".join(scene.channels or ["FairTen<k> AnchTen<k> for every line"]))
     print("ignored or assumed:" if scene.notes else "ignored or assumed: nothing")
     for note in scene.notes:
@@ -233,8 +262,10 @@ def _describe_motion(motion) -> str:
         return "held (no motion given)"
     if isinstance(motion, Harmonic):
         direction = tuple(round(float(x), 4) for x in motion.direction)
-        return (f"harmonic: amplitude {float(motion.amplitude):g} m, period {float(motion.period):g} s, "
-                f"direction {direction}, phase {float(motion.phase):g} rad, ramp {float(motion.ramp):g} s")
+        return (
+            f"harmonic: amplitude {float(motion.amplitude):g} m, period {float(motion.period):g} s, "
+            f"direction {direction}, phase {float(motion.phase):g} rad, ramp {float(motion.ramp):g} s"
+        )
     if isinstance(motion, Sampled):
         return f"table of {motion.times.size} samples from {float(motion.times[0]):g} to {float(motion.times[-1]):g} s"
     return type(motion).__name__

@@ -118,7 +118,7 @@ def _branch_minimum(height_ratio, parameter, start):
 
 
 def cnoidal_coefficients(
-    m: Float[ArrayLike, "*batch"], count: int, m1: Float[ArrayLike, "*batch"] | None = None
+    m: Float[ArrayLike, "*#batch"], count: int, m1: Float[ArrayLike, "*#batch"] | None = None
 ) -> Float[Array, "*batch count"]:
     """The Fourier coefficients aₙ, n = 1 … `count`, of cn²(Kθ/π | m) about its mean:
 
@@ -237,8 +237,14 @@ class Cnoidal(AbstractWave):
         checks.enforce([checks.Condition("Cnoidal.period", jnp.isnan(s), self.period, _NO_ROOT, too_short)])
         self.m, self.m1, self.K, self.E = _elliptic_parameter(s)
         ursell = checks.Condition(
-            "Cnoidal", self.ursell < URSELL_MINIMUM, self.ursell, "",
-            lambda: f"Cnoidal wave of Ursell number {float(self.ursell):.3g} < {URSELL_MINIMUM}: linear (Airy) theory fits better",
+            "Cnoidal",
+            self.ursell < URSELL_MINIMUM,
+            self.ursell,
+            "",
+            lambda: (
+                f"Cnoidal wave of Ursell number {float(self.ursell):.3g} < {URSELL_MINIMUM}: linear (Airy) theory fits "
+                "better"
+            ),
         )
         checks.warn([ursell], stacklevel=4)  # the caller's line, past equinox's two construction frames
 
@@ -257,7 +263,10 @@ class Cnoidal(AbstractWave):
 
     def conditions(self) -> list[checks.Condition]:
         # A period with no first-order cnoidal wave leaves m NaN.
-        return AbstractWave.conditions(self) + [self._unbroken(), checks.Condition("Cnoidal.period", jnp.isnan(self.m), self.period, _NO_ROOT)]
+        return AbstractWave.conditions(self) + [
+            self._unbroken(),
+            checks.Condition("Cnoidal.period", jnp.isnan(self.m), self.period, _NO_ROOT),
+        ]
 
     @classmethod
     def from_steepness(cls, steepness, period, depth, **kwargs) -> "Cnoidal":
@@ -288,6 +297,7 @@ class Cnoidal(AbstractWave):
         start = jax.lax.stop_gradient(jnp.maximum(_ursell_to_s(steepness * (airy_length / depth) ** 3), floor))
         s = _solve(_height_of_steepness, steepness, period_number, start)
         height = _height_of_steepness(s, steepness) * depth
+
         def problem():
             if np.isnan(s) and period_number < (minimum := _branch_minimum(_height_of_steepness, steepness, floor)):
                 return (
@@ -380,7 +390,7 @@ class Cnoidal(AbstractWave):
         return self._horizontal(du, dw)
 
     def harmonic_series(
-        self, position: Float[Array, "*batch 3"], t, count: int
+        self, position: Float[Array | np.ndarray, "*batch 3"], t, count: int
     ) -> tuple[Float[Array, "*batch"], Float[Array, "*batch 3"], Float[Array, "*batch 3"]]:
         """The elevation, velocity and local acceleration as `count` phase-locked
         harmonics (seed 004 §7.2), aₙ from [`jaxcable.cnoidal_coefficients`][]:

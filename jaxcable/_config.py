@@ -127,7 +127,9 @@ class SolverConfig(eqx.Module):
                     f"stepsize_controller={stepsize_controller!r}, give them to that controller instead"
                 )
             _check_type(
-                "stepsize_controller", stepsize_controller, diffrax.AbstractStepSizeController,
+                "stepsize_controller",
+                stepsize_controller,
+                diffrax.AbstractStepSizeController,
                 "diffrax.ConstantStepSize()",
             )
             self.stepsize_controller = stepsize_controller
@@ -141,8 +143,10 @@ class SolverConfig(eqx.Module):
 
 def _check_type(field: str, value, kind: type, example: str) -> None:
     if not isinstance(value, kind):
-        raise ValueError(f"SolverConfig.{field} must be a {kind.__module__.split('.')[0]}.{kind.__name__} "
-                         f"(such as {example}), got {value!r}")
+        raise ValueError(
+            f"SolverConfig.{field} must be a {kind.__module__.split('.')[0]}.{kind.__name__} "
+            f"(such as {example}), got {value!r}"
+        )
 
 
 def _positive(field: str, value: Float[ArrayLike, ""]) -> Float[Array, ""]:

@@ -52,7 +52,7 @@ def _agm(m, m1):
 
 
 @jax.jit
-def ellipk(m: Float[ArrayLike, "*batch"], m1: Float[ArrayLike, "*batch"] | None = None) -> Float[Array, "*batch"]:
+def ellipk(m: Float[ArrayLike, "*#batch"], m1: Float[ArrayLike, "*#batch"] | None = None) -> Float[Array, "*batch"]:
     """The complete elliptic integral of the first kind, K(m) = ∫₀^{π/2} dθ / √(1 − m sin²θ).
 
     K = π / (2 AGM(1, √m₁)).
@@ -74,7 +74,7 @@ def ellipk(m: Float[ArrayLike, "*batch"], m1: Float[ArrayLike, "*batch"] | None 
 
 @jax.jit
 def ellipke(
-    m: Float[ArrayLike, "*batch"], m1: Float[ArrayLike, "*batch"] | None = None
+    m: Float[ArrayLike, "*#batch"], m1: Float[ArrayLike, "*#batch"] | None = None
 ) -> tuple[Float[Array, "*batch"], Float[Array, "*batch"]]:
     """The complete elliptic integrals K(m) and E(m) = ∫₀^{π/2} √(1 − m sin²θ) dθ, from
     one AGM.
@@ -96,7 +96,7 @@ def ellipke(
     return k, k * (1 - total)
 
 
-def ellipe(m: Float[ArrayLike, "*batch"], m1: Float[ArrayLike, "*batch"] | None = None) -> Float[Array, "*batch"]:
+def ellipe(m: Float[ArrayLike, "*#batch"], m1: Float[ArrayLike, "*#batch"] | None = None) -> Float[Array, "*batch"]:
     """The complete elliptic integral of the second kind, E(m); arguments as for
     `ellipk`."""
     return ellipke(m, m1)[1]
@@ -104,7 +104,7 @@ def ellipe(m: Float[ArrayLike, "*batch"], m1: Float[ArrayLike, "*batch"] | None 
 
 @jax.jit
 def ellipj(
-    u: Float[ArrayLike, "*batch"], m: Float[ArrayLike, "*batch"], m1: Float[ArrayLike, "*batch"] | None = None
+    u: Float[ArrayLike, "*#batch"], m: Float[ArrayLike, "*#batch"], m1: Float[ArrayLike, "*#batch"] | None = None
 ) -> tuple[Float[Array, "*batch"], Float[Array, "*batch"], Float[Array, "*batch"]]:
     """The Jacobi elliptic functions sn(u|m), cn(u|m), dn(u|m).
 

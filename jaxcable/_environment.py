@@ -11,10 +11,12 @@ import dataclasses
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
 from ._motion import ramp_factor
+from ._typing import RealLike
 from ._waves import AbstractWave
 
 
@@ -42,12 +44,14 @@ class CurrentProfile(eqx.Module):
     speeds: Float[Array, " points"]
     heading: Float[Array, ""]
 
-    def __init__(self, heights: ArrayLike, speeds: ArrayLike, heading: ArrayLike = 0.0):
+    def __init__(self, heights: RealLike, speeds: RealLike, heading: RealLike = 0.0):
         self.heights = checks.float_array("CurrentProfile.heights", heights)
         self.speeds = checks.float_array("CurrentProfile.speeds", speeds)
         self.heading = checks.float_array("CurrentProfile.heading", heading, ())
         if self.heights.ndim != 1 or self.heights.shape[0] < 2:
-            raise ValueError(f"CurrentProfile.heights must be 1-D with at least 2 points, got shape {self.heights.shape}")
+            raise ValueError(
+                f"CurrentProfile.heights must be 1-D with at least 2 points, got shape {self.heights.shape}"
+            )
         if self.speeds.shape != self.heights.shape:
             raise ValueError(
                 f"CurrentProfile.speeds must have the shape of heights {self.heights.shape}, got {self.speeds.shape}"
@@ -64,7 +68,7 @@ class CurrentProfile(eqx.Module):
             checks.finite("CurrentProfile.heading", self.heading),
         ]
 
-    def velocity(self, position: Float[Array, "*batch 3"]) -> Float[Array, "*batch 3"]:
+    def velocity(self, position: Float[Array | np.ndarray, "*batch 3"]) -> Float[Array, "*batch 3"]:
         """The current velocity (m/s) at `position` (m)."""
         speed = jnp.interp(position[..., 2], self.heights, self.speeds)
         beta = jnp.deg2rad(self.heading)
@@ -118,7 +122,10 @@ class Seabed(eqx.Module):
 
     def conditions(self) -> list[checks.Condition]:
         """What the fields require (see [`jaxcable.Environment`][]'s)."""
-        out = [checks.finite(f"Seabed.{f}", getattr(self, f)) for f in ("stiffness", "damping", "friction", "friction_speed")]
+        out = [
+            checks.finite(f"Seabed.{f}", getattr(self, f))
+            for f in ("stiffness", "damping", "friction", "friction_speed")
+        ]
         return out + [
             checks.sign("Seabed.stiffness", self.stiffness),
             checks.sign("Seabed.damping", self.damping, allow_zero=True),
@@ -181,15 +188,15 @@ class Environment(eqx.Module):
 
     def __init__(
         self,
-        water_density: ArrayLike = 1025.0,
-        gravity: ArrayLike = 9.81,
+        water_density: RealLike = 1025.0,
+        gravity: RealLike = 9.81,
         current=(0.0, 0.0, 0.0),
         free_surface: bool = False,
         *,
-        depth: ArrayLike | None = None,
+        depth: RealLike | None = None,
         waves=(),
-        wave_ramp: ArrayLike = 0.0,
-        wave_start: ArrayLike = 0.0,
+        wave_ramp: RealLike = 0.0,
+        wave_start: RealLike = 0.0,
         seabed: Seabed | None = None,
         fluid_inertia: bool = True,
     ):
@@ -238,7 +245,11 @@ class Environment(eqx.Module):
             for field in ("depth", "gravity"):
                 mine, theirs = getattr(self, field), getattr(wave, field)
                 differ = ~jnp.isclose(mine, theirs, rtol=1e-12, atol=0.0)
-                out.append(checks.Condition(f"Environment.waves[{i}].{field}", differ, theirs, f"must equal Environment.{field}"))
+                out.append(
+                    checks.Condition(
+                        f"Environment.waves[{i}].{field}", differ, theirs, f"must equal Environment.{field}"
+                    )
+                )
         return out
 
     def conditions(self) -> list[checks.Condition]:
@@ -278,7 +289,9 @@ class Environment(eqx.Module):
         `fluid_inertia`. A steady current does not accelerate."""
         return bool(self.waves) and self.fluid_inertia
 
-    def water_velocity(self, position: Float[Array, "*batch 3"], t: Float[ArrayLike, ""]) -> Float[Array, "*batch 3"]:
+    def water_velocity(
+        self, position: Float[Array | np.ndarray, "*batch 3"], t: Float[ArrayLike, ""]
+    ) -> Float[Array, "*batch 3"]:
         """The water velocity (m/s), current plus waves, at `position` (m) and time `t` (s)."""
         if isinstance(self.current, CurrentProfile):
             velocity = self.current.velocity(position)
@@ -294,7 +307,9 @@ class Environment(eqx.Module):
             velocity = velocity + wave.velocity(position, t)
         return velocity
 
-    def water_acceleration(self, position: Float[Array, "*batch 3"], t: Float[ArrayLike, ""]) -> Float[Array, "*batch 3"]:
+    def water_acceleration(
+        self, position: Float[Array | np.ndarray, "*batch 3"], t: Float[ArrayLike, ""]
+    ) -> Float[Array, "*batch 3"]:
         """The water's local acceleration ∂u/∂t (m/s²) at `position` (m) and time `t` (s):
         the waves', through their ramp; the current is steady."""
         acceleration = jnp.zeros(jnp.shape(position))
@@ -304,7 +319,9 @@ class Environment(eqx.Module):
         ramp, rate = jax.jvp(lambda s: ramp_factor(s - self.wave_start, self.wave_ramp), (t,), (jnp.ones_like(t),))
         return ramp * acceleration + rate * self._wave_velocity(position, t)
 
-    def surface_elevation(self, x: Float[Array, "*batch"], y: Float[Array, "*batch"], t) -> Float[Array, "*batch"]:
+    def surface_elevation(
+        self, x: Float[Array | np.ndarray, "*batch"], y: Float[Array | np.ndarray, "*batch"], t
+    ) -> Float[Array, "*batch"]:
         """The surface elevation η (m) above the still-water level at `(x, y)` (m) and time
         `t` (s): the waves' sum, through their ramp."""
         eta = jnp.zeros(jnp.broadcast_shapes(jnp.shape(x), jnp.shape(y)))

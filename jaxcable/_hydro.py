@@ -10,15 +10,16 @@ same reference areas as MoorDyn's Cd (on d·l) and CdAx (on π·d·l).
 
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 # A velocity far below anything physical (m/s). Keeps |u| differentiable at u = 0,
 # where the gradient of a plain norm is NaN; the drag there is ~1e-24 N, i.e. zero.
 _TINY_SPEED = 1e-12
 
 
-def safe_norm(v: Float[Array, "... 3"]) -> Float[Array, "..."]:
+def safe_norm(v: Float[ArrayLike, "... 3"]) -> Float[Array, "..."]:
     """`|v|` along the last axis, with a finite gradient at `v = 0`."""
+    v = jnp.asarray(v)
     return jnp.sqrt(jnp.sum(v * v, axis=-1) + _TINY_SPEED**2)
 
 
@@ -29,10 +30,10 @@ def gauss_legendre(points: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def line_drag(
-    relative_velocity: Float[Array, "*batch 3"],
-    tangent: Float[Array, "*batch 3"],
-    normal_coefficient: Float[Array, "*batch"],
-    tangential_coefficient: Float[Array, "*batch"],
+    relative_velocity: Float[ArrayLike, "*#batch 3"],
+    tangent: Float[ArrayLike, "*#batch 3"],
+    normal_coefficient: Float[ArrayLike, "*#batch"],
+    tangential_coefficient: Float[ArrayLike, "*#batch"],
 ) -> Float[Array, "*batch 3"]:
     """Drag per unit length, `C_n |u_n| u_n + C_τ |u_τ| u_τ` (N/m).
 
@@ -43,6 +44,8 @@ def line_drag(
     - `normal_coefficient`: C_n = ½ ρ K_n d (kg/m²).
     - `tangential_coefficient`: C_τ = ½ ρ K_τ π d (kg/m²).
     """
+    relative_velocity, tangent = jnp.asarray(relative_velocity), jnp.asarray(tangent)
+    normal_coefficient, tangential_coefficient = jnp.asarray(normal_coefficient), jnp.asarray(tangential_coefficient)
     u_tangential = jnp.sum(relative_velocity * tangent, axis=-1, keepdims=True) * tangent
     u_normal = relative_velocity - u_tangential
     return (
@@ -52,10 +55,10 @@ def line_drag(
 
 
 def line_inertia(
-    fluid_acceleration: Float[Array, "*batch 3"],
-    tangent: Float[Array, "*batch 3"],
-    normal_coefficient: Float[Array, "*batch"],
-    tangential_coefficient: Float[Array, "*batch"],
+    fluid_acceleration: Float[ArrayLike, "*#batch 3"],
+    tangent: Float[ArrayLike, "*#batch 3"],
+    normal_coefficient: Float[ArrayLike, "*#batch"],
+    tangential_coefficient: Float[ArrayLike, "*#batch"],
 ) -> Float[Array, "*batch 3"]:
     """Morison's inertia force per unit length from the water's acceleration,
     `c_n a_n + c_τ a_τ` (N/m), split like `line_drag`.
@@ -67,18 +70,24 @@ def line_inertia(
     - `normal_coefficient`: c_n = ρ F (1 + C_a) (kg/m): Froude–Krylov plus added mass.
     - `tangential_coefficient`: c_τ = ρ F (1 + C_aτ) (kg/m).
     """
+    fluid_acceleration, tangent = jnp.asarray(fluid_acceleration), jnp.asarray(tangent)
+    normal_coefficient, tangential_coefficient = jnp.asarray(normal_coefficient), jnp.asarray(tangential_coefficient)
     a_tangential = jnp.sum(fluid_acceleration * tangent, axis=-1, keepdims=True) * tangent
-    return normal_coefficient[..., None] * (fluid_acceleration - a_tangential) + tangential_coefficient[..., None] * a_tangential
+    return (
+        normal_coefficient[..., None] * (fluid_acceleration - a_tangential)
+        + tangential_coefficient[..., None] * a_tangential
+    )
 
 
 def body_drag(
-    relative_velocity: Float[Array, "*batch 3"], coefficient: Float[Array, "*batch"]
+    relative_velocity: Float[ArrayLike, "*#batch 3"], coefficient: Float[ArrayLike, "*#batch"]
 ) -> Float[Array, "*batch 3"]:
     """Quadratic drag on a body, `c |u| u` (N).
 
     Both of jaxcable's body laws have this form: `c = ½ ρ C_D A` for form drag, and
     `c = k₀ m g` for Zhukov's specific-weight law `R = k₀ u² m g` (seed 001, eq. 3).
     """
+    relative_velocity, coefficient = jnp.asarray(relative_velocity), jnp.asarray(coefficient)
     return coefficient[..., None] * safe_norm(relative_velocity)[..., None] * relative_velocity
 
 

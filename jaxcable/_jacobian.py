@@ -35,7 +35,6 @@ import jax.numpy as jnp
 import lineax as lx
 import numpy as np
 
-from . import _checks as checks
 from ._network import CableNetwork
 
 
@@ -84,7 +83,9 @@ class NetworkJacobian(lx.AbstractLinearSolver):
         neighbours = _neighbours(n, edges)
         self.nodes = n
         self.colours = tuple(int(c) for c in _distance2_colouring(neighbours))
-        self.pairs = tuple((int(i), int(j)) for i, j in np.concatenate([np.stack([np.arange(n)] * 2, 1), edges, edges[:, ::-1]]))
+        self.pairs = tuple(
+            (int(i), int(j)) for i, j in np.concatenate([np.stack([np.arange(n)] * 2, 1), edges, edges[:, ::-1]])
+        )
         order = _reverse_cuthill_mckee(neighbours)
         position = np.argsort(order)
         bandwidth = int(np.max(np.abs(position[edges[:, 0]] - position[edges[:, 1]]))) if len(edges) else 1
@@ -137,7 +138,9 @@ class NetworkJacobian(lx.AbstractLinearSolver):
         _, (lower, inverse, coupling), layout = state
         b, groups = self.group, lower.shape[0]
         r = layout.to_nodes(vector)
-        r = jnp.concatenate([r[np.asarray(self.order, dtype=int)], jnp.zeros((groups * b - self.nodes, layout.width), r.dtype)])
+        r = jnp.concatenate(
+            [r[np.asarray(self.order, dtype=int)], jnp.zeros((groups * b - self.nodes, layout.width), r.dtype)]
+        )
         r = r.reshape(groups, -1)
 
         def forward(previous, inputs):
@@ -159,8 +162,11 @@ class NetworkJacobian(lx.AbstractLinearSolver):
 
     def transpose(self, state, options):
         (lower, diagonal, upper), _, layout = state
+
         # Block (g, g−1) of Aᵀ is block (g−1, g) of A transposed, and so on.
-        t = lambda a: jnp.swapaxes(a, -1, -2)
+        def t(a):
+            return jnp.swapaxes(a, -1, -2)
+
         zero = jnp.zeros_like(lower[:1])
         blocks = (
             jnp.concatenate([zero, t(upper[:-1])]),
@@ -187,7 +193,10 @@ class _Layout(eqx.Module):
         leaves = jax.tree.leaves(structure)
         if not leaves or any(leaf.shape[:1] != (nodes,) for leaf in leaves):
             shapes = [leaf.shape for leaf in leaves]
-            raise ValueError(f"NetworkJacobian: every unknown must have the {nodes} free nodes as its first axis, got shapes {shapes}")
+            raise ValueError(
+                f"NetworkJacobian: every unknown must have the {nodes} free nodes as its first axis, got shapes "
+                f"{shapes}"
+            )
         self.structure = structure
         self.nodes = nodes
 

@@ -54,7 +54,7 @@ _SHAPE_WEIGHTS = {
 _CG_ITERATIONS = 30
 
 
-def _scatter(model: CableNetwork, at_start: Array, at_end: Array) -> Float[Array, "nodes 3"]:
+def _scatter(model: CableNetwork, at_start: Array, at_end: Array) -> Float[Array, " nodes *trailing"]:
     """Sum per-segment arrays (of any trailing shape) onto the segments' end nodes."""
     ids = model.segment_nodes.T.reshape(-1)
     return jax.ops.segment_sum(jnp.concatenate([at_start, at_end]), ids, num_segments=model.n_nodes)
@@ -125,7 +125,7 @@ def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[
         + jnp.sum(body.mass * env.gravity * z + body_buoyancy * column_buoyancy_potential(z, body.height))
         - jnp.sum(body.force * positions)
     )
-    if env.seabed is not None:
+    if env.seabed is not None and env.depth is not None:  # a seabed comes with a depth (Environment checks)
         penetration = jnp.maximum(-env.depth - z, 0.0)
         energy = energy + 0.5 * env.seabed.stiffness * jnp.sum(contact_area(model) * penetration**2)
     return energy
@@ -157,14 +157,14 @@ def mass_per_length(model: CableNetwork, env: Environment, positions) -> Float[A
     )
 
 
-def column_submerged_fraction(z: Array, height: Array) -> Array:
+def column_submerged_fraction(z: Array | np.ndarray | float, height: Array | np.ndarray | float) -> Array:
     """The fraction below z = 0 of a vertical column of `height` h (m) centred at `z`
     (m): 1 for a point body (h = 0) wherever it is."""
     safe = jnp.where(height > 0, height, 1.0)
     return jnp.where(height > 0, jnp.clip((0.5 * safe - z) / safe, 0.0, 1.0), 1.0)
 
 
-def column_buoyancy_potential(z: Array, height: Array) -> Array:
+def column_buoyancy_potential(z: Array | np.ndarray | float, height: Array | np.ndarray | float) -> Array:
     """Φ(z) (m) with Φ' = −(submerged fraction): a column's buoyancy potential is
     ρ g V Φ(z). Φ = −z while the column is under water, is quadratic while it pierces
     the surface, and 0 once it is clear of it; a point body's Φ is −z everywhere."""
@@ -199,7 +199,9 @@ def lumped_blocks(model: CableNetwork, env: Environment, positions) -> Float[Arr
     """The 3 × 3 blocks of the lumped mass matrix (kg), shape `(nodes, 3, 3)`, whichever
     matrix the model uses: they are also the consistent solve's preconditioner."""
     blocks = _segment_blocks(model, env, positions, _SHAPE_WEIGHTS["lumped"])
-    return _scatter(model, blocks[:, 0, 0], blocks[:, 1, 1]) + _body_mass(model, env, positions)[:, None, None] * jnp.eye(3)
+    return _scatter(model, blocks[:, 0, 0], blocks[:, 1, 1]) + _body_mass(model, env, positions)[
+        :, None, None
+    ] * jnp.eye(3)
 
 
 def kinetic_energy(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, ""]:
@@ -224,7 +226,10 @@ def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, 
         # Quadrature over the submerged part [a, b] only.
         a, b = submerged_interval(positions[ends[:, 0], 2], positions[ends[:, 1], 2])
         xi, w = a[:, None] + (b - a)[:, None] * xi, (b - a)[:, None] * w
-    along = lambda field: field[ends[:, 0], None] * (1 - xi)[..., None] + field[ends[:, 1], None] * xi[..., None]
+
+    def along(field):
+        return field[ends[:, 0], None] * (1 - xi)[..., None] + field[ends[:, 1], None] * xi[..., None]
+
     points = along(positions)  # (segments, points, 3)
     relative = env.water_velocity(points, t) - along(velocities)
     normal = 0.5 * rho * line.normal_drag * line.diameter  # C_n
@@ -263,7 +268,9 @@ def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, 
     coefficient = (0.5 * rho * body.drag_area + body.specific_drag * body.organism_mass * env.gravity) * wet
     forces = forces + body_drag(env.water_velocity(positions, t) - velocities, coefficient)
     if env.has_fluid_acceleration:
-        forces = forces + (rho * body.volume * (1 + body.added_mass) * wet)[..., None] * env.water_acceleration(positions, t)
+        forces = forces + (rho * body.volume * (1 + body.added_mass) * wet)[..., None] * env.water_acceleration(
+            positions, t
+        )
     if env.seabed is not None:
         forces = forces + seabed_forces(model, env, positions, velocities)
     return forces
@@ -272,10 +279,11 @@ def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, 
 def seabed_forces(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, "nodes 3"]:
     """The seabed's damping and friction on each node (N); its spring is in
     `potential_energy`."""
-    bed = env.seabed
+    bed, depth = env.seabed, env.depth
+    assert bed is not None and depth is not None, "seabed_forces needs a seabed (which comes with a depth)"
     area = contact_area(model)
-    touching = positions[:, 2] < -env.depth
-    penetration = jnp.maximum(-env.depth - positions[:, 2], 0.0)
+    touching = positions[:, 2] < -depth
+    penetration = jnp.maximum(-depth - positions[:, 2], 0.0)
     damping = jnp.where(touching, -bed.damping * area * velocities[:, 2], 0.0)
     normal_force = bed.stiffness * area * penetration
     sliding = velocities.at[:, 2].set(0.0)
@@ -387,7 +395,10 @@ def free_accelerations(model: CableNetwork, env: Environment, t, free_positions,
             lx.FunctionLinearOperator(consistent, structure, psd),
             rhs,
             lx.CG(rtol=0.0, atol=0.0, max_steps=_CG_ITERATIONS),
-            options={"preconditioner": lx.FunctionLinearOperator(lumped_inverse, structure, psd), "y0": jax.lax.stop_gradient(a_free)},
+            options={
+                "preconditioner": lx.FunctionLinearOperator(lumped_inverse, structure, psd),
+                "y0": jax.lax.stop_gradient(a_free),
+            },
             # A non-finite state gives non-finite accelerations, which diffrax rejects
             # as a failed step, rather than an error from deep inside the solve.
             throw=False,

@@ -18,13 +18,15 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
+from ._typing import RealLike
+
 # Three-point Gauss–Legendre on [0, 1]. The smoothed elastic tension is a polynomial of
 # degree 5 inside the smoothing band, which three points integrate exactly.
 _GL3_NODES = 0.5 * (1.0 + np.array([-np.sqrt(3.0 / 5.0), 0.0, np.sqrt(3.0 / 5.0)]))
 _GL3_WEIGHTS = 0.5 * np.array([5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0])
 
 
-def slack_switch(strain: ArrayLike, width: ArrayLike) -> Array:
+def slack_switch(strain: RealLike, width: RealLike) -> Array:
     """The Heaviside factor `H(ε)` that makes a law tension-only.
 
     **Arguments:**
@@ -69,25 +71,24 @@ class AbstractTensionLaw(eqx.Module):
     def damping(self) -> Float[Array, "*segments"]:
         """C_v (N·s), the coefficient of ε̇ in the tension."""
 
-    def elastic_tension(self, strain: Float[Array, "*segments"]) -> Array:
+    def elastic_tension(self, strain: Float[ArrayLike, "*segments"]) -> Array:
         """The elastic part `(C_E ε + C_E1 ε²) H(ε)` (N)."""
         return _switched_polynomial(
-            strain, self.axial_stiffness, self.quadratic_stiffness(), self.slack_width
+            jnp.asarray(strain), self.axial_stiffness, self.quadratic_stiffness(), self.slack_width
         )
 
-    def tension(
-        self, strain: Float[Array, "*segments"], strain_rate: Float[Array, "*segments"]
-    ) -> Array:
+    def tension(self, strain: Float[ArrayLike, "*segments"], strain_rate: Float[ArrayLike, "*segments"]) -> Array:
         """The full tension `T(ε, ε̇)` (N), including damping."""
         viscous = self.damping() * strain_rate * slack_switch(strain, self.slack_width)
         return self.elastic_tension(strain) + viscous
 
-    def elastic_energy_density(self, strain: Float[Array, "*segments"]) -> Array:
+    def elastic_energy_density(self, strain: Float[ArrayLike, "*segments"]) -> Array:
         """`∫₀^ε T_e(e) de` (N, i.e. J per metre of unstretched length).
 
         Exact for both the sharp and the smoothed switch: Gauss–Legendre inside the
         smoothing band, where the integrand is a quintic, and the closed form above it.
         """
+        strain = jnp.asarray(strain)
         shape = jnp.shape(strain)
         c_e = jnp.broadcast_to(self.axial_stiffness, shape)
         c_e1 = jnp.broadcast_to(self.quadratic_stiffness(), shape)
@@ -124,7 +125,7 @@ class LinearElastic(AbstractTensionLaw):
     axial_stiffness: Float[Array, "*segments"]
     slack_width: Float[Array, "*segments"]
 
-    def __init__(self, axial_stiffness: ArrayLike, slack_width: ArrayLike = 1e-5):
+    def __init__(self, axial_stiffness: RealLike, slack_width: RealLike = 1e-5):
         self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
         self.slack_width = jnp.asarray(slack_width, dtype=float)
 
@@ -149,9 +150,7 @@ class NonlinearElastic(AbstractTensionLaw):
     quadratic_coefficient: Float[Array, "*segments"]
     slack_width: Float[Array, "*segments"]
 
-    def __init__(
-        self, axial_stiffness: ArrayLike, quadratic_stiffness: ArrayLike, slack_width: ArrayLike = 1e-5
-    ):
+    def __init__(self, axial_stiffness: RealLike, quadratic_stiffness: RealLike, slack_width: RealLike = 1e-5):
         self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
         self.quadratic_coefficient = jnp.asarray(quadratic_stiffness, dtype=float)
         self.slack_width = jnp.asarray(slack_width, dtype=float)
@@ -181,10 +180,10 @@ class KelvinVoigt(AbstractTensionLaw):
 
     def __init__(
         self,
-        axial_stiffness: ArrayLike,
-        quadratic_stiffness: ArrayLike,
-        axial_damping: ArrayLike,
-        slack_width: ArrayLike = 1e-5,
+        axial_stiffness: RealLike,
+        quadratic_stiffness: RealLike,
+        axial_damping: RealLike,
+        slack_width: RealLike = 1e-5,
     ):
         self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
         self.quadratic_coefficient = jnp.asarray(quadratic_stiffness, dtype=float)

@@ -15,6 +15,7 @@ import jax.numpy as jnp
 from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
+from ._typing import RealLike
 
 
 class AbstractMotion(eqx.Module):
@@ -44,7 +45,7 @@ def ramp_factor(t: Float[ArrayLike, ""], ramp: Float[ArrayLike, ""]) -> Float[Ar
     """The smoothstep f = u³(6u² − 15u + 10), u = t / ramp, rising from 0 at t = 0 to 1 at
     `ramp` (s) with zero first and second derivatives at both ends; 1 throughout when
     `ramp` is 0."""
-    ramped = ramp > 0
+    ramped = jnp.asarray(ramp) > 0
     u = jnp.clip(t / jnp.where(ramped, ramp, 1.0), 0.0, 1.0)
     return jnp.where(ramped, u**3 * (6 * u**2 - 15 * u + 10), 1.0)
 
@@ -81,9 +82,7 @@ class Harmonic(AbstractMotion):
     phase: Float[Array, ""]
     ramp: Float[Array, ""]
 
-    def __init__(
-        self, amplitude: ArrayLike, period: ArrayLike, direction=(1.0, 0.0, 0.0), phase=0.0, ramp=0.0
-    ):
+    def __init__(self, amplitude: RealLike, period: RealLike, direction=(1.0, 0.0, 0.0), phase=0.0, ramp=0.0):
         direction = checks.float_array("Harmonic.direction", direction)
         if direction.shape != (3,):
             raise ValueError(f"Harmonic.direction must have shape (3,), got {direction.shape}")
@@ -132,7 +131,7 @@ class Sampled(AbstractMotion):
     displacements: Float[Array, "samples 3"]
     curvatures: Float[Array, "samples 3"]
 
-    def __init__(self, times: ArrayLike, displacements: ArrayLike):
+    def __init__(self, times: RealLike, displacements: RealLike):
         times = checks.float_array("Sampled.times", times)
         displacements = checks.float_array("Sampled.displacements", displacements)
         if times.ndim != 1 or times.shape[0] < 2:
@@ -206,7 +205,7 @@ class Towing(AbstractMotion):
     direction: Float[Array, "3"]
     distances: Float[Array, " samples"]
 
-    def __init__(self, times: ArrayLike, speeds: ArrayLike, direction=(1.0, 0.0, 0.0)):
+    def __init__(self, times: RealLike, speeds: RealLike, direction=(1.0, 0.0, 0.0)):
         times = checks.float_array("Towing.times", times)
         if times.ndim != 1 or times.shape[0] < 2:
             raise ValueError(f"Towing.times must be 1-D with at least 2 samples, got shape {times.shape}")

@@ -15,11 +15,12 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, ArrayLike, Float, Int
+from jaxtyping import Array, Float, Int
 
 from . import _checks as checks
 from ._materials import AbstractTensionLaw
 from ._motion import AbstractMotion
+from ._typing import RealLike
 
 MASS_MATRICES = ("consistent", "lumped")
 
@@ -55,31 +56,25 @@ class LineType(eqx.Module):
 
     def __init__(
         self,
-        mass_per_length: ArrayLike,
-        diameter: ArrayLike,
+        mass_per_length: RealLike,
+        diameter: RealLike,
         tension_law: AbstractTensionLaw,
-        area: ArrayLike | None = None,
-        normal_drag: ArrayLike = 1.2,
-        tangential_drag: ArrayLike = 0.008,
-        normal_added_mass: ArrayLike = 1.0,
-        tangential_added_mass: ArrayLike = 0.0,
+        area: RealLike | None = None,
+        normal_drag: RealLike = 1.2,
+        tangential_drag: RealLike = 0.008,
+        normal_added_mass: RealLike = 1.0,
+        tangential_added_mass: RealLike = 0.0,
     ):
         if not isinstance(tension_law, AbstractTensionLaw):
             raise ValueError(f"LineType.tension_law must be a jaxcable tension law, got {tension_law!r}")
         self.mass_per_length = checks.float_array("LineType.mass_per_length", mass_per_length)
         self.diameter = checks.float_array("LineType.diameter", diameter)
-        self.area = (
-            jnp.pi * self.diameter**2 / 4
-            if area is None
-            else checks.float_array("LineType.area", area)
-        )
+        self.area = jnp.pi * self.diameter**2 / 4 if area is None else checks.float_array("LineType.area", area)
         self.tension_law = tension_law
         self.normal_drag = checks.float_array("LineType.normal_drag", normal_drag)
         self.tangential_drag = checks.float_array("LineType.tangential_drag", tangential_drag)
         self.normal_added_mass = checks.float_array("LineType.normal_added_mass", normal_added_mass)
-        self.tangential_added_mass = checks.float_array(
-            "LineType.tangential_added_mass", tangential_added_mass
-        )
+        self.tangential_added_mass = checks.float_array("LineType.tangential_added_mass", tangential_added_mass)
         checks.enforce(self.conditions())
 
     def conditions(self) -> list[checks.Condition]:
@@ -88,7 +83,10 @@ class LineType(eqx.Module):
         law = self.tension_law
         out = []
         for name in ("mass_per_length", "diameter", "area"):
-            out += [checks.finite(f"LineType.{name}", getattr(self, name)), checks.sign(f"LineType.{name}", getattr(self, name))]
+            out += [
+                checks.finite(f"LineType.{name}", getattr(self, name)),
+                checks.sign(f"LineType.{name}", getattr(self, name)),
+            ]
         for name in ("normal_drag", "tangential_drag", "normal_added_mass", "tangential_added_mass"):
             value = getattr(self, name)
             out += [checks.finite(f"LineType.{name}", value), checks.sign(f"LineType.{name}", value, allow_zero=True)]
@@ -141,14 +139,14 @@ class Body(eqx.Module):
 
     def __init__(
         self,
-        mass: ArrayLike = 0.0,
-        volume: ArrayLike = 0.0,
-        drag_area: ArrayLike = 0.0,
-        specific_drag: ArrayLike = 0.0,
-        organism_mass: ArrayLike | None = None,
-        added_mass: ArrayLike = 0.0,
-        force: ArrayLike = (0.0, 0.0, 0.0),
-        height: ArrayLike = 0.0,
+        mass: RealLike = 0.0,
+        volume: RealLike = 0.0,
+        drag_area: RealLike = 0.0,
+        specific_drag: RealLike = 0.0,
+        organism_mass: RealLike | None = None,
+        added_mass: RealLike = 0.0,
+        force: RealLike = (0.0, 0.0, 0.0),
+        height: RealLike = 0.0,
     ):
         self.mass = checks.float_array("Body.mass", mass)
         self.volume = checks.float_array("Body.volume", volume)
@@ -290,9 +288,9 @@ class CableNetwork(eqx.Module):
 
     def __init__(
         self,
-        node_positions: ArrayLike,
-        segment_nodes: ArrayLike,
-        segment_length: ArrayLike,
+        node_positions: RealLike,
+        segment_nodes: RealLike,
+        segment_length: RealLike,
         line: LineType,
         constraints: Mapping[int, AbstractMotion],
         bodies: Mapping[int, Body] | None = None,
@@ -306,9 +304,7 @@ class CableNetwork(eqx.Module):
 
         self.node_positions = checks.float_array("CableNetwork.node_positions", node_positions)
         if self.node_positions.ndim != 2 or self.node_positions.shape[1] != 3:
-            raise ValueError(
-                f"CableNetwork.node_positions must have shape (nodes, 3), got {self.node_positions.shape}"
-            )
+            raise ValueError(f"CableNetwork.node_positions must have shape (nodes, 3), got {self.node_positions.shape}")
         n_nodes = self.node_positions.shape[0]
 
         edges = np.asarray(segment_nodes)
@@ -389,7 +385,7 @@ class CableNetwork(eqx.Module):
     @classmethod
     def from_branches(
         cls,
-        junctions: ArrayLike,
+        junctions: RealLike,
         branches: Sequence[Branch],
         constraints: Mapping[int, AbstractMotion],
         bodies: Mapping[int, Body] | None = None,
@@ -426,9 +422,7 @@ class CableNetwork(eqx.Module):
             for name in ("start", "end"):
                 k = getattr(branch, name)
                 if not 0 <= k < junctions.shape[0]:
-                    raise ValueError(
-                        f"branches[{b}].{name} = {k} is out of range for {junctions.shape[0]} junctions"
-                    )
+                    raise ValueError(f"branches[{b}].{name} = {k} is out of range for {junctions.shape[0]} junctions")
             checks.positive(f"branches[{b}].length", checks.float_array(f"branches[{b}].length", branch.length))
             n = branch.segments
             start, end = np.asarray(junctions[branch.start]), np.asarray(junctions[branch.end])

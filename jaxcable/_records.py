@@ -104,8 +104,7 @@ def _factor(unit: str, dimension: str | None, subject: str, where: str = "") -> 
     if entry[0] != dimension:
         raise _error(
             where,
-            f"unit {unit!r} of {subject} is a unit of {entry[0]}, not {dimension}; "
-            f"known units of {dimension}: {known}",
+            f"unit {unit!r} of {subject} is a unit of {entry[0]}, not {dimension}; known units of {dimension}: {known}",
         )
     return entry[1]
 
@@ -248,9 +247,7 @@ class TowingRecord:
                 raise _error(where, f"unknown column {name!r}; known columns: {known}")
             array = _float_array(values, f"column {name!r}", where)
             if array.shape != times.shape:
-                raise _error(
-                    where, f"column {name!r} has shape {array.shape}, but times has shape {times.shape}"
-                )
+                raise _error(where, f"column {name!r} has shape {array.shape}, but times has shape {times.shape}")
             _check_array_finite(array, f"column {name!r}", where)
             columns[name] = array
         conditions = {key: _condition(key, value, where) for key, value in self.conditions.items()}

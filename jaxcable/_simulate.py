@@ -6,16 +6,16 @@ import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import numpy as np
-import optimistix as optx
-from jaxtyping import Array, ArrayLike, Float
+from jaxtyping import Array, Float
 
-from . import _checks as checks, _lagrangian as lag
+from . import _checks as checks
+from . import _lagrangian as lag
 from ._config import SolverConfig
 from ._environment import Environment
 from ._jacobian import with_network_jacobian
 from ._network import CableNetwork
 from ._state import State
+from ._typing import RealLike, RealScalarLike
 
 
 class SimulationResult(eqx.Module):
@@ -93,10 +93,10 @@ def terms_for(solver: diffrax.AbstractSolver) -> diffrax.AbstractTerm:
 def simulate(
     model: CableNetwork,
     env: Environment,
-    t1: float,
+    t1: RealScalarLike,
     *,
-    t0: float = 0.0,
-    ts: ArrayLike | None = None,
+    t0: RealScalarLike = 0.0,
+    ts: RealLike | None = None,
     initial: State | None = None,
     solver: SolverConfig | None = None,
     progress: bool = False,
@@ -142,7 +142,10 @@ def simulate(
     """
     t0, t1 = jnp.asarray(t0, dtype=float), jnp.asarray(t1, dtype=float)
     later = checks.Condition(
-        "simulate: t1", ~(t1 > t0), t1, "must be greater than t0",
+        "simulate: t1",
+        ~(t1 > t0),
+        t1,
+        "must be greater than t0",
         lambda: f"simulate: t1 must be greater than t0, got t0={float(t0)}, t1={float(t1)}",
     )
     t1 = checks.check(t1, [later])
@@ -154,8 +157,7 @@ def simulate(
     initial_velocities = jnp.zeros_like(initial_positions) if initial is None else initial.velocities
     if initial_positions.shape != model.node_positions.shape:
         raise ValueError(
-            f"simulate: initial.positions must have shape {model.node_positions.shape}, "
-            f"got {initial_positions.shape}"
+            f"simulate: initial.positions must have shape {model.node_positions.shape}, got {initial_positions.shape}"
         )
     # Constructors checked concrete inputs; a model built or edited (`eqx.tree_at`)
     # with other values, or traced, is checked here, so that a bad value is named
@@ -215,9 +217,7 @@ def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, thro
     )
 
     def outputs(t, free_positions, free_velocities):
-        _, positions, velocities, accelerations = lag.free_accelerations(
-            model, env, t, free_positions, free_velocities
-        )
+        _, positions, velocities, accelerations = lag.free_accelerations(model, env, t, free_positions, free_velocities)
         _, _, strain = lag.segment_geometry(model, positions)
         return (
             positions,
@@ -227,16 +227,24 @@ def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, thro
             lag.reactions(model, env, t, positions, velocities, accelerations),
         )
 
+    # The solve saves at `ts` (SaveAt(ts=...)), so diffrax returns both.
+    assert solution.ts is not None and solution.ys is not None
     positions, velocities, strain, tension, reactions = jax.vmap(outputs)(solution.ts, *solution.ys)
     # An adaptive controller rejects non-finite steps, but a fixed step (beyond the
     # method's stability limit) carries them to the end as a "successful" solve.
     finite = jnp.all(jnp.isfinite(positions)) & jnp.all(jnp.isfinite(velocities))
-    result = diffrax.RESULTS.where(finite | (solution.result != diffrax.RESULTS.successful), solution.result, diffrax.RESULTS.nonfinite)
+    result = diffrax.RESULTS.where(
+        finite | (solution.result != diffrax.RESULTS.successful),
+        solution.result,
+        # pyright takes an equinox Enumeration's members for literals, not for instances of it.
+        diffrax.RESULTS.nonfinite,  # pyright: ignore[reportArgumentType]
+    )
     if throw:
         tension = eqx.error_if(
             tension,
             result == diffrax.RESULTS.nonfinite,
-            "simulate: the state became non-finite (with a fixed step, the step is beyond the method's stability limit)",
+            "simulate: the state became non-finite (with a fixed step, the step is beyond the method's stability "
+            "limit)",
         )
     stats = {k: solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
     return SimulationResult(solution.ts, positions, velocities, strain, tension, reactions, stats, result)

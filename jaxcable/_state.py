@@ -4,6 +4,7 @@ Tension and strain are pure functions of (model, state); see `_lagrangian`.
 """
 
 import equinox as eqx
+import numpy as np
 from jaxtyping import Array, Float
 
 
@@ -14,5 +15,5 @@ class State(eqx.Module):
     always follow their motions.
     """
 
-    positions: Float[Array, "nodes 3"]
-    velocities: Float[Array, "nodes 3"]
+    positions: Float[Array | np.ndarray, "nodes 3"]
+    velocities: Float[Array | np.ndarray, "nodes 3"]

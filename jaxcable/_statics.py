@@ -6,10 +6,12 @@ import jax.numpy as jnp
 import optimistix as optx
 from jaxtyping import Array, Float, Int
 
-from . import _checks as checks, _lagrangian as lag
+from . import _checks as checks
+from . import _lagrangian as lag
 from ._environment import Environment
 from ._network import CableNetwork, check_held
 from ._state import State
+from ._typing import RealScalarLike
 
 
 class StaticSolution(eqx.Module):
@@ -42,7 +44,7 @@ def solve_statics(
     model: CableNetwork,
     env: Environment,
     *,
-    t: float = 0.0,
+    t: RealScalarLike = 0.0,
     initial: State | None = None,
     rtol: float = 1e-10,
     atol: float = 1e-10,
@@ -141,7 +143,9 @@ def _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance, t
     # guess with no stiffness at all; only a small force residual means equilibrium.
     # Conversely a small residual is equilibrium even where contact's kinks kept its
     # steps from vanishing.
-    result = optx.RESULTS.where(remaining <= force_tolerance, optx.RESULTS.successful, optx.RESULTS.nonlinear_divergence)
+    result = optx.RESULTS.where(
+        remaining <= force_tolerance, optx.RESULTS.successful, optx.RESULTS.nonlinear_divergence
+    )
     if throw:
         remaining = eqx.error_if(
             remaining,

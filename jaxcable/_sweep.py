@@ -25,11 +25,12 @@ from typing import Any
 import diffrax
 import equinox as eqx
 import jax
+import jax.core
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
-from jaxtyping import Array, ArrayLike, Bool, Float
+from jaxtyping import Array, Bool, Float
 
 from . import _checks as checks
 from ._config import SolverConfig
@@ -38,6 +39,7 @@ from ._network import CableNetwork
 from ._simulate import SimulationResult, _simulate, as_config, for_model
 from ._state import State
 from ._statics import StaticSolution, solve_statics
+from ._typing import RealLike
 
 INITIAL_STATES = ("statics", "rest")
 
@@ -126,7 +128,7 @@ class SweepResult(eqx.Module):
         return "\n".join(lines)
 
 
-def sweep_grid(**axes: ArrayLike) -> dict[str, np.ndarray]:
+def sweep_grid(**axes: RealLike) -> dict[str, np.ndarray]:
     """The Cartesian product of parameter axes, as the flat arrays [`jaxcable.sweep`][]
     takes.
 
@@ -159,14 +161,14 @@ def sweep_grid(**axes: ArrayLike) -> dict[str, np.ndarray]:
 
 def sweep(
     build: Callable[..., tuple[CableNetwork, Environment]],
-    parameters: Mapping[str, ArrayLike],
+    parameters: Mapping[str, RealLike],
     t1: float,
     *,
     t0: float = 0.0,
-    ts: ArrayLike | None = None,
+    ts: RealLike | None = None,
     initial: str | State = "statics",
     solver: SolverConfig | None = None,
-    devices: Sequence[jax.Device] | None = None,
+    devices: Sequence[jax.Device] | None = None,  # pyright: ignore[reportInvalidTypeForm]  (jax.Device is an alias of jaxlib's class)
 ) -> SweepResult:
     """Simulate one model over a batch of parameter values, in one compiled solve.
 
@@ -263,7 +265,9 @@ def sweep(
     if ts.ndim != 1 or ts.size == 0:
         raise ValueError(f"sweep: ts must be a non-empty 1-D array, got shape {ts.shape}")
     if not (ts[0] >= t0 and ts[-1] <= t1 and np.all(np.diff(ts) >= 0)):
-        raise ValueError(f"sweep: ts must be increasing and lie within [t0, t1] = [{t0}, {t1}], got [{ts[0]}, {ts[-1]}]")
+        raise ValueError(
+            f"sweep: ts must be increasing and lie within [t0, t1] = [{t0}, {t1}], got [{ts[0]}, {ts[-1]}]"
+        )
     if isinstance(initial, str):
         checks.option("sweep: initial", initial, INITIAL_STATES)
     elif not isinstance(initial, State):
@@ -374,15 +378,15 @@ def _run(per_case, shared, mode, mesh):
             simulation,
             [jnp.where(ok, getattr(simulation, a), jnp.inf) for a in arrays],
         )
-        failure = diffrax.RESULTS.nonfinite_input
+        # pyright takes an equinox Enumeration's members for literals, not for instances of it.
+        failure: diffrax.RESULTS = diffrax.RESULTS.nonfinite_input  # pyright: ignore[reportAssignmentType]
         if statics is not None:
             failure = diffrax.RESULTS.where(valid, diffrax.RESULTS.promote(statics.result), failure)
             # An invalid case's statics are its substitute's: not to be read as its own.
             floats, rest = eqx.partition(statics, eqx.is_inexact_array)
             statics = eqx.combine(jax.tree.map(lambda x: jnp.where(valid, x, jnp.inf), floats), rest)
-            statics = eqx.tree_at(
-                lambda s: s.result, statics, optx.RESULTS.where(valid, statics.result, optx.RESULTS.nonfinite_input)
-            )
+            invalid: optx.RESULTS = optx.RESULTS.nonfinite_input  # pyright: ignore[reportAssignmentType]  (as above)
+            statics = eqx.tree_at(lambda s: s.result, statics, optx.RESULTS.where(valid, statics.result, invalid))
         result = diffrax.RESULTS.where(ok, simulation.result, failure)
         simulation = eqx.tree_at(lambda s: s.result, simulation, result)
         return simulation, statics, simulation.result == diffrax.RESULTS.successful
@@ -412,7 +416,7 @@ def _status(simulation: SimulationResult, statics: StaticSolution | None, invali
             lines.append(invalid[i])
             continue
         if statics is not None:
-            static_result = jax.tree.map(lambda x: np.asarray(x[i]), statics.result)
+            static_result = jax.tree.map(lambda x: np.asarray(x[i]), statics.result)  # noqa: B023 (called within this iteration)
             if static_result != optx.RESULTS.successful:
                 lines.append(
                     f"statics failed: {optx.RESULTS[static_result]} The largest force left on a free "
@@ -420,7 +424,7 @@ def _status(simulation: SimulationResult, statics: StaticSolution | None, invali
                     "shapes, or pass a State from solve_statics."
                 )
                 continue
-        case_result = jax.tree.map(lambda x: np.asarray(x[i]), result)
+        case_result = jax.tree.map(lambda x: np.asarray(x[i]), result)  # noqa: B023 (called within this iteration)
         if case_result == diffrax.RESULTS.successful:
             lines.append("successful")
         else:
@@ -472,14 +476,12 @@ def _check_keywords(build, values) -> None:
         signature.bind(**values)
     except TypeError as e:
         accepted = [
-            p.name for p in signature.parameters.values()
-            if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
+            p.name for p in signature.parameters.values() if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
         ]
         unknown = [k for k in values if k not in accepted]
         if unknown and not any(p.kind == p.VAR_KEYWORD for p in signature.parameters.values()):
             raise ValueError(
-                f"sweep: parameter {unknown[0]!r} is not a keyword of build{signature}; "
-                f"it takes {accepted}"
+                f"sweep: parameter {unknown[0]!r} is not a keyword of build{signature}; it takes {accepted}"
             ) from e
         raise ValueError(f"sweep: build{signature} cannot be called with parameters {list(values)}: {e}") from e
 
@@ -526,6 +528,7 @@ def _culprits(build, values) -> str:
     first = {k: float(v[0]) for k, v in values.items()}
     names = []
     for name, value in values.items():
+
         def alone(x, name=name):
             return jax.tree.leaves(build(**{**first, name: x}))
 

@@ -36,6 +36,7 @@ from ._network import Body, CableNetwork, LineType
 from ._simulate import SimulationResult, simulate
 from ._state import State
 from ._statics import solve_statics
+from ._typing import RealLike
 
 COEFFICIENTS = {
     "normal_drag": "K_n (–), the cable's normal drag coefficient",
@@ -123,7 +124,7 @@ def _replace(module, values: Mapping, fields: Mapping[str, str]):
     """`module` with `module.<fields[name]> = values[name]` for each name present."""
     for name, field in fields.items():
         if name in values:
-            module = eqx.tree_at(lambda m: getattr(m, field), module, jnp.asarray(values[name], dtype=float))
+            module = eqx.tree_at(lambda m: getattr(m, field), module, jnp.asarray(values[name], dtype=float))  # noqa: B023 (called within this iteration)
     return module
 
 
@@ -186,21 +187,21 @@ class HorizontalTow(AbstractTowingRig):
 
     def __init__(
         self,
-        cable_length: ArrayLike = 200.0,
-        cable_diameter: ArrayLike = 0.0173,
-        cable_mass_per_length: ArrayLike = 1.21,
-        cable_axial_stiffness: ArrayLike = 1.4e7,
-        cable_axial_damping: ArrayLike = 2.1e4,
-        normal_drag: ArrayLike = 1.2,
-        tangential_drag: ArrayLike = 0.01,
-        cable_added_mass: ArrayLike = 1.0,
-        end_mass: ArrayLike = 400.0,
-        end_volume: ArrayLike = 0.06,
-        end_drag_area: ArrayLike = 0.4,
-        end_added_mass: ArrayLike = 1.0,
-        tow_depth: ArrayLike = 0.0,
-        water_density: ArrayLike = 1025.0,
-        gravity: ArrayLike = 9.81,
+        cable_length: RealLike = 200.0,
+        cable_diameter: RealLike = 0.0173,
+        cable_mass_per_length: RealLike = 1.21,
+        cable_axial_stiffness: RealLike = 1.4e7,
+        cable_axial_damping: RealLike = 2.1e4,
+        normal_drag: RealLike = 1.2,
+        tangential_drag: RealLike = 0.01,
+        cable_added_mass: RealLike = 1.0,
+        end_mass: RealLike = 400.0,
+        end_volume: RealLike = 0.06,
+        end_drag_area: RealLike = 0.4,
+        end_added_mass: RealLike = 1.0,
+        tow_depth: RealLike = 0.0,
+        water_density: RealLike = 1025.0,
+        gravity: RealLike = 9.81,
         segments: int = 10,
     ):
         if not (isinstance(segments, int) and segments >= 1):
@@ -382,26 +383,26 @@ class VerticalTow(AbstractTowingRig):
 
     def __init__(
         self,
-        leader_lift: ArrayLike = 200.0,
-        leader_mass: ArrayLike = 10.0,
-        leader_drag_area: ArrayLike = 0.02,
-        leader_added_mass: ArrayLike = 0.2,
-        element_mass: ArrayLike = 25.0,
-        element_volume: ArrayLike = 0.012,
-        organism_mass: ArrayLike = 20.0,
-        specific_drag: ArrayLike = 0.5,
-        element_drag_area: ArrayLike = 0.0,
-        element_added_mass: ArrayLike = 1.0,
-        tether_length: ArrayLike = 3.0,
-        tether_diameter: ArrayLike = 0.008,
-        tether_mass_per_length: ArrayLike = 0.05,
-        tether_axial_stiffness: ArrayLike = 2.0e5,
-        tether_axial_damping: ArrayLike = 5.0e3,
-        tether_normal_drag: ArrayLike = 1.2,
-        tether_tangential_drag: ArrayLike = 0.01,
-        start_depth: ArrayLike = 30.0,
-        water_density: ArrayLike = 1025.0,
-        gravity: ArrayLike = 9.81,
+        leader_lift: RealLike = 200.0,
+        leader_mass: RealLike = 10.0,
+        leader_drag_area: RealLike = 0.02,
+        leader_added_mass: RealLike = 0.2,
+        element_mass: RealLike = 25.0,
+        element_volume: RealLike = 0.012,
+        organism_mass: RealLike = 20.0,
+        specific_drag: RealLike = 0.5,
+        element_drag_area: RealLike = 0.0,
+        element_added_mass: RealLike = 1.0,
+        tether_length: RealLike = 3.0,
+        tether_diameter: RealLike = 0.008,
+        tether_mass_per_length: RealLike = 0.05,
+        tether_axial_stiffness: RealLike = 2.0e5,
+        tether_axial_damping: RealLike = 5.0e3,
+        tether_normal_drag: RealLike = 1.2,
+        tether_tangential_drag: RealLike = 0.01,
+        start_depth: RealLike = 30.0,
+        water_density: RealLike = 1025.0,
+        gravity: RealLike = 9.81,
         segments: int = 1,
     ):
         if not (isinstance(segments, int) and segments >= 1):
@@ -494,7 +495,9 @@ class VerticalTow(AbstractTowingRig):
         )
 
     def with_coefficients(self, values):
-        return eqx.tree_at(lambda rig: rig.element, self, _replace(self.element, values, {"specific_drag": "specific_drag"}))
+        return eqx.tree_at(
+            lambda rig: rig.element, self, _replace(self.element, values, {"specific_drag": "specific_drag"})
+        )
 
     def network(self) -> CableNetwork:
         """The free network at release: the element at node 0, the leader at the top

@@ -15,19 +15,21 @@ import abc
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-from jaxtyping import Array, ArrayLike, Float
+import numpy as np
+from jaxtyping import Array, Float
 
 from . import _checks as checks
+from ._typing import RealLike, RealScalarLike
 
 
-def seed003_amplitude(period: ArrayLike = 5.6, gravity: ArrayLike = 9.81) -> Array:
+def seed003_amplitude(period: RealScalarLike = 5.6, gravity: RealScalarLike = 9.81) -> Array:
     """Seed 003's wave amplitude law, `A = 0.085 (g T² / 2π)^0.75` (m).
 
     Bezverkhyy & Korniienko use it for the amplitude of a floating object's motion
     at wave period `period` T (s), 5.6 s in their study; `g T² / 2π` is the deep-water
     wavelength (m).
     """
-    return 0.085 * (gravity * jnp.square(period) / (2 * jnp.pi)) ** 0.75
+    return 0.085 * (jnp.square(period) * gravity / (2 * jnp.pi)) ** 0.75
 
 
 def _check_wave(name: str, height, period, depth, gravity, heading, phase):
@@ -79,15 +81,17 @@ class AbstractWave(eqx.Module):
         """The crest's elevation η_c (m) above the still-water level."""
 
     @abc.abstractmethod
-    def elevation(self, x: Float[Array, "*batch"], y: Float[Array, "*batch"], t) -> Float[Array, "*batch"]:
+    def elevation(
+        self, x: Float[Array | np.ndarray, "*batch"], y: Float[Array | np.ndarray, "*batch"], t
+    ) -> Float[Array, "*batch"]:
         """The surface elevation η (m) above the still-water level at `(x, y)` (m) and
         time `t` (s)."""
 
     @abc.abstractmethod
-    def velocity(self, position: Float[Array, "*batch 3"], t) -> Float[Array, "*batch 3"]:
+    def velocity(self, position: Float[Array | np.ndarray, "*batch 3"], t) -> Float[Array, "*batch 3"]:
         """The water velocity (m/s) at `position` (m), shape `(..., 3)`, and time `t` (s)."""
 
-    def acceleration(self, position: Float[Array, "*batch 3"], t) -> Float[Array, "*batch 3"]:
+    def acceleration(self, position: Float[Array | np.ndarray, "*batch 3"], t) -> Float[Array, "*batch 3"]:
         """The local acceleration ∂u/∂t (m/s²) at a fixed `position` (m) and time `t` (s).
 
         Morison's inertia force uses the local acceleration, as is common practice (and
@@ -116,7 +120,7 @@ class AbstractWave(eqx.Module):
         return jnp.stack([speed * jnp.cos(beta), speed * jnp.sin(beta), vertical], axis=-1)
 
 
-def airy_wavenumber(period: ArrayLike, depth: ArrayLike, gravity: ArrayLike = 9.81) -> Array:
+def airy_wavenumber(period: RealLike, depth: RealLike, gravity: RealScalarLike = 9.81) -> Array:
     """The wavenumber k (1/m) of the linear dispersion relation ω² = g k tanh(k d).
 
     Starts from Guo's (2002) explicit approximation, within 0.75 % everywhere, and
@@ -207,7 +211,7 @@ class Airy(AbstractWave):
     def crest(self) -> Float[Array, ""]:
         return 0.5 * self.height
 
-    def stokes_drift(self, z: ArrayLike) -> Float[Array, "*z"]:
+    def stokes_drift(self, z: RealLike) -> Float[Array, "*z"]:
         """The Stokes drift (m/s) along the heading at mean depth `z` (m, ≤ 0): the mean
         speed of a water particle, to second order in the steepness,
 

@@ -11,16 +11,34 @@ fit against known values.
 
 from ._calibrate import (
     calibration_solver as calibration_solver,
+)
+from ._calibrate import (
     default_optimizer as default_optimizer,
+)
+from ._calibrate import (
     synthetic_record as synthetic_record,
 )
 from ._towing import (
     COEFFICIENTS as COEFFICIENTS,
+)
+from ._towing import (
     RIGS as RIGS,
+)
+from ._towing import (
     AbstractTowingRig as AbstractTowingRig,
+)
+from ._towing import (
     HorizontalTow as HorizontalTow,
+)
+from ._towing import (
     TowingRun as TowingRun,
+)
+from ._towing import (
     VerticalTow as VerticalTow,
+)
+from ._towing import (
     rig_from_conditions as rig_from_conditions,
+)
+from ._towing import (
     rig_solver as rig_solver,
 )

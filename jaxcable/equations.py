@@ -9,8 +9,14 @@ laws, and the stiffest axial mode that limits an explicit step.
 from ._advice import stiffest_axial_mode as stiffest_axial_mode
 from ._lagrangian import (
     generalised_forces as generalised_forces,
+)
+from ._lagrangian import (
     kinetic_energy as kinetic_energy,
+)
+from ._lagrangian import (
     potential_energy as potential_energy,
+)
+from ._lagrangian import (
     tension as tension,
 )
 from ._materials import slack_switch as slack_switch

@@ -107,16 +107,14 @@ def plot_calibration(result: "CalibrationResult", path: str | Path | None = None
     plt = _pyplot()
     names = [k for k in _OBSERVABLES if any(k in p for p in result.predictions)]
     rows, columns = len(result.records) + 1, max(len(names), 2)
-    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 2.6 * rows), layout="constrained",
-                                squeeze=False)
+    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 2.6 * rows), layout="constrained", squeeze=False)
     for row, (record, predicted) in enumerate(zip(result.records, result.predictions)):
         for column in range(columns):
             ax = axes[row, column]
             if column < len(names) and names[column] in record.columns and names[column] not in predicted:
                 # An input, such as a horizontal tow's speed: what drove the test.
                 label, factor = _OBSERVABLES[names[column]]
-                ax.plot(record.times, record.columns[names[column]] * factor, color="0.3", linewidth=1.2,
-                        label="input")
+                ax.plot(record.times, record.columns[names[column]] * factor, color="0.3", linewidth=1.2, label="input")
                 ax.set_ylabel(f"tow {label}")
                 ax.set_title(record.name or f"record {row}", fontsize="small")
                 ax.grid(True, alpha=0.3)
@@ -125,8 +123,14 @@ def plot_calibration(result: "CalibrationResult", path: str | Path | None = None
                 ax.axis("off")
                 continue
             label, factor = _OBSERVABLES[names[column]]
-            ax.plot(record.times, record.columns[names[column]] * factor, ".", markersize=2.5, color="0.55",
-                    label="measured")
+            ax.plot(
+                record.times,
+                record.columns[names[column]] * factor,
+                ".",
+                markersize=2.5,
+                color="0.55",
+                label="measured",
+            )
             ax.plot(record.times, predicted[names[column]] * factor, color="tab:red", linewidth=1.2, label="fitted")
             ax.set_ylabel(label)
             ax.set_title(record.name or f"record {row}", fontsize="small")

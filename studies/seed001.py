@@ -304,7 +304,12 @@ def plot_free(study: FreeStudy, cases=(0, 2, 4), axes=None):
         _, axes = plt.subplots(1, 2, figsize=(11, 3.5), gridspec_kw={"width_ratios": [2, 1]})
     for i in cases:
         path = study.positions[i] - study.positions[i, 0]
-        axes[0].plot(path[:, 0], path[:, 2], lw=0.8, label=f"k₀ = {study.specific_drag[i]:g} s²/m², St = {study.inertia_number[i]:.2g}")
+        axes[0].plot(
+            path[:, 0],
+            path[:, 2],
+            lw=0.8,
+            label=f"k₀ = {study.specific_drag[i]:g} s²/m², St = {study.inertia_number[i]:.2g}",
+        )
     axes[0].set(xlabel="x − x₀ (m), the wave travels →", ylabel="z − z₀ (m)", title="free element, from rest")
     axes[0].set_aspect("equal")
     axes[0].legend(fontsize=7, loc="lower right")
@@ -452,9 +457,11 @@ def verdict_markdown(free: FreeStudy, tethered: TetheredStudy, cage: TetheredStu
         ),
         (
             "At high weight characteristic ρ there are regions where the tether never goes slack",
-            "never slack for ρ ≥ " + (f"{taut_from:g}" if taut_from is not None else "(none in the study)")
+            "never slack for ρ ≥ "
+            + (f"{taut_from:g}" if taut_from is not None else "(none in the study)")
             + f" at k₀ = {tethered.specific_drag:g} s²/m²; the cage (k₀ = {cage.specific_drag:g} s²/m²) "
-            + "never slack for ρ ≥ " + (f"{never_slack_from(cage):g}" if never_slack_from(cage) is not None else "–"),
+            + "never slack for ρ ≥ "
+            + (f"{never_slack_from(cage):g}" if never_slack_from(cage) is not None else "–"),
             "yes" if taut_from is not None else "no",
             "a heavy element's weight exceeds the drag the rising water can exert on it",
         ),

@@ -20,6 +20,7 @@ import time
 import numpy as np
 
 from jaxcable import State, simulate
+from jaxcable.examples import seed003_amplitude
 from jaxcable.examples.seed002 import (
     STEP_DURATION,
     STEP_TIME,
@@ -29,7 +30,6 @@ from jaxcable.examples.seed002 import (
     steady_tow,
     towed_trawl,
 )
-from jaxcable.examples import seed003_amplitude
 from jaxcable.examples.seed003 import ADDED_MASS, AXIAL_STIFFNESS, MASS_PER_LENGTH
 
 # Study sizes: the notebook's default and the tests run SMALL, the benchmark FULL. `end`
@@ -242,7 +242,7 @@ def series_snaps(
     `(times, segments)`; all by default), with its snap: the largest tension within
     `within` seconds after the spell ends. A segment is slack at or below
     `SLACK_TENSION`; a spell still going at the end is left out. `settled`
-    is the segment's mean tension over the last `settle` seconds. """
+    is the segment's mean tension over the last `settle` seconds."""
     segments = range(tension.shape[1]) if segments is None else segments
     window = times >= after
     t = times[window]
@@ -405,81 +405,110 @@ def verdict_rows(runs: dict[str, TrawlRun]) -> list[tuple[str, str, str, str]]:
     tow = levels(rise, rise.at("tow point"))
     share = jump / (tow.mean_after - tow.mean_before)
     settle = settling_time(rise)
-    rows.append((
-        "After a speed step the tension rises in stages, then settles smoothly (Fig. 7, 1 → 3 m/s)",
-        f"at the tow point a first stage of {jump / 1e3:.1f} kN within 0.13 s ({100 * share:.0f} % of the rise "
-        f"{tow.mean_before / 1e3:.1f} → {tow.mean_after / 1e3:.1f} kN): the axial wave, whose height Z Δv cos θ = "
-        f"{predicted_e / 1e3:.2f} kN the elastic cable matches ({jump_e / 1e3:.2f} kN); a damped swing, then a smooth "
-        f"climb, 90 % of the way {settle:.0f} s after the step",
-        "yes" if share > 0.3 and settle > 10 else "partly",
-        "the stage is the elastic front of the step; the smooth part is the trawl speeding up against its drag",
-    ))
+    rows.append(
+        (
+            "After a speed step the tension rises in stages, then settles smoothly (Fig. 7, 1 → 3 m/s)",
+            f"at the tow point a first stage of {jump / 1e3:.1f} kN within 0.13 s ({100 * share:.0f} % of the rise "
+            f"{tow.mean_before / 1e3:.1f} → {tow.mean_after / 1e3:.1f} kN): the axial wave, whose height Z Δv cos θ = "
+            f"{predicted_e / 1e3:.2f} kN the elastic cable matches ({jump_e / 1e3:.2f} kN); a damped swing, then a "
+            "smooth "
+            f"climb, 90 % of the way {settle:.0f} s after the step",
+            "yes" if share > 0.3 and settle > 10 else "partly",
+            "the stage is the elastic front of the step; the smooth part is the trawl speeding up against its drag",
+        )
+    )
 
     buoy = levels(waves, waves.at("buoy"))
     above = buoy.mean_after / buoy.mean_before
-    rows.append((
-        "At the buoy attachment (1 → 4 m/s in waves) the mean first rises strongly, then settles slightly "
-        "above its old level, with a much larger amplitude",
-        f"one-period mean {buoy.mean_before / 1e3:.1f} → peak {buoy.peak_mean / 1e3:.1f} → {buoy.mean_after / 1e3:.1f} kN "
-        f"({above:.2f}× the old level); range {buoy.range_before / 1e3:.1f} → {buoy.range_after / 1e3:.1f} kN",
-        "yes" if buoy.peak_mean > 1.2 * buoy.mean_before and 1 <= above < 1.3 and buoy.range_after > 1.5 * buoy.range_before else "partly",
-        f"measured: the branch point rises from z = {depth(waves, 'branch').mean_before:.0f} to "
-        f"{depth(waves, 'branch').mean_after:.0f} m and the buoy's mean z goes {depth(waves, 'buoy').mean_before:+.2f} → "
-        f"{depth(waves, 'buoy').mean_after:+.2f} m; the paper's buoy and vehicle are not given, so the levels "
-        "cannot be matched",
-    ))
+    rows.append(
+        (
+            "At the buoy attachment (1 → 4 m/s in waves) the mean first rises strongly, then settles slightly "
+            "above its old level, with a much larger amplitude",
+            f"one-period mean {buoy.mean_before / 1e3:.1f} → peak {buoy.peak_mean / 1e3:.1f} → "
+            f"{buoy.mean_after / 1e3:.1f} kN "
+            f"({above:.2f}× the old level); range {buoy.range_before / 1e3:.1f} → {buoy.range_after / 1e3:.1f} kN",
+            "yes"
+            if buoy.peak_mean > 1.2 * buoy.mean_before
+            and 1 <= above < 1.3
+            and buoy.range_after > 1.5 * buoy.range_before
+            else "partly",
+            f"measured: the branch point rises from z = {depth(waves, 'branch').mean_before:.0f} to "
+            f"{depth(waves, 'branch').mean_after:.0f} m and the buoy's mean z goes "
+            f"{depth(waves, 'buoy').mean_before:+.2f} → "
+            f"{depth(waves, 'buoy').mean_after:+.2f} m; the paper's buoy and vehicle are not given, so the levels "
+            "cannot be matched",
+        )
+    )
 
     t_tow, t_div = levels(waves, waves.at("tow point")), levels(waves, waves.at("diverter"))
     grows = [lv.mean_after > lv.mean_before and lv.range_after > lv.range_before for lv in (t_tow, t_div)]
-    rows.append((
-        "At the tow point and at the diverter attachment both the mean tension and its range grow with speed",
-        f"tow point: mean {t_tow.mean_before / 1e3:.1f} → {t_tow.mean_after / 1e3:.1f} kN, range "
-        f"{t_tow.range_before / 1e3:.2f} → {t_tow.range_after / 1e3:.2f} kN; diverter: mean {t_div.mean_before / 1e3:.1f} → "
-        f"{t_div.mean_after / 1e3:.1f} kN, range {t_div.range_before / 1e3:.2f} → {t_div.range_after / 1e3:.2f} kN",
-        "yes" if all(grows) else ("partly" if any(grows) else "no"),
-        "the diverter's range does not grow, though the diverter rises from z = "
-        f"{depth(waves, 'diverter').mean_before:.0f} to {depth(waves, 'diverter').mean_after:.0f} m, nearer the waves: "
-        "measured, not explained here" if not grows[1] else "",
-    ))
+    rows.append(
+        (
+            "At the tow point and at the diverter attachment both the mean tension and its range grow with speed",
+            f"tow point: mean {t_tow.mean_before / 1e3:.1f} → {t_tow.mean_after / 1e3:.1f} kN, range "
+            f"{t_tow.range_before / 1e3:.2f} → {t_tow.range_after / 1e3:.2f} kN; diverter: mean "
+            f"{t_div.mean_before / 1e3:.1f} → "
+            f"{t_div.mean_after / 1e3:.1f} kN, range {t_div.range_before / 1e3:.2f} → {t_div.range_after / 1e3:.2f} kN",
+            "yes" if all(grows) else ("partly" if any(grows) else "no"),
+            "the diverter's range does not grow, though the diverter rises from z = "
+            f"{depth(waves, 'diverter').mean_before:.0f} to {depth(waves, 'diverter').mean_after:.0f} m, nearer the "
+            "waves: "
+            "measured, not explained here"
+            if not grows[1]
+            else "",
+        )
+    )
 
     width = {name: sweep_width(runs[name]) for name in ("rise 1→2", "rise 1→3", "rise 1→4, waves")}
-    rows.append((
-        "The diverters' sweep narrows (Fig. 10, 1 → 4 m/s)",
-        "distance between the diverters " + ", ".join(f"{b:.0f} → {a:.0f} m ({n})" for n, (b, a) in width.items()),
-        "yes" if all(a < b for b, a in width.values()) else "no",
-        "F₀ is fixed while the drag on the sweep branches grows as the speed squared",
-    ))
+    rows.append(
+        (
+            "The diverters' sweep narrows (Fig. 10, 1 → 4 m/s)",
+            "distance between the diverters " + ", ".join(f"{b:.0f} → {a:.0f} m ({n})" for n, (b, a) in width.items()),
+            "yes" if all(a < b for b, a in width.values()) else "no",
+            "F₀ is fixed while the drag on the sweep branches grows as the speed squared",
+        )
+    )
 
     def jerk_text(run):
         peak, level = jerk(run)
         return f"{peak / 1e3:.1f} kN, {peak / level:.2f}× the level after"
 
     first_fall = _first_snap(fall)
-    rows.append((
-        "Snap loads come both when the speed rises and when it falls",
-        f"rise 1 → 3: the tow point jerks to {jerk_text(rise)}; 1 → 4 in waves {jerk_text(waves)}; "
-        f"no segment goes slack (elastic cable: {_spells(snaps(elastic))} near the branch point). "
-        f"Fall 3 → 1: the tow cable goes slack ({_spells(snaps(fall))}, from t = {first_fall.slack_from:.2f} s) "
-        f"and snaps taut to {jerk_text(fall)}" if first_fall else "fall 3 → 1: no slack",
-        "yes" if first_fall and jerk(rise)[0] > 1.2 * jerk(rise)[1] else "partly",
-        "a rise loads the cable at once by its impedance times the step; a fall unloads it to slack, "
-        "and the trawl's momentum snaps it taut",
-    ))
+    rows.append(
+        (
+            "Snap loads come both when the speed rises and when it falls",
+            f"rise 1 → 3: the tow point jerks to {jerk_text(rise)}; 1 → 4 in waves {jerk_text(waves)}; "
+            f"no segment goes slack (elastic cable: {_spells(snaps(elastic))} near the branch point). "
+            f"Fall 3 → 1: the tow cable goes slack ({_spells(snaps(fall))}, from t = {first_fall.slack_from:.2f} s) "
+            f"and snaps taut to {jerk_text(fall)}"
+            if first_fall
+            else "fall 3 → 1: no slack",
+            "yes" if first_fall and jerk(rise)[0] > 1.2 * jerk(rise)[1] else "partly",
+            "a rise loads the cable at once by its impedance times the step; a fall unloads it to slack, "
+            "and the trawl's momentum snaps it taut",
+        )
+    )
 
     peaks = {n: jerk(runs[n])[0] for n in ("rise 1→3", "rise 1→3, elastic", "fall 3→1", "fall 3→1, elastic")}
-    ring = [(ringing(e, "tow point", STEP_TIME + 1, STEP_TIME + 5), ringing(v, "tow point", STEP_TIME + 1, STEP_TIME + 5))
-            for e, v in ((elastic, rise), (fall_elastic, fall))]
+    ring = [
+        (ringing(e, "tow point", STEP_TIME + 1, STEP_TIME + 5), ringing(v, "tow point", STEP_TIME + 1, STEP_TIME + 5))
+        for e, v in ((elastic, rise), (fall_elastic, fall))
+    ]
     cut = [1 - peaks["rise 1→3"] / peaks["rise 1→3, elastic"], 1 - peaks["fall 3→1"] / peaks["fall 3→1, elastic"]]
-    rows.append((
-        "Viscoelasticity (C_v = 0.02 C_E) barely changes the first snap but smooths the later ones",
-        f"first peak at the tow point, elastic → viscoelastic: rise {peaks['rise 1→3, elastic'] / 1e3:.1f} → "
-        f"{peaks['rise 1→3'] / 1e3:.1f} kN, fall {peaks['fall 3→1, elastic'] / 1e3:.1f} → {peaks['fall 3→1'] / 1e3:.1f} kN "
-        f"({100 * cut[0]:.0f} and {100 * cut[1]:.0f} % lower); the ringing 1–5 s after, rms "
-        f"{ring[0][0] / 1e3:.2f} → {ring[0][1] / 1e3:.3f} kN (rise) and {ring[1][0] / 1e3:.2f} → {ring[1][1] / 1e3:.3f} kN (fall)",
-        "yes" if max(cut) < 0.1 and all(v < 0.2 * e for e, v in ring) else "partly",
-        "the later vibrations are smoothed as the paper says; the first peak is cut by a quarter, not barely: "
-        "the 0.02 s retardation time is as long as the step itself, so it damps the front's edge too",
-    ))
+    rows.append(
+        (
+            "Viscoelasticity (C_v = 0.02 C_E) barely changes the first snap but smooths the later ones",
+            f"first peak at the tow point, elastic → viscoelastic: rise {peaks['rise 1→3, elastic'] / 1e3:.1f} → "
+            f"{peaks['rise 1→3'] / 1e3:.1f} kN, fall {peaks['fall 3→1, elastic'] / 1e3:.1f} → "
+            f"{peaks['fall 3→1'] / 1e3:.1f} kN "
+            f"({100 * cut[0]:.0f} and {100 * cut[1]:.0f} % lower); the ringing 1–5 s after, rms "
+            f"{ring[0][0] / 1e3:.2f} → {ring[0][1] / 1e3:.3f} kN (rise) and {ring[1][0] / 1e3:.2f} → "
+            f"{ring[1][1] / 1e3:.3f} kN (fall)",
+            "yes" if max(cut) < 0.1 and all(v < 0.2 * e for e, v in ring) else "partly",
+            "the later vibrations are smoothed as the paper says; the first peak is cut by a quarter, not barely: "
+            "the 0.02 s retardation time is as long as the step itself, so it damps the front's edge too",
+        )
+    )
 
     d2, d4 = depth(slow_waves), depth(waves)
     # Draw-down is how far the buoy is pulled under: its mean z falling.
@@ -489,17 +518,19 @@ def verdict_rows(runs: dict[str, TrawlRun]) -> list[tuple[str, str, str, str]]:
         d4.range_after < d4.range_before,
         d4.mean_after < d4.mean_before,
     ]
-    rows.append((
-        "The buoy's heave (Fig. 9, in waves): at 1 → 2 m/s its amplitude and its draw-down both decrease; "
-        "at 1 → 4 m/s the amplitude decreases but the draw-down increases",
-        f"heave range / mean z: 1 → 2 {d2.range_before:.2f} → {d2.range_after:.2f} m / {d2.mean_before:+.3f} → "
-        f"{d2.mean_after:+.3f} m; 1 → 4 {d4.range_before:.2f} → {d4.range_after:.2f} m / {d4.mean_before:+.3f} → "
-        f"{d4.mean_after:+.3f} m (wave height {wave_height():.2f} m); "
-        f"calm 1 → 2: mean z {depth(slow).mean_before:+.3f} → {depth(slow).mean_after:+.3f} m",
-        "yes" if all(holds) else ("partly" if any(holds) else "no"),
-        f"{sum(holds)} of the 4 trends hold; wet up to the wave's surface, the buoy heaves "
-        f"{d4.range_before / wave_height():.2f}× the wave height before the step",
-    ))
+    rows.append(
+        (
+            "The buoy's heave (Fig. 9, in waves): at 1 → 2 m/s its amplitude and its draw-down both decrease; "
+            "at 1 → 4 m/s the amplitude decreases but the draw-down increases",
+            f"heave range / mean z: 1 → 2 {d2.range_before:.2f} → {d2.range_after:.2f} m / {d2.mean_before:+.3f} → "
+            f"{d2.mean_after:+.3f} m; 1 → 4 {d4.range_before:.2f} → {d4.range_after:.2f} m / {d4.mean_before:+.3f} → "
+            f"{d4.mean_after:+.3f} m (wave height {wave_height():.2f} m); "
+            f"calm 1 → 2: mean z {depth(slow).mean_before:+.3f} → {depth(slow).mean_after:+.3f} m",
+            "yes" if all(holds) else ("partly" if any(holds) else "no"),
+            f"{sum(holds)} of the 4 trends hold; wet up to the wave's surface, the buoy heaves "
+            f"{d4.range_before / wave_height():.2f}× the wave height before the step",
+        )
+    )
     return rows
 
 

@@ -38,13 +38,14 @@ from jaxcable.examples.seed002_net import (
     VISCOUS_RATIO,
     WATER_DEPTH,
     WAVE_PERIOD,
+    anchor_node,
     branch_segments,
     buoy_node,
     corner_node,
-    anchor_node,
     fig5_segments,
     moored_net,
 )
+
 from .seed002 import SLACK_TENSION, Snap, series_snaps
 
 # Study sizes. `segments`: upper, lower, row side, diagonal (`moored_net`); `end`: the
@@ -54,9 +55,7 @@ from .seed002 import SLACK_TENSION, Snap, series_snaps
 # so the measured periods are sampled at 2 kHz: at 200 Hz the largest sample of a spike
 # was whichever sample happened to fall on it.
 SMALL = dict(segments=(1, 2, 2, 1), viscous=True, end=7 * WAVE_PERIOD, periods=4, rate=20.0, dense=2000.0)
-FULL = dict(
-    segments=(2, 4, 4, 3), viscous=True, end=120.0, periods=5, rate=20.0, dense=2000.0, max_steps=4_000_000
-)
+FULL = dict(segments=(2, 4, 4, 3), viscous=True, end=120.0, periods=5, rate=20.0, dense=2000.0, max_steps=4_000_000)
 BUOYS = tuple(range(1, N_BUOYS + 1))
 PLACES = ("under buoy", "above junction", "below junction", "near anchor")
 # A slack spell ends in a snap where the tension then peaks (within
@@ -126,14 +125,21 @@ def run_net(config: dict = SMALL, pretension: float = PRETENSION, progress: bool
     statics_time = time.perf_counter() - clock
     end = float(config["end"])
     start = end - config["periods"] * WAVE_PERIOD
-    ts = np.concatenate([
-        np.arange(0.0, start - 0.5 / config["rate"], 1.0 / config["rate"]),
-        np.linspace(start, end, int(round((end - start) * config["dense"])) + 1),
-    ])
+    ts = np.concatenate(
+        [
+            np.arange(0.0, start - 0.5 / config["rate"], 1.0 / config["rate"]),
+            np.linspace(start, end, int(round((end - start) * config["dense"])) + 1),
+        ]
+    )
     clock = time.perf_counter()
     result = simulate(
-        model, env, end, ts=ts, initial=statics.state,
-        solver=SolverConfig(max_steps=config.get("max_steps", 1_000_000)), progress=progress,
+        model,
+        env,
+        end,
+        ts=ts,
+        initial=statics.state,
+        solver=SolverConfig(max_steps=config.get("max_steps", 1_000_000)),
+        progress=progress,
     )
     wall = time.perf_counter() - clock
     junctions = slice(0, HUB + 1)
@@ -147,10 +153,12 @@ def run_net(config: dict = SMALL, pretension: float = PRETENSION, progress: bool
         still_tension=np.asarray(statics.tension),
         places=fig5_segments(model, 2),
         branches={
-            b: np.concatenate([
-                branch_segments(model, buoy_node(b), corner_node(b)),
-                branch_segments(model, corner_node(b), anchor_node(b)),
-            ])
+            b: np.concatenate(
+                [
+                    branch_segments(model, buoy_node(b), corner_node(b)),
+                    branch_segments(model, corner_node(b), anchor_node(b)),
+                ]
+            )
             for b in BUOYS
         },
         steps=int(result.stats["num_steps"]),
@@ -412,52 +420,72 @@ def verdict_rows(run: NetRun) -> list[tuple[str, str, str, str]]:
     waves = [wave_phase(b, run.still) for b in BUOYS]
     behind = max(abs(np.degrees(_wrap(np.radians(x - w)))) for x, w in zip(phases, waves))
     differ = [max(amplitudes) > 1.2 * min(amplitudes), max(abs(x) for x in phases) > 30.0]
-    rows.append((
-        "The buoys heave with different amplitudes and phases (Fig. 4)",
-        f"over {span}: heave amplitude " + ", ".join(f"{a:.2f}" for a in amplitudes) + " m (buoys 1–4; "
-        f"the wave's {_wave_amplitude():.2f} m), phase from buoy 1 " + ", ".join(_degrees(x) for x in phases)
-        + "; mean height " + ", ".join(f"{h[b].sink:+.2f}" for b in BUOYS) + " m from still water",
-        _grade(sum(differ), 2),
-        "the phases follow the wave's own at each buoy, −k Δx = " + ", ".join(_degrees(w) for w in waves)
-        + f", to within {behind:.0f}°; the amplitudes differ though the wave's is the same at all four",
-    ))
+    rows.append(
+        (
+            "The buoys heave with different amplitudes and phases (Fig. 4)",
+            f"over {span}: heave amplitude " + ", ".join(f"{a:.2f}" for a in amplitudes) + " m (buoys 1–4; "
+            f"the wave's {_wave_amplitude():.2f} m), phase from buoy 1 "
+            + ", ".join(_degrees(x) for x in phases)
+            + "; mean height "
+            + ", ".join(f"{h[b].sink:+.2f}" for b in BUOYS)
+            + " m from still water",
+            _grade(sum(differ), 2),
+            "the phases follow the wave's own at each buoy, −k Δx = "
+            + ", ".join(_degrees(w) for w in waves)
+            + f", to within {behind:.0f}°; the amplitudes differ though the wave's is the same at all four",
+        )
+    )
 
     gap = abs(np.degrees(_wrap(np.radians(h[2].phase - h[4].phase))))
     spread = abs(h[2].amplitude - h[4].amplitude) / max(h[2].amplitude, h[4].amplitude)
-    rows.append((
-        "Buoys 2 and 4 heave in phase",
-        f"amplitudes {h[2].amplitude:.3f} and {h[4].amplitude:.3f} m, phases {h[2].phase:+.1f}° and "
-        f"{h[4].phase:+.1f}° from buoy 1",
-        "yes" if gap < 1.0 and spread < 0.01 else "no",
-        "the scene is mirror-symmetric about the waves' vertical plane y = 0, in which they run",
-    ))
+    rows.append(
+        (
+            "Buoys 2 and 4 heave in phase",
+            f"amplitudes {h[2].amplitude:.3f} and {h[4].amplitude:.3f} m, phases {h[2].phase:+.1f}° and "
+            f"{h[4].phase:+.1f}° from buoy 1",
+            "yes" if gap < 1.0 and spread < 0.01 else "no",
+            "the scene is mirror-symmetric about the waves' vertical plane y = 0, in which they run",
+        )
+    )
 
     on_axis = all(abs(d[b].across) < 0.05 * max(abs(d[b].along), 0.01) for b in (1, 3))
     forward = all(d[b].along > 0.05 for b in (1, 3))
     most = all(abs(d[1].along) >= abs(d[b].along) for b in BUOYS)
     order = sorted(BUOYS, key=lambda b: -abs(d[b].along))
-    rows.append((
-        "Buoys 1 and 3 drift only along the wave direction, buoy 1 the most",
-        f"mean offsets along the waves (x) {d[1].along:+.2f} m (buoy 1) and {d[3].along:+.2f} m (buoy 3), "
-        f"across {_signed(d[1].across)} and {_signed(d[3].across)} m; buoys 2 and 4 {d[2].along:+.2f} m along; "
-        f"still changing by {max(abs(d[b].rate) for b in BUOYS):.3f} m a period or less",
-        _grade(on_axis + forward + most, 3),
-        "they stay on the x axis, by the mirror symmetry, and move "
-        + ("downwave" if forward else "not both downwave")
-        + ("" if most else "; but buoy 1 drifts the least of the four: largest to smallest, buoys "
-           + ", ".join(map(str, order))),
-    ))
+    rows.append(
+        (
+            "Buoys 1 and 3 drift only along the wave direction, buoy 1 the most",
+            f"mean offsets along the waves (x) {d[1].along:+.2f} m (buoy 1) and {d[3].along:+.2f} m (buoy 3), "
+            f"across {_signed(d[1].across)} and {_signed(d[3].across)} m; buoys 2 and 4 {d[2].along:+.2f} m along; "
+            f"still changing by {max(abs(d[b].rate) for b in BUOYS):.3f} m a period or less",
+            _grade(on_axis + forward + most, 3),
+            "they stay on the x axis, by the mirror symmetry, and move "
+            + ("downwave" if forward else "not both downwave")
+            + (
+                ""
+                if most
+                else "; but buoy 1 drifts the least of the four: largest to smallest, buoys "
+                + ", ".join(map(str, order))
+            ),
+        )
+    )
 
     along_24 = all(d[b].along > 0.05 for b in (2, 4))
     inward_24 = all(d[b].inward > max(0.05, 0.1 * abs(d[b].along)) for b in (2, 4))
-    rows.append((
-        "Buoys 2 and 4 drift along the wave direction and are pulled toward the centre",
-        f"mean offsets along the waves {d[2].along:+.2f} and {d[4].along:+.2f} m, toward the centre "
-        f"{d[2].inward:+.3f} and {d[4].inward:+.3f} m",
-        _grade(along_24 + inward_24, 2),
-        ("downwave" if along_24 else "not downwave")
-        + (", and inward" if inward_24 else ", and inward by less than a tenth of that (criterion: 5 cm and a tenth)"),
-    ))
+    rows.append(
+        (
+            "Buoys 2 and 4 drift along the wave direction and are pulled toward the centre",
+            f"mean offsets along the waves {d[2].along:+.2f} and {d[4].along:+.2f} m, toward the centre "
+            f"{d[2].inward:+.3f} and {d[4].inward:+.3f} m",
+            _grade(along_24 + inward_24, 2),
+            ("downwave" if along_24 else "not downwave")
+            + (
+                ", and inward"
+                if inward_24
+                else ", and inward by less than a tenth of that (criterion: 5 cm and a tenth)"
+            ),
+        )
+    )
 
     snapping = [name for name in PLACES if p[name].snaps]
     taut = [name for name in PLACES if not p[name].spells]
@@ -466,19 +494,27 @@ def verdict_rows(run: NetRun) -> list[tuple[str, str, str, str]]:
         place = p[name]
         text = f"{name} {place.min / 1e3:.2f}–{place.max / 1e3:.1f} kN (mean {place.mean / 1e3:.1f})"
         if place.spells:
-            text += (f", slack {len(place.spells)}× in {run.config['periods']} periods for up to "
-                     f"{place.longest:.2f} s, snaps to {place.peak / 1e3:.1f} kN")
+            text += (
+                f", slack {len(place.spells)}× in {run.config['periods']} periods for up to "
+                f"{place.longest:.2f} s, snaps to {place.peak / 1e3:.1f} kN"
+            )
         return text
 
-    rows.append((
-        "Snap loads (slack, then a spike) on all parts of the vertical branch under buoy 2 "
-        "(Fig. 5's four places)",
-        f"over {span}: " + "; ".join(describe(name) for name in PLACES),
-        _grade(len(snapping), len(PLACES)),
-        f"slack, then a spike above {SNAP_RATIO}× the mean, at {len(snapping)} of the 4 places"
-        + (f"; {', '.join(taut)}: never slack, the least tension "
-           + ", ".join(f"{p[n].min / 1e3:.2f}" for n in taut) + " kN" if taut else ""),
-    ))
+    rows.append(
+        (
+            "Snap loads (slack, then a spike) on all parts of the vertical branch under buoy 2 (Fig. 5's four places)",
+            f"over {span}: " + "; ".join(describe(name) for name in PLACES),
+            _grade(len(snapping), len(PLACES)),
+            f"slack, then a spike above {SNAP_RATIO}× the mean, at {len(snapping)} of the 4 places"
+            + (
+                f"; {', '.join(taut)}: never slack, the least tension "
+                + ", ".join(f"{p[n].min / 1e3:.2f}" for n in taut)
+                + " kN"
+                if taut
+                else ""
+            ),
+        )
+    )
 
     upper = max(p[n].max_smoothed for n in PLACES[:2])
     lower = max(p[n].max_smoothed for n in PLACES[2:])
@@ -494,21 +530,34 @@ def verdict_rows(run: NetRun) -> list[tuple[str, str, str, str]]:
     drop = anchor[j] / max(anchor[min(j + 1, anchor.size - 1)], 1e-9)
     snaps_upper = all(p[n].snaps for n in PLACES[:2])
     dt = float(np.median(np.diff(run.times[run.last_periods()])))
-    rows.append((
-        "The upper part's jerk is somewhat smaller than the lower part's (the weight of the freely "
-        "hanging part)",
-        f"largest tension over {1e3 * SMOOTH:.0f} ms, upper part {upper / 1e3:.1f} kN, lower {lower / 1e3:.1f} kN "
-        f"({ratio:.2f}×); in single {1e3 * dt:.1f} ms samples "
-        + ", ".join(f"{p[n].max / 1e3:.1f}" for n in PLACES) + f" kN from the buoy down ({raw:.2f}×)",
-        "yes" if 0.6 <= ratio < 0.98 and snaps_upper else ("partly" if 0.6 <= ratio < 1.0 else "no"),
-        ("somewhat smaller" if 0.6 <= ratio < 0.98 else "about as large" if 0.98 <= ratio < 1.02 else
-         "much smaller (criterion for somewhat: 0.6–0.98×)" if ratio < 0.6 else "larger")
-        + (f"; all four places peak within {1e3 * (max(lags) - min(lags)):.1f} ms of each other, as the "
-           f"segment near the anchor snaps taut: one spike along the branch; near the anchor it falls "
-           f"{drop:.1f}-fold from its highest sample to the next, so the samples' heights depend on the "
-           "sampling" if together else "")
-        + ("" if snaps_upper else "; the upper part's peaks follow no slack spell of its own"),
-    ))
+    rows.append(
+        (
+            "The upper part's jerk is somewhat smaller than the lower part's (the weight of the freely hanging part)",
+            f"largest tension over {1e3 * SMOOTH:.0f} ms, upper part {upper / 1e3:.1f} kN, lower {lower / 1e3:.1f} kN "
+            f"({ratio:.2f}×); in single {1e3 * dt:.1f} ms samples "
+            + ", ".join(f"{p[n].max / 1e3:.1f}" for n in PLACES)
+            + f" kN from the buoy down ({raw:.2f}×)",
+            "yes" if 0.6 <= ratio < 0.98 and snaps_upper else ("partly" if 0.6 <= ratio < 1.0 else "no"),
+            (
+                "somewhat smaller"
+                if 0.6 <= ratio < 0.98
+                else "about as large"
+                if 0.98 <= ratio < 1.02
+                else "much smaller (criterion for somewhat: 0.6–0.98×)"
+                if ratio < 0.6
+                else "larger"
+            )
+            + (
+                f"; all four places peak within {1e3 * (max(lags) - min(lags)):.1f} ms of each other, as the "
+                f"segment near the anchor snaps taut: one spike along the branch; near the anchor it falls "
+                f"{drop:.1f}-fold from its highest sample to the next, so the samples' heights depend on the "
+                "sampling"
+                if together
+                else ""
+            )
+            + ("" if snaps_upper else "; the upper part's peaks follow no slack spell of its own"),
+        )
+    )
 
     spells = branch_spells(run)
     window = run.last_periods()
@@ -517,16 +566,26 @@ def verdict_rows(run: NetRun) -> list[tuple[str, str, str, str]]:
         means = dict(zip(run.branches[b], run.tension[window][:, run.branches[b]].mean(axis=0)))
         snapped[b] = [x for x in spells[b] if x.peak > SNAP_RATIO * means[x.segment]]
     slack_buoys = [b for b in BUOYS if spells[b]]
-    rows.append((
-        "The same picture on every vertical branch whenever its tension drops to zero",
-        "slack spells on the vertical branches under buoys 1–4: " + ", ".join(str(len(spells[b])) for b in BUOYS)
-        + f"; of them ending in a spike above {SNAP_RATIO}× the segment's mean: "
-        + ", ".join(str(len(snapped[b])) for b in BUOYS),
-        _grade(sum(len(snapped[b]) == len(spells[b]) for b in slack_buoys), len(slack_buoys)) if slack_buoys else "no",
-        ("only the branches under buoys " + ", ".join(map(str, slack_buoys)) + " go slack; spells under 10 ms: "
-         + ", ".join(str(sum(x.slack_to - x.slack_from < 0.01 for x in spells[b])) for b in BUOYS))
-        if slack_buoys else "no vertical branch goes slack",
-    ))
+    rows.append(
+        (
+            "The same picture on every vertical branch whenever its tension drops to zero",
+            "slack spells on the vertical branches under buoys 1–4: "
+            + ", ".join(str(len(spells[b])) for b in BUOYS)
+            + f"; of them ending in a spike above {SNAP_RATIO}× the segment's mean: "
+            + ", ".join(str(len(snapped[b])) for b in BUOYS),
+            _grade(sum(len(snapped[b]) == len(spells[b]) for b in slack_buoys), len(slack_buoys))
+            if slack_buoys
+            else "no",
+            (
+                "only the branches under buoys "
+                + ", ".join(map(str, slack_buoys))
+                + " go slack; spells under 10 ms: "
+                + ", ".join(str(sum(x.slack_to - x.slack_from < 0.01 for x in spells[b])) for b in BUOYS)
+            )
+            if slack_buoys
+            else "no vertical branch goes slack",
+        )
+    )
     return rows
 
 

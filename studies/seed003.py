@@ -277,7 +277,9 @@ def _sweep_build(angles, n_segments, axial_stiffness, mass_matrix, slack_width, 
         i = jnp.argmin(jnp.abs(angle_table - angle_degrees))
         model, env = eqx.combine(jax.tree.map(lambda v, x: x[i] if v else x, varying, table), rest)
         law = model.line.tension_law
-        model = eqx.tree_at(lambda m: m.line.tension_law.quadratic_coefficient, model, quadratic_ratio * law.axial_stiffness)
+        model = eqx.tree_at(
+            lambda m: m.line.tension_law.quadratic_coefficient, model, quadratic_ratio * law.axial_stiffness
+        )
         return model, env
 
     return build, lines
@@ -389,7 +391,7 @@ def seed003_study(
                 )
             )
         if verbose:
-            peaks = ", ".join(f"{c.peak_top / 1e3:.1f}" for c in cases[-len(statics):])
+            peaks = ", ".join(f"{c.peak_top / 1e3:.1f}" for c in cases[-len(statics) :])
             where = f"α = {group[0]:g}°" if len(group) == 1 else f"α = {', '.join(f'{a:g}' for a in group)}°"
             print(f"{where}, C_E = {axial_stiffness:.0e} N: {elapsed:.1f} s, top peaks (kN) {peaks}", flush=True)
     settings = {
@@ -519,19 +521,24 @@ def verdict(study, key: str = "peak_top_N") -> dict:
 def table_markdown(study: Seed003Study) -> str:
     """The results table as markdown (kN, seconds)."""
     out = [
-        "| α | C_E1/C_E | static top (kN) | peak top (kN) | min top (kN) | peak anchor (kN) | peak on line (kN) | slack top (s) | slack top (%) | steps | ok |",
+        "| α | C_E1/C_E | static top (kN) | peak top (kN) | min top (kN) | peak anchor (kN) | peak on line (kN) | "
+        "slack top (s) | slack top (%) | steps | ok |",
         "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for c in study.cases:
         out.append(
-            f"| {c.angle:g}° | {c.ratio:g} | {c.static_tension[-1] / 1e3:.1f} | {c.peak_top / 1e3:.1f} | {c.min_top / 1e3:.2f} "
-            f"| {c.peak_anchor / 1e3:.1f} | {c.peak_line / 1e3:.1f} | {c.slack_seconds:.2f} | {100 * c.slack_fraction:.1f} "
+            f"| {c.angle:g}° | {c.ratio:g} | {c.static_tension[-1] / 1e3:.1f} | {c.peak_top / 1e3:.1f} | "
+            f"{c.min_top / 1e3:.2f} "
+            f"| {c.peak_anchor / 1e3:.1f} | {c.peak_line / 1e3:.1f} | {c.slack_seconds:.2f} | "
+            f"{100 * c.slack_fraction:.1f} "
             f"| {c.steps} | {'yes' if c.success else 'NO'} |"
         )
     return "\n".join(out)
 
 
-def plot_histories(study: Seed003Study, angle: float, ratios: Sequence[float] | None = None, ax=None, which: str = "top"):
+def plot_histories(
+    study: Seed003Study, angle: float, ratios: Sequence[float] | None = None, ax=None, which: str = "top"
+):
     """Tension (10⁴ N, as the paper's axes) over the window at one angle, one curve per ratio."""
     import matplotlib.pyplot as plt
 
@@ -576,9 +583,7 @@ def seed003_stiffness_dependence(
 ) -> dict[float, Seed003Study]:
     """The key comparisons (`ratios` at every angle) at each C_E in `axial_stiffnesses`:
     one `seed003_study` per C_E, with `config` passed on."""
-    return {
-        float(c_e): seed003_study(angles, ratios, axial_stiffness=c_e, **config) for c_e in axial_stiffnesses
-    }
+    return {float(c_e): seed003_study(angles, ratios, axial_stiffness=c_e, **config) for c_e in axial_stiffnesses}
 
 
 def stiffness_table_markdown(studies: dict) -> str:
@@ -586,7 +591,8 @@ def stiffness_table_markdown(studies: dict) -> str:
     time, and the two claims' comparisons. `studies` maps C_E to a `Seed003Study` or to
     its `table()` rows."""
     out = [
-        "| C_E (N) | static top T, 30/45/60° (kN) | peak top T at C_E1 = 0, 30/45/60° (kN) | C_E1 = 0.2 vs 0, 30/45/60° "
+        "| C_E (N) | static top T, 30/45/60° (kN) | peak top T at C_E1 = 0, 30/45/60° (kN) | C_E1 = 0.2 vs 0, "
+        "30/45/60° "
         "| 45° vs 30° | 60° vs 30° | 60° vs 45° | slack top, 30/45/60° (s) | claim 1 | claim 2 |",
         "|---|---|---|---|---|---|---|---|---|---|",
     ]
@@ -595,11 +601,15 @@ def stiffness_table_markdown(studies: dict) -> str:
         linear = sorted((r for r in rows if r["ratio"] == 0.0), key=lambda r: r["angle_deg"])
         v = verdict(rows)
         top = max(r["ratio"] for r in rows)
-        ratio = " / ".join(f"{100 * v['ratio_effect'][r['angle_deg']][top]:+.1f} %" for r in linear if r["angle_deg"] in v["ratio_effect"])
+        ratio = " / ".join(
+            f"{100 * v['ratio_effect'][r['angle_deg']][top]:+.1f} %"
+            for r in linear
+            if r["angle_deg"] in v["ratio_effect"]
+        )
         angle = v["angle_effect"].get(0.0, {})
 
         def pct(k):
-            return f"{100 * angle[k]:+.1f} %" if k in angle else "–"
+            return f"{100 * angle[k]:+.1f} %" if k in angle else "–"  # noqa: B023 (called within this iteration)
 
         static = " / ".join(f"{r['static_top_N'] / 1e3:.1f}" for r in linear)
         peaks = " / ".join(f"{r['peak_top_N'] / 1e3:.1f}" for r in linear)

@@ -37,3 +37,21 @@ def _release_compiled_programs():
     yield
     jax.clear_caches()
     gc.collect()
+
+
+@pytest.fixture(autouse=True)
+def _unchecked(request):
+    """Turn jaxtyping's runtime checker (`--jaxtyping-packages`) off for a test marked
+    `unchecked`: one that passes an argument of the wrong type on purpose, to test the
+    error jaxcable itself gives a caller who runs no type checker."""
+    if request.node.get_closest_marker("unchecked") is None:
+        yield
+        return
+    import jaxtyping
+
+    before = jaxtyping.config.jaxtyping_disable
+    jaxtyping.config.update("jaxtyping_disable", True)
+    try:
+        yield
+    finally:
+        jaxtyping.config.update("jaxtyping_disable", before)

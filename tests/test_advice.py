@@ -9,12 +9,11 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 import scipy.special
+from helpers import catenary_parameter
 from scipy.optimize import brentq
 
 import jaxcable as jc
-from helpers import catenary_parameter
 from jaxcable import _lagrangian as lag
-from jaxcable.io import advice_lines
 from jaxcable._advice import (
     STABLE_STEP,
     advise,
@@ -24,12 +23,19 @@ from jaxcable._advice import (
     stiffest_axial_mode,
     wave_fit,
 )
+from jaxcable.io import advice_lines
 
 
 def taut_line(mass_matrix: str, damping_ratio: float = 0.0) -> jc.io.BuiltScene:
     # A straight, stretched line between two anchors: its fastest mode is axial.
-    rope = jc.io.LineTypeSpec("rope", mass_per_length=2.0, diameter=0.02, axial_stiffness=4e6,
-                           axial_damping_ratio=damping_ratio, tangential_added_mass=0.5)
+    rope = jc.io.LineTypeSpec(
+        "rope",
+        mass_per_length=2.0,
+        diameter=0.02,
+        axial_stiffness=4e6,
+        axial_damping_ratio=damping_ratio,
+        tangential_added_mass=0.5,
+    )
     points = (jc.io.PointSpec("a", "fixed", (0.0, 0.0, -50.0)), jc.io.PointSpec("b", "fixed", (101.0, 0.0, -50.0)))
     lines = (jc.io.LineSpec("1", "rope", 0, 1, 100.0, 20),)
     scene = jc.io.Scene(points, (rope,), lines, run=jc.io.RunSettings(mass_matrix=mass_matrix))
@@ -90,9 +96,9 @@ def linear_wavelength(period: float, depth: float, g: float = 9.81) -> float:
 @pytest.mark.parametrize(
     "height, period, depth, fits",
     [
-        (2.0, 8.0, 30.0, "airy"),      # intermediate depth, U ≈ 0.8
+        (2.0, 8.0, 30.0, "airy"),  # intermediate depth, U ≈ 0.8
         (3.0, 14.0, 10.0, "cnoidal"),  # shallow and long: U ≈ 57, λ ≈ 13.7 d
-        (5.5, 8.0, 10.0, "none"),      # U ≈ 28 > 26 but λ ≈ 7 d
+        (5.5, 8.0, 10.0, "none"),  # U ≈ 28 > 26 but λ ≈ 7 d
         (8.0, 12.0, 10.0, "breaking"),  # H/d = 0.8 > 0.78
     ],
 )
@@ -101,8 +107,11 @@ def test_wave_fit_from_the_ursell_number(height, period, depth, fits):
     fit = wave_fit(wave)
     length = linear_wavelength(period, depth)
     ursell = height * length**2 / depth**3
-    np.testing.assert_allclose([fit.wavelength, fit.ursell, fit.relative_depth, fit.height_ratio],
-                               [length, ursell, depth / length, height / depth], rtol=1e-9)
+    np.testing.assert_allclose(
+        [fit.wavelength, fit.ursell, fit.relative_depth, fit.height_ratio],
+        [length, ursell, depth / length, height / depth],
+        rtol=1e-9,
+    )
     # The cases are where the docstring's rule puts them: U against 8π²/3, λ against 8d.
     if fits == "airy":
         assert ursell < 8 * np.pi**2 / 3
@@ -131,8 +140,14 @@ def line_in_waves(diameter: float, area: float, wave: jc.Airy, body: jc.Body | N
     """A taut horizontal line 5 m below the still-water level, between two anchors,
     with an optional body at its middle node."""
     law = jc.LinearElastic(1e8)
-    line = jc.LineType(mass_per_length=2.0 * 1025 * area, diameter=diameter, tension_law=law, area=area,
-                       normal_drag=1.2, normal_added_mass=1.0)
+    line = jc.LineType(
+        mass_per_length=2.0 * 1025 * area,
+        diameter=diameter,
+        tension_law=law,
+        area=area,
+        normal_drag=1.2,
+        normal_added_mass=1.0,
+    )
     model = jc.CableNetwork.from_branches(
         junctions=[[0.0, 0.0, -5.0], [40.0, 0.0, -5.0], [20.0, 0.0, -5.0]],
         branches=[jc.Branch(0, 2, line, 19.99, 4), jc.Branch(2, 1, line, 19.99, 4)],
@@ -243,8 +258,9 @@ def test_catenary_quasi_static_tension_at_the_extremes_of_the_motion(hanging):
     assert result.slack_expected is False
     # The support's top speed A ω against the line's terminal sideways speed.
     terminal = np.sqrt(2 * w / (1025.0 * 1.2 * 0.05))
-    np.testing.assert_allclose([result.slack[0].speed, result.slack[0].terminal_speed],
-                               [4.0 * 2 * np.pi / 10.0, terminal], rtol=1e-12)
+    np.testing.assert_allclose(
+        [result.slack[0].speed, result.slack[0].terminal_speed], [4.0 * 2 * np.pi / 10.0, terminal], rtol=1e-12
+    )
     assert 4.0 * 2 * np.pi / 10.0 > terminal and result.snap_possible is True  # 2.51 against 2.40 m/s
 
 
@@ -285,10 +301,20 @@ def test_no_slack_when_the_support_moves_less_than_the_stretch():
 
 def test_seabed_mode_by_hand():
     m, d, area, ca, cat = 50.0, 0.09, 6.4e-3, 1.0, 0.5
-    line = jc.LineType(mass_per_length=m, diameter=d, tension_law=jc.LinearElastic(2e8), area=area,
-                       normal_added_mass=ca, tangential_added_mass=cat)
-    model = jc.CableNetwork.from_branches([[0.0, 0.0, -60.0], [100.0, 0.0, -60.0]], [jc.Branch(0, 1, line, 99.0, 10)],
-                                          {0: jc.Fixed(), 1: jc.Fixed()}, mass_matrix="lumped")
+    line = jc.LineType(
+        mass_per_length=m,
+        diameter=d,
+        tension_law=jc.LinearElastic(2e8),
+        area=area,
+        normal_added_mass=ca,
+        tangential_added_mass=cat,
+    )
+    model = jc.CableNetwork.from_branches(
+        [[0.0, 0.0, -60.0], [100.0, 0.0, -60.0]],
+        [jc.Branch(0, 1, line, 99.0, 10)],
+        {0: jc.Fixed(), 1: jc.Fixed()},
+        mass_matrix="lumped",
+    )
     rho, g = 1025.0, 9.81
     normal, along = m + rho * area * ca, m + rho * area * cat
     # Overdamped contact: |λ| = (c' + √(c'² − 4k'))/2.

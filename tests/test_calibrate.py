@@ -136,16 +136,15 @@ def test_gradient_matches_central_differences():
     log_values = np.log(np.array([1.5, 0.015, 0.7]))
     loss = eqx.filter_jit(problem.loss)
     step = 1e-4
-    central = np.array(
-        [(loss(log_values + step * e) - loss(log_values - step * e)) / (2 * step) for e in np.eye(3)]
-    )
+    central = np.array([(loss(log_values + step * e) - loss(log_values - step * e)) / (2 * step) for e in np.eye(3)])
     # The solver's adjoint is the gradient mode: forward for ForwardMode, else reverse.
     for adjoint in (diffrax.ForwardMode(), diffrax.RecursiveCheckpointAdjoint()):
         mode = eqx.tree_at(lambda p: p.solver.adjoint, problem, adjoint)
         assert mode.gradient == ("forward" if isinstance(adjoint, diffrax.ForwardMode) else "reverse")
         _, grad, _ = _calibrate._evaluate(log_values, mode)
-        np.testing.assert_allclose(np.asarray(grad), central, rtol=1e-4, atol=1e-4 * np.max(np.abs(central)),
-                                   err_msg=mode.gradient)
+        np.testing.assert_allclose(
+            np.asarray(grad), central, rtol=1e-4, atol=1e-4 * np.max(np.abs(central)), err_msg=mode.gradient
+        )
 
 
 @pytest.mark.parametrize(
@@ -213,8 +212,19 @@ def test_command_line_calibrate(vertical_records, tmp_path, capsys):
         paths.append(tmp_path / f"tow{k}.csv")
         jc.io.write_record(paths[-1], record, units={"tension": "kN"})
     out, plot = tmp_path / "fit.json", tmp_path / "fit.png"
-    status = main(["calibrate", *map(str, paths), "--fit", "specific_drag=1.0", "--no-progress",
-                   "--out", str(out), "--plot", str(plot)])
+    status = main(
+        [
+            "calibrate",
+            *map(str, paths),
+            "--fit",
+            "specific_drag=1.0",
+            "--no-progress",
+            "--out",
+            str(out),
+            "--plot",
+            str(plot),
+        ]
+    )
     assert status == 0
     printed = capsys.readouterr().out
     assert "specific_drag" in printed and "converged" in printed

@@ -23,9 +23,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from helpers import chain_nodes
 
 import jaxcable as jc
-from helpers import chain_nodes
 from jaxcable import _lagrangian as lagrangian
 
 RHO, G = 1025.0, 9.81
@@ -51,8 +51,13 @@ ENERGY_SEGMENTS, ENERGY_TIME = 12, 3.0  # the simulated strings
 
 
 def string_model(
-    n_segments, mass_matrix="consistent", slack_width=1e-5, area_fraction=1.0, rest_length=REST_LENGTH,
-    diameter=0.02, **drag,
+    n_segments,
+    mass_matrix="consistent",
+    slack_width=1e-5,
+    area_fraction=1.0,
+    rest_length=REST_LENGTH,
+    diameter=0.02,
+    **drag,
 ):
     """A horizontal string between two fixed ends. With `area_fraction = 1` it is
     neutrally buoyant (ρF = m), so it does not sag and T = EA ε₀ exactly."""
@@ -100,9 +105,7 @@ def string_spectrum(request):
         block = jacobian[:, axis, :, axis]
         omega = np.sqrt(np.sort(-np.linalg.eigvals(block).real))
         blocks[name] = omega
-    coupling = max(
-        np.max(np.abs(jacobian[:, a, :, b])) for a in range(3) for b in range(3) if a != b
-    )
+    coupling = max(np.max(np.abs(jacobian[:, a, :, b])) for a in range(3) for b in range(3) if a != b)
     return request.param, blocks, coupling
 
 
@@ -165,6 +168,7 @@ def test_string_mode_one_period_by_simulation():
 # 2. Energy: conserved without dissipation, decaying with drag.
 # ---------------------------------------------------------------------------------------
 
+
 def perturbed(model):
     """A large, asymmetric perturbation of the straight string, at rest."""
     positions = np.asarray(model.node_positions).copy()
@@ -197,8 +201,11 @@ def test_energy_conserved_without_dissipation(slack_width, added_mass):
     drag and no damping: K + Π is constant. Isotropic added mass (C_a = C_aτ) keeps the
     mass matrix independent of the shape, so it conserves the same energy."""
     model = string_model(
-        ENERGY_SEGMENTS, slack_width=slack_width, area_fraction=0.5,
-        normal_added_mass=added_mass, tangential_added_mass=added_mass,
+        ENERGY_SEGMENTS,
+        slack_width=slack_width,
+        area_fraction=0.5,
+        normal_added_mass=added_mass,
+        tangential_added_mass=added_mass,
     )
     result, total, kinetic = run_energy(model)
     assert kinetic.max() > 5.0  # J: a large motion, comparable to E itself
@@ -212,9 +219,7 @@ def test_energy_balance_with_anisotropic_added_mass():
     M(x) a = −∇Π with M depending on the segments' directions. Then
     d(½ vᵀMv + Π)/dt = ½ vᵀ Ṁ v exactly, so K + Π is not conserved; its change must equal
     the time integral of ½ vᵀ Ṁ v, with Ṁ v computed here as a directional derivative."""
-    model = string_model(
-        ENERGY_SEGMENTS, area_fraction=0.5, normal_added_mass=1.0, tangential_added_mass=0.0
-    )
+    model = string_model(ENERGY_SEGMENTS, area_fraction=0.5, normal_added_mass=1.0, tangential_added_mass=0.0)
     # The power oscillates with the string's axial modes: integrate it on dense outputs.
     ts = np.linspace(0.0, ENERGY_TIME, 6001)
     config = jc.SolverConfig(diffrax.Tsit5(), rtol=1e-8, atol=1e-8)
@@ -257,9 +262,7 @@ def test_energy_conserved_through_slack_and_snap(mass_matrix):
 def test_energy_decays_with_drag():
     """The same string with normal and tangential drag in still water: E never rises
     between outputs, and drag removes most of the perturbation's energy."""
-    model = string_model(
-        ENERGY_SEGMENTS, area_fraction=0.5, diameter=0.05, normal_drag=1.2, tangential_drag=0.008
-    )
+    model = string_model(ENERGY_SEGMENTS, area_fraction=0.5, diameter=0.05, normal_drag=1.2, tangential_drag=0.008)
     result, total, kinetic = run_energy(model)
     step = np.diff(total)
     assert np.all(step <= 1e-7 * np.abs(total).max()), step.max()
@@ -282,12 +285,22 @@ def sinking_model(body):
     drag-free thread of 1 g/km: the thread never tightens and its mass is negligible."""
     mass = 1e-6
     line = jc.LineType(
-        mass, 1e-4, jc.LinearElastic(1.0), area=mass / RHO,
-        normal_drag=0.0, tangential_drag=0.0, normal_added_mass=0.0, tangential_added_mass=0.0,
+        mass,
+        1e-4,
+        jc.LinearElastic(1.0),
+        area=mass / RHO,
+        normal_drag=0.0,
+        tangential_drag=0.0,
+        normal_added_mass=0.0,
+        tangential_added_mass=0.0,
     )
     return jc.CableNetwork(
-        np.array([[0.0, 0.0, 0.0], [0.0, 0.0, -1.0]]), np.array([[0, 1]]), [TETHER], line,
-        constraints={0: jc.Fixed()}, bodies={1: body},
+        np.array([[0.0, 0.0, 0.0], [0.0, 0.0, -1.0]]),
+        np.array([[0, 1]]),
+        [TETHER],
+        line,
+        constraints={0: jc.Fixed()},
+        bodies={1: body},
     )
 
 
@@ -302,8 +315,11 @@ def sinking():
         ),
         "Zhukov": (
             jc.Body(
-                mass=BODY_MASS, volume=BODY_VOLUME, specific_drag=specific_drag,
-                organism_mass=organism_mass, added_mass=ADDED_MASS,
+                mass=BODY_MASS,
+                volume=BODY_VOLUME,
+                specific_drag=specific_drag,
+                organism_mass=organism_mass,
+                added_mass=ADDED_MASS,
             ),
             specific_drag * organism_mass * G,
         ),
@@ -360,9 +376,7 @@ def snap_runs():
         static = solve(model, ENV)
         ts = np.linspace(0.0, SNAP_TIME, 401)
         config = jc.SolverConfig(diffrax.Tsit5(), rtol=1e-7, atol=1e-7)
-        result = jc.simulate(
-            model, ENV, SNAP_TIME, ts=ts, initial=static.state, solver=config
-        )
+        result = jc.simulate(model, ENV, SNAP_TIME, ts=ts, initial=static.state, solver=config)
         runs[width] = (static, result)
     return runs
 
@@ -397,4 +411,4 @@ def test_snap_after_slack(snap_runs, width):
     assert slack.size > 0
     after = np.flatnonzero(np.arange(top.size) > slack[0])
     retensioned = after[top[after] > 0]
-    assert retensioned.size > 0 and top[retensioned[0]:].max() > 1.5 * top_static
+    assert retensioned.size > 0 and top[retensioned[0] :].max() > 1.5 * top_static

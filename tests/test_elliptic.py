@@ -105,5 +105,8 @@ def test_derivatives_in_u_and_m():
     sn, cn, dn = special.ellipj(np.asarray(u), m)[:3]
     np.testing.assert_allclose(du, np.stack([cn * dn, -sn * dn, -m * sn * cn], -1), rtol=0, atol=1e-14)
     step = 1e-6
-    central = (np.stack(special.ellipj(np.asarray(u), m + step)[:3], -1) - np.stack(special.ellipj(np.asarray(u), m - step)[:3], -1)) / (2 * step)
+    central = (
+        np.stack(special.ellipj(np.asarray(u), m + step)[:3], -1)
+        - np.stack(special.ellipj(np.asarray(u), m - step)[:3], -1)
+    ) / (2 * step)
     np.testing.assert_allclose(dm, central, rtol=0, atol=1e-9)

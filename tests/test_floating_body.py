@@ -38,7 +38,15 @@ def test_column_fraction_and_potential():
 
 def moored_float(added_mass=0.0):
     area = 1e-4
-    line = jc.LineType(RHO * area * 1e-3, 0.01, jc.LinearElastic(EA), area=area * 1e-3, normal_drag=0.0, tangential_drag=0.0, normal_added_mass=0.0)
+    line = jc.LineType(
+        RHO * area * 1e-3,
+        0.01,
+        jc.LinearElastic(EA),
+        area=area * 1e-3,
+        normal_drag=0.0,
+        tangential_drag=0.0,
+        normal_added_mass=0.0,
+    )
     model = jc.CableNetwork.from_branches(
         np.array([[0.0, 0.0, ANCHOR], [0.0, 0.0, -0.5]]),
         [jc.Branch(0, 1, line, LENGTH, 1)],
@@ -51,9 +59,11 @@ def moored_float(added_mass=0.0):
 
 def draft_reference():
     """The float's centre height z from ρ g V f(z) = M g + EA ((z − anchor)/L − 1)."""
+
     def balance(z):
         wet = np.clip((HEIGHT / 2 - z) / HEIGHT, 0.0, 1.0)
         return RHO * G * VOLUME * wet - MASS * G - EA * ((z - ANCHOR) / LENGTH - 1)
+
     return brentq(balance, -HEIGHT / 2, HEIGHT / 2, xtol=1e-14)
 
 

@@ -65,7 +65,9 @@ def test_potential_is_smooth_across_the_surface():
         up, down = positions.copy(), positions.copy()
         up[node, 2] += h
         down[node, 2] -= h
-        fd = (lag.potential_energy(model, env, jnp.asarray(up)) - lag.potential_energy(model, env, jnp.asarray(down))) / (2 * h)
+        fd = (
+            lag.potential_energy(model, env, jnp.asarray(up)) - lag.potential_energy(model, env, jnp.asarray(down))
+        ) / (2 * h)
         np.testing.assert_allclose(float(grad), float(fd), rtol=1e-6, atol=1e-6)
 
 

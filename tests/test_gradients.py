@@ -245,9 +245,7 @@ def test_jit_with_jax_array_output_times():
             with_parameters(p), ENV, T1, ts=ts, solver=jc.SolverConfig(diffrax.Tsit5(), rtol=TOL, atol=TOL)
         ).positions[-1]
 
-    np.testing.assert_allclose(
-        np.asarray(jax.jit(final_positions)(1.3)), np.asarray(final_positions(1.3)), rtol=1e-12
-    )
+    np.testing.assert_allclose(np.asarray(jax.jit(final_positions)(1.3)), np.asarray(final_positions(1.3)), rtol=1e-12)
 
 
 def test_vmap_equals_loop():

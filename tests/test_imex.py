@@ -17,7 +17,10 @@ from jaxcable.examples import seed003_line
 def _moving_state(model, seed=0):
     rng = np.random.default_rng(seed)
     free = model.free_nodes
-    return (model.node_positions[free] + 0.05 * rng.normal(size=(free.size, 3)), jnp.asarray(0.2 * rng.normal(size=(free.size, 3))))
+    return (
+        model.node_positions[free] + 0.05 * rng.normal(size=(free.size, 3)),
+        jnp.asarray(0.2 * rng.normal(size=(free.size, 3))),
+    )
 
 
 @pytest.mark.parametrize("mass_matrix", ["lumped", "consistent"])
@@ -34,7 +37,9 @@ def test_internal_forces_are_the_elastic_gradient_plus_viscous_pull(mass_matrix)
         return jnp.sum(model.segment_length * model.line.tension_law.elastic_energy_density(strain))
 
     _, tangent, strain = lag.segment_geometry(model, positions)
-    viscous = model.line.tension_law.tension(strain, lag.strain_rate(model, positions, velocities)) - model.line.tension_law.elastic_tension(strain)
+    viscous = model.line.tension_law.tension(
+        strain, lag.strain_rate(model, positions, velocities)
+    ) - model.line.tension_law.elastic_tension(strain)
     pull = np.zeros(positions.shape)
     ends = np.asarray(model.segment_nodes)
     for s, (i, j) in enumerate(ends):
@@ -73,4 +78,3 @@ def test_kencarp_follows_a_tight_reference():
     assert bool(run.success)
     peak = float(jnp.max(reference.tension))
     assert float(jnp.max(jnp.abs(run.tension - reference.tension))) < 1e-3 * peak
-

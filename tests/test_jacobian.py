@@ -37,7 +37,10 @@ def _stage(model, env, step):
     diffrax's ESDIRK stages have it (γ folded into h), and its zero point."""
     free = model.free_nodes
     rng = np.random.default_rng(1)
-    y = (model.node_positions[free] + 0.01 * rng.normal(size=(free.size, 3)), jnp.asarray(0.1 * rng.normal(size=(free.size, 3))))
+    y = (
+        model.node_positions[free] + 0.01 * rng.normal(size=(free.size, 3)),
+        jnp.asarray(0.1 * rng.normal(size=(free.size, 3))),
+    )
 
     def fn(k, args):
         moved = jax.tree.map(lambda a, b: a + step * b, y, k)
@@ -48,9 +51,15 @@ def _stage(model, env, step):
 
 def _dense(fn, k):
     """The stage Jacobian as a dense `(6n, 6n)` matrix, unknowns node by node."""
-    flat = lambda tree: jnp.concatenate([a for a in tree], axis=1).reshape(-1)
+
+    def flat(tree):
+        return jnp.concatenate([a for a in tree], axis=1).reshape(-1)
+
     n = k[0].shape[0]
-    unflat = lambda v: (v.reshape(n, 6)[:, :3], v.reshape(n, 6)[:, 3:])
+
+    def unflat(v):
+        return v.reshape(n, 6)[:, :3], v.reshape(n, 6)[:, 3:]
+
     return np.asarray(jax.jacfwd(lambda v: flat(fn(unflat(v), None)))(flat(k))), flat, unflat
 
 
@@ -97,12 +106,19 @@ def test_jacobian_is_as_sparse_as_the_graph(models):
         (np.stack([np.arange(9), np.arange(1, 10)], 1), 10),  # a line
         (np.array([[0, 1], [1, 2], [1, 3], [3, 4], [3, 5], [5, 6]]), 7),  # a tree
         # A 4 × 4 grid: loops.
-        (np.array([[i * 4 + j, i * 4 + j + 1] for i in range(4) for j in range(3)]
-                  + [[i * 4 + j, (i + 1) * 4 + j] for i in range(3) for j in range(4)]), 16),
+        (
+            np.array(
+                [[i * 4 + j, i * 4 + j + 1] for i in range(4) for j in range(3)]
+                + [[i * 4 + j, (i + 1) * 4 + j] for i in range(3) for j in range(4)]
+            ),
+            16,
+        ),
     ],
 )
 def test_colouring_separates_nodes_within_two_edges(edges, n):
-    graph = sparse.coo_matrix((np.ones(2 * len(edges)), (*np.concatenate([edges, edges[:, ::-1]]).T,)), shape=(n, n)).tocsr()
+    graph = sparse.coo_matrix(
+        (np.ones(2 * len(edges)), (*np.concatenate([edges, edges[:, ::-1]]).T,)), shape=(n, n)
+    ).tocsr()
     colours = _distance2_colouring(_neighbours(n, edges))
     reach = (graph + graph @ graph).toarray() > 0
     i, j = np.nonzero(reach)
@@ -112,7 +128,10 @@ def test_colouring_separates_nodes_within_two_edges(edges, n):
     # Cuthill–McKee's on the same graph.
     order = _reverse_cuthill_mckee(_neighbours(n, edges))
     assert sorted(order) == list(range(n))
-    width = lambda order: int(np.max(np.abs(np.argsort(order)[edges[:, 0]] - np.argsort(order)[edges[:, 1]])))
+
+    def width(order):
+        return int(np.max(np.abs(np.argsort(order)[edges[:, 0]] - np.argsort(order)[edges[:, 1]])))
+
     assert width(order) <= width(reverse_cuthill_mckee(graph, symmetric_mode=True))
     # A line needs 3 colours and has bandwidth 1; the greedy colouring and the
     # ordering should find that.
@@ -182,6 +201,7 @@ def test_auto_is_structured_under_jit(models, implicit_runs):
     structured solver, with the colouring and order of the eager one, and the run equals diffrax's
     dense one."""
     import equinox as eqx
+
     from jaxcable._jacobian import with_network_jacobian
 
     model, _ = models["line"]

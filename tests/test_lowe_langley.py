@@ -55,8 +55,9 @@ def test_case_1_through_the_command_line(tmp_path, capsys):
     table = tmp_path / "case1.txt"
     np.savetxt(table, np.column_stack([t, x, 0 * t, -5.0 + 0 * t]))
     out = tmp_path / "case1.csv"
-    status = main(["run", str(DATA / "line.txt"), "--motion", str(table), "--out", str(out),
-                   "--dt-out", "0.05", "--no-progress"])
+    status = main(
+        ["run", str(DATA / "line.txt"), "--motion", str(table), "--out", str(out), "--dt-out", "0.05", "--no-progress"]
+    )
     assert status == 0
     assert "peak tension" in capsys.readouterr().out
     columns = np.genfromtxt(out, delimiter=",", names=True)

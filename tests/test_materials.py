@@ -325,7 +325,7 @@ def reference_segment_forces(positions, velocities, current):
     for a, shape in enumerate((lambda xi: 1 - xi, lambda xi: xi)):
         for k in range(3):
             out[a, k], _ = integrate.quad(
-                lambda xi: f(xi)[k] * shape(xi) * stretched,
+                lambda xi: f(xi)[k] * shape(xi) * stretched,  # noqa: B023 (called within this iteration)
                 0.0,
                 1.0,
                 points=breaks or None,
@@ -403,10 +403,12 @@ def test_segment_drag_total_force_and_moment_form():
     total = np.array(
         [
             integrate.quad(
-                lambda xi: reference_line_drag(
-                    CURRENT - SMOOTH_VELOCITIES[0] * (1 - xi) - SMOOTH_VELOCITIES[1] * xi, tangent, C_N, C_T
-                )[k]
-                * stretched,
+                lambda xi: (
+                    reference_line_drag(
+                        CURRENT - SMOOTH_VELOCITIES[0] * (1 - xi) - SMOOTH_VELOCITIES[1] * xi, tangent, C_N, C_T
+                    )[k]  # noqa: B023 (called within this iteration)
+                    * stretched
+                ),
                 0,
                 1,
                 epsabs=0,

@@ -29,12 +29,20 @@ def test_sampled_kinematics_converge_to_the_sampled_function():
 
     def errors(samples):
         times = np.linspace(0.0, 10.0, samples)
-        motion = jc.Sampled(times, np.stack([np.sin(omega * times), np.zeros_like(times), np.cos(omega * times)], axis=1))
-        assert np.allclose(np.asarray(motion.displacement(times[7]))[[0, 2]], [np.sin(omega * times[7]), np.cos(omega * times[7])], atol=1e-14)
+        motion = jc.Sampled(
+            times, np.stack([np.sin(omega * times), np.zeros_like(times), np.cos(omega * times)], axis=1)
+        )
+        assert np.allclose(
+            np.asarray(motion.displacement(times[7]))[[0, 2]],
+            [np.sin(omega * times[7]), np.cos(omega * times[7])],
+            atol=1e-14,
+        )
         err = np.zeros(3)
         for t in checks:
             r, v, a = (np.asarray(k)[0] for k in motion.kinematics(t))
-            err = np.maximum(err, np.abs([r - np.sin(omega * t), v - omega * np.cos(omega * t), a + omega**2 * np.sin(omega * t)]))
+            err = np.maximum(
+                err, np.abs([r - np.sin(omega * t), v - omega * np.cos(omega * t), a + omega**2 * np.sin(omega * t)])
+            )
         return err
 
     coarse, fine = errors(101), errors(401)

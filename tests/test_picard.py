@@ -11,12 +11,17 @@ import jaxcable as jc
 
 
 def solve(solver, vector_field, y0, t1, steps=None, rtol=None):
-    controller = (
-        diffrax.ConstantStepSize() if rtol is None else diffrax.PIDController(rtol=rtol, atol=rtol)
-    )
+    controller = diffrax.ConstantStepSize() if rtol is None else diffrax.PIDController(rtol=rtol, atol=rtol)
     solution = diffrax.diffeqsolve(
-        diffrax.ODETerm(vector_field), solver, 0.0, t1, None if steps is None else t1 / steps, y0,
-        stepsize_controller=controller, saveat=diffrax.SaveAt(t1=True), max_steps=100_000,
+        diffrax.ODETerm(vector_field),
+        solver,
+        0.0,
+        t1,
+        None if steps is None else t1 / steps,
+        y0,
+        stepsize_controller=controller,
+        saveat=diffrax.SaveAt(t1=True),
+        max_steps=100_000,
     )
     return solution
 
@@ -71,10 +76,23 @@ def test_adaptive_steps_reach_the_tolerance():
 def test_simulates_a_cable_like_dopri5():
     # Seed 001's thread, as jaxcable's own simulation: a stretched two-segment string
     # whose middle mass is let go; the baseline must agree with Dopri5.
-    line = jc.LineType(mass_per_length=0.5, diameter=0.01, tension_law=jc.LinearElastic(1e3),
-                       normal_drag=0.0, tangential_drag=0.0, normal_added_mass=0.0, area=0.5 / 1000.0)
-    model = jc.CableNetwork([[0.0, 0, 0], [1.1, 0.05, 0], [2.0, 0, 0]], [[0, 1], [1, 2]], [0.99, 0.99], line,
-                            {0: jc.Fixed(), 2: jc.Fixed()}, bodies={1: jc.Body(mass=1.0, volume=0.001)})
+    line = jc.LineType(
+        mass_per_length=0.5,
+        diameter=0.01,
+        tension_law=jc.LinearElastic(1e3),
+        normal_drag=0.0,
+        tangential_drag=0.0,
+        normal_added_mass=0.0,
+        area=0.5 / 1000.0,
+    )
+    model = jc.CableNetwork(
+        [[0.0, 0, 0], [1.1, 0.05, 0], [2.0, 0, 0]],
+        [[0, 1], [1, 2]],
+        [0.99, 0.99],
+        line,
+        {0: jc.Fixed(), 2: jc.Fixed()},
+        bodies={1: jc.Body(mass=1.0, volume=0.001)},
+    )
     env = jc.Environment(water_density=1000.0)
     ts = jnp.linspace(0.0, 1.0, 11)
     ours = jc.simulate(model, env, 1.0, ts=ts, solver=jc.SolverConfig(jc.PicardTrapezoid(), rtol=1e-8, atol=1e-8))

@@ -88,8 +88,13 @@ def moordyn_text(
     """A MoorDyn v2 input file: a title, the given sections (`before` is a list of
     `(header, column lines, rows)` placed after LINE TYPES), and the closing header."""
     text = ["--------------------- MoorDyn Input File ------------------------", "jaxcable reader test"]
-    sections = [("LINE TYPES", _TYPE_COLUMNS, types), *before, ("POINTS", _POINT_COLUMNS, points),
-                ("LINES", _LINE_COLUMNS, lines), ("OPTIONS", (), options)]
+    sections = [
+        ("LINE TYPES", _TYPE_COLUMNS, types),
+        *before,
+        ("POINTS", _POINT_COLUMNS, points),
+        ("LINES", _LINE_COLUMNS, lines),
+        ("OPTIONS", (), options),
+    ]
     if outputs is not None:
         sections.append(("OUTPUTS", (), outputs))
     for name, columns, rows in sections:
@@ -116,9 +121,11 @@ def segment_damping(built: jc.io.BuiltScene, line: int) -> np.ndarray:
 
 
 def test_moordyn_line_type_coefficients_are_copied_one_to_one(tmp_path):
-    path = write_moordyn(tmp_path, types=("rope  0.15  30.5  2.0e8  1500  0  1.3  0.9  0.07  0.2",), lines=(
-        "1    rope      1        2        250.0     10       -",
-    ))
+    path = write_moordyn(
+        tmp_path,
+        types=("rope  0.15  30.5  2.0e8  1500  0  1.3  0.9  0.07  0.2",),
+        lines=("1    rope      1        2        250.0     10       -",),
+    )
     scene = jc.read_moordyn(path)
     (spec,) = scene.line_types
     assert spec.name == "rope"
@@ -133,8 +140,14 @@ def test_moordyn_line_type_coefficients_are_copied_one_to_one(tmp_path):
     assert re.search(rf"\bline {line_of(path, 'rope  0.15')}\b", spec.where)
     # ... and they reach the engine's LineType unchanged.
     line = scene.build().model.line
-    for field, value in [("diameter", 0.15), ("mass_per_length", 30.5), ("normal_drag", 1.3),
-                         ("normal_added_mass", 0.9), ("tangential_drag", 0.07), ("tangential_added_mass", 0.2)]:
+    for field, value in [
+        ("diameter", 0.15),
+        ("mass_per_length", 30.5),
+        ("normal_drag", 1.3),
+        ("normal_added_mass", 0.9),
+        ("tangential_drag", 0.07),
+        ("tangential_added_mass", 0.2),
+    ]:
         np.testing.assert_allclose(np.asarray(getattr(line, field)), value, err_msg=field)
     np.testing.assert_allclose(np.asarray(line.tension_law.axial_stiffness), 2.0e8)
 
@@ -166,9 +179,19 @@ def test_moordyn_points_lines_and_bodies(tmp_path):
 @pytest.mark.parametrize(
     "word, kind",
     [
-        ("Fixed", "fixed"), ("fixed", "fixed"), ("ANCHOR", "fixed"), ("anchor", "fixed"),
-        ("Vessel", "coupled"), ("vessel", "coupled"), ("Coupled", "coupled"), ("FAIRLEAD", "coupled"),
-        ("fairlead", "coupled"), ("Free", "free"), ("FREE", "free"), ("Point", "free"), ("connect", "free"),
+        ("Fixed", "fixed"),
+        ("fixed", "fixed"),
+        ("ANCHOR", "fixed"),
+        ("anchor", "fixed"),
+        ("Vessel", "coupled"),
+        ("vessel", "coupled"),
+        ("Coupled", "coupled"),
+        ("FAIRLEAD", "coupled"),
+        ("fairlead", "coupled"),
+        ("Free", "free"),
+        ("FREE", "free"),
+        ("Point", "free"),
+        ("connect", "free"),
         ("Connect", "free"),
     ],
 )
@@ -352,8 +375,12 @@ def test_moordyn_point_below_wtrdpth_lowers_the_seabed(tmp_path):
 
 @pytest.mark.parametrize(
     "row, expected",
-    [("-3.0e6   kBot", "kBot must be positive"), ("-1.0   cBot", "cBot must be non-negative"),
-     ("-0.5   FrictionCoefficient", "must be non-negative"), ("0   FricDamp", "FricDamp must be positive")],
+    [
+        ("-3.0e6   kBot", "kBot must be positive"),
+        ("-1.0   cBot", "cBot must be non-negative"),
+        ("-0.5   FrictionCoefficient", "must be non-negative"),
+        ("0   FricDamp", "FricDamp must be positive"),
+    ],
 )
 def test_moordyn_bad_seabed_options_are_located(tmp_path, row, expected):
     path = write_moordyn(tmp_path, options=(*OPTIONS, row))
@@ -366,8 +393,10 @@ def test_moordyn_lying_chain_presses_into_the_bed_as_moordyn_says(tmp_path):
     # A chain much longer than its span lies on the bed at 100 m, where each interior
     # node's weight w l is carried by kBot δ d l (MoorDyn's bottom pressure on d times
     # the node's length): δ = w / (kBot d).
-    points = ("1    Fixed     0.0     0.0    -100.0  0       0        0      0",
-              "2    Fixed     60.0    0.0    -60.0   0       0        0      0")
+    points = (
+        "1    Fixed     0.0     0.0    -100.0  0       0        0      0",
+        "2    Fixed     60.0    0.0    -60.0   0       0        0      0",
+    )
     lines = ("1    chain     1        2        150.0     10       -",)
     options = ("1025.0   WtrDnsty", "9.81   g", "100.0   WtrDpth", "1.0e6   kBot")
     scene = jc.read_moordyn(write_moordyn(tmp_path, points=points, lines=lines, options=options))
@@ -722,7 +751,7 @@ def test_toml_body_height_and_force(tmp_path):
         '[points.float]\ntype = "coupled"\nposition = [150.0, 0.0, 0.0]\n',
         '[points.float]\ntype = "coupled"\nposition = [150.0, 0.0, 0.0]\n\n'
         '[points.buoy]\ntype = "free"\nposition = [100.0, 0.0, -1.0]\nmass = 100.0\nvolume = 1.0\n'
-        'height = 2.0\nforce = [0.0, 500.0, 0.0]\n',
+        "height = 2.0\nforce = [0.0, 500.0, 0.0]\n",
     )
     scene = jc.read_scene(write_scene(tmp_path, text))
     body = scene.points[2].body
@@ -817,8 +846,9 @@ def test_toml_both_damping_keys_fail_at_build(tmp_path):
     with pytest.raises(jc.io.SceneError) as error:
         scene.build()
     # Located at the line type's table: the conflict is between two of its keys.
-    assert_located(error, path, "[line_types.rope]", "line_types.rope", "axial_damping (50", "axial_damping_ratio (0.2",
-                   "not both")
+    assert_located(
+        error, path, "[line_types.rope]", "line_types.rope", "axial_damping (50", "axial_damping_ratio (0.2", "not both"
+    )
 
 
 def test_toml_syntax_error(tmp_path):
@@ -880,9 +910,21 @@ def test_toml_sea_is_read_and_built(tmp_path):
     assert (water.current_profile.heights, water.current_profile.speeds) == ((-150.0, -50.0, 0.0), (0.1, 0.3, 0.6))
     airy, cnoidal = water.waves
     assert (airy.theory, airy.height, airy.steepness, airy.period, airy.heading, airy.phase, airy.wheeler) == (
-        "airy", 4.0, None, 10.0, 45.0, 1.5, True)
+        "airy",
+        4.0,
+        None,
+        10.0,
+        45.0,
+        1.5,
+        True,
+    )
     assert (cnoidal.theory, cnoidal.height, cnoidal.steepness, cnoidal.heading, cnoidal.wheeler) == (
-        "cnoidal", None, 0.005, 0.0, False)
+        "cnoidal",
+        None,
+        0.005,
+        0.0,
+        False,
+    )
     bed = water.seabed
     assert (bed.stiffness, bed.damping, bed.friction, bed.friction_speed) == (2.0e6, 3.0e5, 0.4, 0.05)
 
@@ -890,18 +932,25 @@ def test_toml_sea_is_read_and_built(tmp_path):
     assert env.fluid_inertia is False and float(env.depth) == 150.0
     first, second = env.waves
     assert isinstance(first, jc.Airy) and first.wheeler
-    np.testing.assert_allclose([first.height, first.period, first.heading, first.phase, first.depth, first.gravity],
-                               [4.0, 10.0, 45.0, 1.5, 150.0, 9.81])
+    np.testing.assert_allclose(
+        [first.height, first.period, first.heading, first.phase, first.depth, first.gravity],
+        [4.0, 10.0, 45.0, 1.5, 150.0, 9.81],
+    )
     # From the steepness: H/λ as given, in the water's depth.
     assert isinstance(second, jc.Cnoidal)
     np.testing.assert_allclose(float(second.steepness), 0.005, rtol=1e-9)
     assert float(second.depth) == 150.0
     assert isinstance(env.current, jc.CurrentProfile)
     # 0.3 m/s at z = −50 m, towards 30°.
-    np.testing.assert_allclose(np.asarray(env.current.velocity(jnp.array([0.0, 0.0, -50.0]))),
-                               0.3 * np.array([np.cos(np.pi / 6), np.sin(np.pi / 6), 0.0]), atol=1e-12)
-    np.testing.assert_allclose([env.seabed.stiffness, env.seabed.damping, env.seabed.friction,
-                                env.seabed.friction_speed], [2.0e6, 3.0e5, 0.4, 0.05])
+    np.testing.assert_allclose(
+        np.asarray(env.current.velocity(jnp.array([0.0, 0.0, -50.0]))),
+        0.3 * np.array([np.cos(np.pi / 6), np.sin(np.pi / 6), 0.0]),
+        atol=1e-12,
+    )
+    np.testing.assert_allclose(
+        [env.seabed.stiffness, env.seabed.damping, env.seabed.friction, env.seabed.friction_speed],
+        [2.0e6, 3.0e5, 0.4, 0.05],
+    )
 
 
 def test_toml_sea_defaults(tmp_path):
@@ -931,36 +980,57 @@ WAVE = '\n[[waves]]\ntheory = "airy"\nheight = 2.0\nperiod = 8.0\n'
         (SCENE + WAVE + "wheeler = 1\n", "wheeler = 1", ("waves[0].wheeler", "true or false")),
         (SCENE + WAVE.replace('theory = "airy"\n', ""), "[[waves]]", ("waves[0].theory", "missing required key")),
         (SCENE + WAVE.replace("period = 8.0\n", ""), "[[waves]]", ("waves[0].period", "missing required key")),
-        (SCENE + "\n[waves]\ntheory = \"airy\"\n", "[waves]", ("key waves", "[[waves]]")),
+        (SCENE + '\n[waves]\ntheory = "airy"\n', "[waves]", ("key waves", "[[waves]]")),
         (SCENE + "\n[seabed]\nstifness = 1.0\n", "stifness", ("seabed.stifness", "unknown key", "stiffness")),
-        (edited("depth = 150.0", "depth = 150.0\nfluid_inertia = 0"), "fluid_inertia", ("water.fluid_inertia",
-                                                                                      "true or false")),
+        (
+            edited("depth = 150.0", "depth = 150.0\nfluid_inertia = 0"),
+            "fluid_inertia",
+            ("water.fluid_inertia", "true or false"),
+        ),
         # Values.
-        (SCENE + WAVE.replace("airy", "stokes"), 'theory = "stokes"', ("waves[0].theory", "unknown wave theory 'stokes'",
-                                                                       "cnoidal")),
+        (
+            SCENE + WAVE.replace("airy", "stokes"),
+            'theory = "stokes"',
+            ("waves[0].theory", "unknown wave theory 'stokes'", "cnoidal"),
+        ),
         (SCENE + WAVE + "steepness = 0.01\n", "steepness = 0.01", ("waves[0].steepness", "exactly one of height")),
         (SCENE + WAVE.replace("height = 2.0\n", ""), "[[waves]]", ("waves[0]", "exactly one of height")),
         (SCENE + WAVE.replace("8.0", "-8.0"), "period = -8.0", ("waves[0].period", "positive")),
         (SCENE + WAVE.replace("2.0", "0.0"), "height = 0.0", ("waves[0].height", "positive")),
-        (SCENE + WAVE.replace("airy", "cnoidal").replace("period = 8.0", "period = 60.0") + "wheeler = false\n",
-         "wheeler = false", ("waves[0].wheeler", "airy waves only")),
+        (
+            SCENE + WAVE.replace("airy", "cnoidal").replace("period = 8.0", "period = 60.0") + "wheeler = false\n",
+            "wheeler = false",
+            ("waves[0].wheeler", "airy waves only"),
+        ),
         (SCENE + "\n[seabed]\nstiffness = -3.0e6\n", "stiffness = -3.0e6", ("seabed.stiffness", "positive")),
         (SCENE + "\n[seabed]\nfriction = -0.1\n", "friction = -0.1", ("seabed.friction", "non-negative")),
         (SCENE + "\n[seabed]\nfriction_speed = 0\n", "friction_speed = 0", ("seabed.friction_speed", "positive")),
         # The engine's own checks, located at the wave's table.
-        (SCENE + WAVE.replace("airy", "cnoidal").replace("height = 2.0", "height = 120.0"), "[[waves]]",
-         ("waves[0]", "breaking")),
+        (
+            SCENE + WAVE.replace("airy", "cnoidal").replace("height = 2.0", "height = 120.0"),
+            "[[waves]]",
+            ("waves[0]", "breaking"),
+        ),
         (SCENE + WAVE.replace("airy", "cnoidal"), "[[waves]]", ("waves[0]", "Cnoidal.period", "use Airy")),
         # Depth: waves and a seabed need it.
         (SCENE.replace("depth = 150.0\n", "") + WAVE, "[[waves]]", ("waves[0]", "water depth", "[water] depth")),
         (SCENE.replace("depth = 150.0\n", "") + "\n[seabed]\n", "[seabed]", ("key seabed", "water depth")),
         # Currents.
-        (edited("depth = 150.0", "depth = 150.0\ncurrent = [0.1, 0.0, 0.0]") + SEA.split("[[waves]]")[0],
-         "[water.current_profile]", ("water.current_profile", "not both")),
-        (SCENE + "\n[water.current_profile]\nheights = [0.0, -10.0]\nspeeds = [0.1, 0.2]\n",
-         "[water.current_profile]", ("water.current_profile", "strictly increasing")),
-        (SCENE + "\n[water.current_profile]\nheights = [-10.0, 0.0]\nspeeds = 0.2\n",
-         "speeds = 0.2", ("water.current_profile.speeds", "list of finite numbers")),
+        (
+            edited("depth = 150.0", "depth = 150.0\ncurrent = [0.1, 0.0, 0.0]") + SEA.split("[[waves]]")[0],
+            "[water.current_profile]",
+            ("water.current_profile", "not both"),
+        ),
+        (
+            SCENE + "\n[water.current_profile]\nheights = [0.0, -10.0]\nspeeds = [0.1, 0.2]\n",
+            "[water.current_profile]",
+            ("water.current_profile", "strictly increasing"),
+        ),
+        (
+            SCENE + "\n[water.current_profile]\nheights = [-10.0, 0.0]\nspeeds = 0.2\n",
+            "speeds = 0.2",
+            ("water.current_profile.speeds", "list of finite numbers"),
+        ),
     ],
 )
 def test_toml_sea_errors_are_located(tmp_path, text, fragment, words):
@@ -1078,8 +1148,10 @@ def test_with_motion_table_gives_displacements_about_the_points(tmp_path):
     assert scene.coupled_points == (1, 2)
     times = np.array([0.0, 0.5, 1.5, 3.0])
     positions = np.stack(
-        [np.stack([200.0 + np.sin(times), 0.1 * times, np.cos(times) - 1.0], axis=1),
-         np.stack([-200.0 - times, 10.0 + times**2, -5.0 + 0.3 * times], axis=1)],
+        [
+            np.stack([200.0 + np.sin(times), 0.1 * times, np.cos(times) - 1.0], axis=1),
+            np.stack([-200.0 - times, 10.0 + times**2, -5.0 + 0.3 * times], axis=1),
+        ],
         axis=1,
     )
     moved = scene.with_motion_table(times, positions)
@@ -1204,8 +1276,13 @@ def test_moordyn_line_from_a_point_to_itself(tmp_path):
 
 def test_run_past_a_scene_motion_table_fails_before_solving(tmp_path):
     write_motion(tmp_path, "0 150 0 0\n1 151 0 0\n2 150 0 0\n", name="float.csv")
-    path = write_scene(tmp_path, edited('position = [150.0, 0.0, 0.0]\n',
-                                        'position = [150.0, 0.0, 0.0]\nmotion = { type = "table", file = "float.csv" }\n'))
+    path = write_scene(
+        tmp_path,
+        edited(
+            "position = [150.0, 0.0, 0.0]\n",
+            'position = [150.0, 0.0, 0.0]\nmotion = { type = "table", file = "float.csv" }\n',
+        ),
+    )
     scene = jc.read_scene(path)
     with pytest.raises(jc.io.SceneError, match="covers 0 to 2 s, but the run needs 0 to 10 s"):
         jc.run_scene(scene)

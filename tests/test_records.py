@@ -289,27 +289,19 @@ def test_good_base_file_reads(tmp_path):
         pytest.param(
             {3: "time [s], speed [kn], speed [m/s]"}, "line 3: duplicate column 'speed'", id="duplicate-column"
         ),
-        pytest.param(
-            {3: "time [s]", 4: "0.0", 5: "0.1", 6: "0.2"}, "line 3: no columns besides time", id="only-time"
-        ),
+        pytest.param({3: "time [s]", 4: "0.0", 5: "0.1", 6: "0.2"}, "line 3: no columns besides time", id="only-time"),
         pytest.param({3: None, 4: None, 5: None, 6: None}, "tow1.csv: no column header line", id="no-header"),
         pytest.param({5: "0.1, 1.9"}, "line 5: expected 3 fields (time, speed, tension), got 2", id="too-few"),
         pytest.param({5: "0.1, 1.9, 5.2, 7"}, "line 5: expected 3 fields (time, speed, tension), got 4", id="too-many"),
-        pytest.param(
-            {5: "0.1, fast, 5.2"}, "line 5: column 'speed' has non-numeric value 'fast'", id="non-numeric"
-        ),
+        pytest.param({5: "0.1, fast, 5.2"}, "line 5: column 'speed' has non-numeric value 'fast'", id="non-numeric"),
         pytest.param({5: "0.1, 1.9, NaN"}, "line 5: column 'tension' is NaN", id="NaN"),
         pytest.param({5: "0.1, 1.9, nan"}, "line 5: column 'tension' is NaN", id="nan"),
         pytest.param({5: "0.1, , 5.2"}, "line 5: column 'speed' is empty", id="empty"),
         pytest.param({5: "0.1, 1.9, inf"}, "line 5: column 'tension' is not finite: 'inf'", id="inf"),
         pytest.param({5: "0.1, 1.9, -inf"}, "line 5: column 'tension' is not finite: '-inf'", id="minus-inf"),
         pytest.param({6: "0.2, 1e400, 5.3"}, "line 6: column 'speed' is not finite: '1e400'", id="overflow"),
-        pytest.param(
-            {5: "0.0, 1.9, 5.2"}, "line 5: time 0.0 s is not after 0.0 s (line 4)", id="time-repeated"
-        ),
-        pytest.param(
-            {6: "0.05, 1.9, 5.3"}, "line 6: time 0.05 s is not after 0.1 s (line 5)", id="time-decreasing"
-        ),
+        pytest.param({5: "0.0, 1.9, 5.2"}, "line 5: time 0.0 s is not after 0.0 s (line 4)", id="time-repeated"),
+        pytest.param({6: "0.05, 1.9, 5.3"}, "line 6: time 0.05 s is not after 0.1 s (line 5)", id="time-decreasing"),
         pytest.param({5: None, 6: None}, "tow1.csv: a towing record needs at least 2 data rows, got 1", id="one-row"),
         pytest.param(
             {2: "# rig = a\n# rig = b"}, "line 3: repeated condition 'rig' (first given on line 2)", id="repeated-key"

@@ -27,11 +27,11 @@ import diffrax
 import jax
 import numpy as np
 import pytest
+from helpers import ElasticCatenary
 from scipy.io import netcdf_file
 from scipy.optimize import fsolve
 
 import jaxcable as jc
-from helpers import ElasticCatenary
 from jaxcable import examples
 from jaxcable._cli import main
 
@@ -251,7 +251,9 @@ def total_wet_weight(data: dict) -> float:
     """Σ (m − ρF) g L over lines plus Σ (M − ρV) g over bodies (N), from the file alone."""
     rho, g, _ = water(data)
     types = {name: line_type(data, name) for name in data["line_types"]}
-    lines = sum((types[line["type"]]["m"] - rho * types[line["type"]]["F"]) * g * line["length"] for line in data["lines"])
+    lines = sum(
+        (types[line["type"]]["m"] - rho * types[line["type"]]["F"]) * g * line["length"] for line in data["lines"]
+    )
     bodies = sum((p.get("mass", 0.0) - rho * p.get("volume", 0.0)) * g for p in data["points"].values())
     return lines + bodies
 
@@ -366,8 +368,15 @@ def test_seed003_file_is_the_seed003_builder():
     close(ours.segment_length, model.segment_length, "segment_length")
     np.testing.assert_array_equal(ours.segment_nodes, model.segment_nodes)
     np.testing.assert_array_equal(ours.constrained_nodes, model.constrained_nodes)
-    for field in ("mass_per_length", "diameter", "area", "normal_drag", "tangential_drag",
-                  "normal_added_mass", "tangential_added_mass"):
+    for field in (
+        "mass_per_length",
+        "diameter",
+        "area",
+        "normal_drag",
+        "tangential_drag",
+        "normal_added_mass",
+        "tangential_added_mass",
+    ):
         close(getattr(ours.line, field), getattr(model.line, field), field)
     # The file's law is Kelvin–Voigt with no damping; the builder's is NonlinearElastic.
     law, reference = ours.line.tension_law, model.line.tension_law

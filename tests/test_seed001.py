@@ -70,9 +70,7 @@ ENV = jc.Environment(water_density=RHO, gravity=9.81)
 def run(model, velocities, t1, ts):
     initial = jc.State(model.node_positions, jnp.asarray(velocities, dtype=float))
     config = jc.SolverConfig(diffrax.Tsit5(), rtol=SOLVER_TOL, atol=SOLVER_TOL)
-    result = jc.simulate(
-        model, ENV, t1, ts=jnp.asarray(ts), initial=initial, solver=config
-    )
+    result = jc.simulate(model, ENV, t1, ts=jnp.asarray(ts), initial=initial, solver=config)
     assert bool(result.success)
     return result
 
@@ -296,7 +294,7 @@ def problem2_piecewise_reference(times, initial_velocity):
             if wrong:
                 i = wrong[0]
                 low = previous if previous > 0 else 1e-3 * step
-                switch = optimize.brentq(lambda q: extensions(A, y, q)[i], low, s, xtol=1e-17, rtol=1e-15)
+                switch = optimize.brentq(lambda q: extensions(A, y, q)[i], low, s, xtol=1e-17, rtol=1e-15)  # noqa: B023 (called within this iteration)
                 break
             previous, s = s, s + step
         if switch is None:
@@ -347,7 +345,7 @@ def test_problem2_first_phase_modal(problem2):
         sign_change = np.flatnonzero((strains[1:, i] < 0) & (TS2[1:] > TS2[2]))
         k = sign_change[0]
         crossings.append(
-            optimize.brentq(lambda s: np.diff(np.r_[0.0, problem2_modal_solution([s])[0]])[i], TS2[k], TS2[k + 1])
+            optimize.brentq(lambda s: np.diff(np.r_[0.0, problem2_modal_solution([s])[0]])[i], TS2[k], TS2[k + 1])  # noqa: B023 (called within this iteration)
         )
     t_slack = min(crossings)
     first = TS2 <= t_slack

@@ -10,9 +10,9 @@ constant force must sum to zero.
 
 import numpy as np
 import pytest
+from helpers import hand_forces
 
 import jaxcable as jc
-from helpers import hand_forces
 from jaxcable.examples.seed002 import (
     BUOY,
     DIVERTER,

@@ -11,9 +11,9 @@ axis and under the mirror y → −y (the wave's vertical plane), so the equilib
 
 import numpy as np
 import pytest
+from helpers import hand_forces, wet_fraction
 
 import jaxcable as jc
-from helpers import hand_forces, wet_fraction
 from jaxcable.examples.seed002_net import (
     BUOY,
     CORNER_DEPTH,
@@ -68,8 +68,13 @@ def _branches():
     """Every branch as (start, end) junctions, with the branch it becomes under a
     quarter turn (buoy k → k + 1) and under the mirror y → −y (buoys 2 ↔ 4), each with
     whether it is then traversed backwards."""
-    turn = lambda b: b % 4 + 1
-    mirror = lambda b: {1: 1, 2: 4, 3: 3, 4: 2}[b]
+
+    def turn(b):
+        return b % 4 + 1
+
+    def mirror(b):
+        return {1: 1, 2: 4, 3: 3, 4: 2}[b]
+
     out = []
     for b in range(1, 5):
         for node in (buoy_node, corner_node):

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from jaxcable.examples import seed002_net as net
-from studies import seed002_net as s
 from studies import seed002 as s2
+from studies import seed002_net as s
 
 T = net.WAVE_PERIOD
 OMEGA = 2 * np.pi / T
@@ -32,10 +32,18 @@ def _run(times, buoys=None, tension=None, still=None, still_tension=None, period
         junctions[:, net.buoy_node(b)] = position
     tension = np.ones((times.size, 4)) if tension is None else np.asarray(tension, dtype=float)
     return s.NetRun(
-        config=dict(periods=periods), pretension=net.PRETENSION, times=times, junctions=junctions,
-        tension=tension, still=still, still_tension=np.ones(4) if still_tension is None else still_tension,
-        places=PLACE_SEGMENTS, branches={b: np.arange(4) if b == 2 else np.array([], dtype=int) for b in BUOYS},
-        steps=0, statics_time=0.0, wall_time=0.0,
+        config=dict(periods=periods),
+        pretension=net.PRETENSION,
+        times=times,
+        junctions=junctions,
+        tension=tension,
+        still=still,
+        still_tension=np.ones(4) if still_tension is None else still_tension,
+        places=PLACE_SEGMENTS,
+        branches={b: np.arange(4) if b == 2 else np.array([], dtype=int) for b in BUOYS},
+        steps=0,
+        statics_time=0.0,
+        wall_time=0.0,
     )
 
 
@@ -130,8 +138,18 @@ def test_snaps_by_hand():
     assert len(s.series_snaps(t[t < 38.0], tension[t < 38.0], [0], after=30.0)) == 1  # the 33.0 s spell
     # On a trawl run it is the trawl study's `snaps`.
     run = s2.TrawlRun(
-        name="by hand", speeds=(1.0, 3.0), viscous=True, waves=False, times=t, tension=tension,
-        junctions=np.zeros((t.size, 5, 3)), points={}, steady=None, front_angle=0.0, steps=0, wall_time=0.0,
+        name="by hand",
+        speeds=(1.0, 3.0),
+        viscous=True,
+        waves=False,
+        times=t,
+        tension=tension,
+        junctions=np.zeros((t.size, 5, 3)),
+        points={},
+        steady=None,
+        front_angle=0.0,
+        steps=0,
+        wall_time=0.0,
     )
     assert s2.snaps(run, after=20.0) == found
 

@@ -4,8 +4,8 @@ axial-wave closed form, and the study's measures on series built by hand."""
 import numpy as np
 import pytest
 
-from studies import seed002 as s2
 from jaxcable.examples.seed003 import ADDED_MASS, AXIAL_STIFFNESS, MASS_PER_LENGTH
+from studies import seed002 as s2
 
 
 def test_first_stage_is_the_axial_wave():
@@ -24,9 +24,18 @@ def _run(times, tension, speeds=(1.0, 3.0)):
     """A trawl run with the given tension on every point, the junctions at rest."""
     tension = np.asarray(tension, dtype=float)[:, None] * np.ones(4)
     return s2.TrawlRun(
-        name="by hand", speeds=speeds, viscous=True, waves=False, times=times, tension=tension,
-        junctions=np.zeros((times.size, 5, 3)), points=dict(zip(s2.POINTS, range(4))), steady=None,
-        front_angle=0.0, steps=0, wall_time=0.0,
+        name="by hand",
+        speeds=speeds,
+        viscous=True,
+        waves=False,
+        times=times,
+        tension=tension,
+        junctions=np.zeros((times.size, 5, 3)),
+        points=dict(zip(s2.POINTS, range(4))),
+        steady=None,
+        front_angle=0.0,
+        steps=0,
+        wall_time=0.0,
     )
 
 
@@ -36,7 +45,7 @@ def test_snaps_and_jerks_on_a_series_by_hand():
     # 25 kN at 300.7 s, and 15 kN from 302 s on.
     tension = np.where(t < 300.0, 30e3, 15e3)
     tension = np.where((t >= 300.2) & (t < 300.5), -100.0, tension)
-    tension = np.where((t >= 300.5) & (t < 302.0), 15e3 + 10e3 * np.exp(-((t - 300.7) / 0.1) ** 2), tension)
+    tension = np.where((t >= 300.5) & (t < 302.0), 15e3 + 10e3 * np.exp(-(((t - 300.7) / 0.1) ** 2)), tension)
     run = _run(t, tension, speeds=(3.0, 1.0))
     found = s2.snaps(run, segments=[0])
     assert len(found) == 1

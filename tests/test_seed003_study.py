@@ -15,9 +15,9 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from helpers import ElasticCatenary
 
 import jaxcable as jc
-from helpers import ElasticCatenary
 from jaxcable.examples.seed003 import AREA, DEPTH, MASS_PER_LENGTH
 from studies.seed003 import seed003_case, seed003_study, slack_time, verdict
 
@@ -83,8 +83,18 @@ def test_batched_study_matches_plain_simulations(one_sweep):
     """The swept study's linear cases equal plain runs of a LinearElastic line, whether
     each angle has a sweep of its own or one sweep takes every angle and ratio."""
     angles, c_e, window, rtol = (45.0, 60.0), 1e7, (1.0, 2.0), 1e-9
-    study = seed003_study(angles, (0.0, 0.2), axial_stiffness=c_e, n_segments=N, duration=2.0, window=window,
-                          sample_rate=50.0, rtol=rtol, atol=rtol, one_sweep=one_sweep)
+    study = seed003_study(
+        angles,
+        (0.0, 0.2),
+        axial_stiffness=c_e,
+        n_segments=N,
+        duration=2.0,
+        window=window,
+        sample_rate=50.0,
+        rtol=rtol,
+        atol=rtol,
+        one_sweep=one_sweep,
+    )
     assert [(c.angle, c.ratio) for c in study.cases] == [(a, r) for a in angles for r in (0.0, 0.2)]
     assert set(study.run_s_by_angle) == (set() if one_sweep else set(angles))
     for angle in angles:
@@ -106,9 +116,7 @@ def test_batched_study_matches_plain_simulations(one_sweep):
 
 
 def _rows(peaks):
-    return [
-        {"angle_deg": a, "ratio": r, "peak_top_N": p, "peak_strain": 0.005} for (a, r), p in peaks.items()
-    ]
+    return [{"angle_deg": a, "ratio": r, "peak_top_N": p, "peak_strain": 0.005} for (a, r), p in peaks.items()]
 
 
 def test_verdict_recognises_the_papers_claims_and_their_absence():

@@ -25,9 +25,9 @@ import equinox as eqx
 import numpy as np
 import optimistix as optx
 import pytest
+from helpers import Irvine, chain_nodes, rigid_top_tension
 
 import jaxcable as jc
-from helpers import Irvine, chain_nodes, rigid_top_tension
 
 RHO, G = 1025.0, 9.81
 solve = eqx.filter_jit(jc.solve_statics)

@@ -40,7 +40,9 @@ def test_cable_towed_along_the_flow_carries_its_tangential_drag():
     )
     times = np.linspace(0.0, 30.0, 61)
     speed = np.interp(times, [0.0, 10.0, 12.0, 30.0], [1.0, 1.0, 2.0, 2.0])
-    observables, result, success = rig.simulate(times, {"speed": speed}, jc.calibration.rig_solver(rtol=1e-9, atol=1e-9))
+    observables, result, success = rig.simulate(
+        times, {"speed": speed}, jc.calibration.rig_solver(rtol=1e-9, atol=1e-9)
+    )
     assert bool(success)
     c_tau = 0.5 * RHO * 0.01 * math.pi * diameter
     stretched = np.linalg.norm(np.diff(np.asarray(result.positions), axis=1), axis=-1)  # (times, segments)
@@ -56,8 +58,15 @@ def test_steady_tow_starts_in_equilibrium():
     # The start is statics in a current against the tow; simulated as motion through
     # still water at that speed, nothing should change (Galilean invariance of the
     # drag, through two different code paths).
-    rig = HorizontalTow(cable_length=100.0, segments=4, cable_axial_stiffness=2e6, cable_axial_damping=5e3,
-                        end_mass=100.0, end_volume=0.015, end_drag_area=0.1)
+    rig = HorizontalTow(
+        cable_length=100.0,
+        segments=4,
+        cable_axial_stiffness=2e6,
+        cable_axial_damping=5e3,
+        end_mass=100.0,
+        end_volume=0.015,
+        end_drag_area=0.1,
+    )
     times = np.linspace(0.0, 10.0, 11)
     observables = rig.predict(times, {"speed": np.full(11, 1.5)}, jc.calibration.rig_solver(rtol=1e-9, atol=1e-9))
     for name in rig.observables:

@@ -16,7 +16,9 @@ G = 9.81
 def reference_wavenumber(period, depth):
     """k from ω² = g k tanh(k d) by bracketing, independent of jaxcable's Newton."""
     omega = 2 * np.pi / period
-    return brentq(lambda k: omega**2 - G * k * np.tanh(k * depth), 1e-9, 10 * omega**2 / G + 10 / depth, xtol=1e-15, rtol=1e-15)
+    return brentq(
+        lambda k: omega**2 - G * k * np.tanh(k * depth), 1e-9, 10 * omega**2 / G + 10 / depth, xtol=1e-15, rtol=1e-15
+    )
 
 
 def closed_form(height, period, depth, k, x, z, t, phase=0.0):
@@ -29,7 +31,9 @@ def closed_form(height, period, depth, k, x, z, t, phase=0.0):
     return u, w, omega * u * np.tan(theta), -omega * a * np.sinh(k * (z + depth)) * np.cos(theta)
 
 
-@pytest.mark.parametrize("period, depth", [(2.0, 500.0), (8.0, 20.0), (12.0, 10.0), (30.0, 5.0), (60.0, 0.5), (5.6, 200.0)])
+@pytest.mark.parametrize(
+    "period, depth", [(2.0, 500.0), (8.0, 20.0), (12.0, 10.0), (30.0, 5.0), (60.0, 0.5), (5.6, 200.0)]
+)
 def test_dispersion_matches_an_independent_root(period, depth):
     assert float(airy_wavenumber(period, depth, G)) == pytest.approx(reference_wavenumber(period, depth), rel=1e-13)
 
@@ -87,7 +91,9 @@ def test_kinematics_above_the_mean_level():
     crest = jnp.array([0.0, 0.0, 1.0])  # η = H/2 = 1 at x = 0, t = 0
     np.testing.assert_allclose(plain.velocity(crest, 0.0), plain.velocity(jnp.array([0.0, 0.0, 0.0]), 0.0), atol=1e-14)
     # Wheeler maps the surface to z = 0 and the bed to itself ...
-    np.testing.assert_allclose(stretched.velocity(crest, 0.0), plain.velocity(jnp.array([0.0, 0.0, 0.0]), 0.0), atol=1e-13)
+    np.testing.assert_allclose(
+        stretched.velocity(crest, 0.0), plain.velocity(jnp.array([0.0, 0.0, 0.0]), 0.0), atol=1e-13
+    )
     bed = jnp.array([0.0, 0.0, -20.0])
     np.testing.assert_allclose(stretched.velocity(bed, 0.0), plain.velocity(bed, 0.0), atol=1e-13)
     # ... and a point between to z' = d (z − η) / (d + η).
@@ -195,7 +201,7 @@ def test_fluid_inertia_is_morison_on_the_waters_acceleration(wave):
     expected = np.zeros((3, 3))
     area = np.pi * 0.08**2 / 4
     xi = (np.arange(4000) + 0.5) / 4000
-    for s, (i, j) in enumerate([(0, 1), (1, 2)]):
+    for i, j in [(0, 1), (1, 2)]:
         chord = positions[j] - positions[i]
         tangent = chord / np.linalg.norm(chord)
         points = positions[i] + xi[:, None] * chord
@@ -209,7 +215,10 @@ def test_fluid_inertia_is_morison_on_the_waters_acceleration(wave):
 
     # Switched off, only drag is left: zero here.
     dry = jc.Environment(RHO, G, depth=25.0, waves=wave, fluid_inertia=False)
-    assert np.abs(np.asarray(lag.nonconservative_forces(model, dry, t, jnp.asarray(positions), jnp.zeros((3, 3))))).max() == 0.0
+    assert (
+        np.abs(np.asarray(lag.nonconservative_forces(model, dry, t, jnp.asarray(positions), jnp.zeros((3, 3))))).max()
+        == 0.0
+    )
 
 
 def count_primitives(model, env, names):
@@ -240,7 +249,9 @@ def test_absent_terms_are_not_compiled():
     wave = jc.Airy(2.0, 7.0, 25.0)
     still = count_primitives(model, jc.Environment(RHO, G), {"cos", "sin", "exp"})
     waves = count_primitives(model, jc.Environment(RHO, G, depth=25.0, waves=wave), {"cos", "sin", "exp"})
-    drag_only = count_primitives(model, jc.Environment(RHO, G, depth=25.0, waves=wave, fluid_inertia=False), {"cos", "sin", "exp"})
+    drag_only = count_primitives(
+        model, jc.Environment(RHO, G, depth=25.0, waves=wave, fluid_inertia=False), {"cos", "sin", "exp"}
+    )
     assert still == 0
     assert waves > drag_only > 0
     assert count_primitives(model, jc.Environment(RHO, G, depth=25.0), {"max"}) < count_primitives(
@@ -256,7 +267,9 @@ def test_wave_ramp_scales_the_waves_and_their_acceleration(start):
     for t in start + np.array([-5.0, 0.0, 4.0, 11.0, 18.0, 25.0]):
         u = min(max((t - start) / 18.0, 0.0), 1.0)
         f = u**3 * (6 * u**2 - 15 * u + 10)
-        np.testing.assert_allclose(env.water_velocity(p, t), f * wave.velocity(p, t) + np.array([0.2, 0.0, 0.0]), atol=1e-14)
+        np.testing.assert_allclose(
+            env.water_velocity(p, t), f * wave.velocity(p, t) + np.array([0.2, 0.0, 0.0]), atol=1e-14
+        )
         h = 1e-5
         fd = (env.water_velocity(p, t + h) - env.water_velocity(p, t - h)) / (2 * h)
         np.testing.assert_allclose(env.water_acceleration(p, t), fd, atol=1e-8)

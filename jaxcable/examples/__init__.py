@@ -10,7 +10,8 @@ from pathlib import Path
 
 from .._waves import seed003_amplitude as seed003_amplitude
 from .seed001 import seed001_element as seed001_element
-from .seed002 import start_tow as start_tow, towed_trawl as towed_trawl
+from .seed002 import start_tow as start_tow
+from .seed002 import towed_trawl as towed_trawl
 from .seed002_net import moored_net as moored_net
 from .seed003 import seed003_line as seed003_line
 

@@ -32,12 +32,13 @@ tether of 10 mm rope with EF = 1e5 N, and VerticalTow's scallop cage (25 kg in a
 """
 
 import jax.numpy as jnp
-from jaxtyping import Array, ArrayLike, Float
+from jaxtyping import Array, Float
 
 from .._environment import Environment
 from .._materials import LinearElastic
 from .._motion import Fixed
 from .._network import Body, CableNetwork, LineType
+from .._typing import RealLike, RealScalarLike
 from .._waves import Airy
 
 WATER_DENSITY = 1025.0  # kg/m³
@@ -66,7 +67,7 @@ def seed001_wave() -> Airy:
     return Airy(WAVE_HEIGHT, WAVE_PERIOD, DEPTH, gravity=GRAVITY)
 
 
-def orbital_speed(wave: Airy, z: ArrayLike) -> Float[Array, "*z"]:
+def orbital_speed(wave: Airy, z: RealLike) -> Float[Array, "*z"]:
     """u₀ (m/s): the amplitude of the water's horizontal velocity at depth `z` (m)
     under a linear wave, `(H/2) ω cosh k(z+d) / sinh kd`."""
     k, d = wave.wavenumber, wave.depth
@@ -80,11 +81,11 @@ def element_depth() -> float:
 
 
 def seed001_element(
-    weight_characteristic: ArrayLike = 0.5,
+    weight_characteristic: RealScalarLike = 0.5,
     *,
     tethered: bool = True,
-    specific_drag: ArrayLike = SPECIFIC_DRAG,
-    wave_height: ArrayLike = WAVE_HEIGHT,
+    specific_drag: RealScalarLike = SPECIFIC_DRAG,
+    wave_height: RealScalarLike = WAVE_HEIGHT,
     mass_matrix: str = "lumped",
 ) -> tuple[CableNetwork, Environment]:
     """A growing element in seed 001's wave: `(model, env)`, node 0 the fixed frame

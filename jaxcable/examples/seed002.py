@@ -56,6 +56,7 @@ WATER_DEPTH = 1000.0  # m
 def _guess() -> np.ndarray:
     """First guesses for the junctions (m): each branch straight and stretched by 0.1 %,
     so that statics starts taut, along the directions of the steady tow at 1 m/s."""
+
     def unit(v):
         return np.asarray(v) / np.linalg.norm(v)
 

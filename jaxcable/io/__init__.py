@@ -12,26 +12,56 @@ module holds what they take and give, and the rest of the file formats.
 
 from .._records import (
     COLUMNS as COLUMNS,
+)
+from .._records import (
     UNITS as UNITS,
+)
+from .._records import (
     RecordError as RecordError,
+)
+from .._records import (
     TowingRecord as TowingRecord,
+)
+from .._records import (
     to_si as to_si,
 )
 from ._advice_text import advice_lines as advice_lines
 from ._motion_file import read_motion_file as read_motion_file
-from ._output import write as write_output
-from ._records import read_record as read_record, read_records as read_records, write_record as write_record
+from ._output import write as write_output  # noqa: F401 (re-exported under a new name)
+from ._records import read_record as read_record
+from ._records import read_records as read_records
+from ._records import write_record as write_record
 from ._run import SceneRun as SceneRun
 from ._scene import (
     BuiltScene as BuiltScene,
+)
+from ._scene import (
     CurrentProfileSpec as CurrentProfileSpec,
+)
+from ._scene import (
     LineSpec as LineSpec,
+)
+from ._scene import (
     LineTypeSpec as LineTypeSpec,
+)
+from ._scene import (
     PointSpec as PointSpec,
+)
+from ._scene import (
     RunSettings as RunSettings,
+)
+from ._scene import (
     Scene as Scene,
+)
+from ._scene import (
     SceneError as SceneError,
+)
+from ._scene import (
     SeabedSpec as SeabedSpec,
+)
+from ._scene import (
     Water as Water,
+)
+from ._scene import (
     WaveSpec as WaveSpec,
 )

@@ -12,8 +12,12 @@ def advice_lines(advice: Advice) -> list[str]:
     text = []
     for fit in advice.waves:
         uses = "which it uses" if fit.uses_fitting_theory else f"but the model uses {fit.theory}"
-        fits = {"airy": "Airy fits", "cnoidal": "cnoidal fits", "breaking": "the wave breaks",
-                "none": "neither theory fits well"}[fit.fits]
+        fits = {
+            "airy": "Airy fits",
+            "cnoidal": "cnoidal fits",
+            "breaking": "the wave breaks",
+            "none": "neither theory fits well",
+        }[fit.fits]
         text.append(
             f"wave {fit.index + 1} ({fit.theory}, H = {fit.height:.3g} m, T = {fit.period:.3g} s): "
             f"λ = {fit.wavelength:.4g} m, d/λ = {fit.relative_depth:.3g} ({fit.regime} water), "
@@ -45,7 +49,7 @@ def advice_lines(advice: Advice) -> list[str]:
             f" allowed: {d.segments} segments {verdict}"
             + (" (a lower bound: the curvature is taken from the coarse shape)" if d.needed > d.segments else "")
         )
-    if advice.rest_min_tension is not None and advice.slack:
+    if advice.rest_min_tension is not None and advice.rest_max_tension is not None and advice.slack:
         text.append(
             f"at rest the tension is {advice.rest_min_tension / 1e3:.4g} to {advice.rest_max_tension / 1e3:.4g} kN"
         )
@@ -60,9 +64,7 @@ def advice_lines(advice: Advice) -> list[str]:
         if advice.slack_expected:
             text.append("slack expected, quasi-statically; dynamics (drag, inertia) make it more likely still")
         else:
-            text.append(
-                "no slack quasi-statically; dynamics (drag, inertia) can still slacken a line that this misses"
-            )
+            text.append("no slack quasi-statically; dynamics (drag, inertia) can still slacken a line that this misses")
         for c in advice.slack:
             if np.isfinite(c.terminal_speed) and c.speed > c.terminal_speed:
                 text.append(
@@ -80,12 +82,10 @@ def advice_lines(advice: Advice) -> list[str]:
             f"seabed contact: |λ| = {advice.seabed_eigenvalue:.4g} 1/s from {what[advice.seabed_limit]}"
             + (", faster than the axial mode" if advice.seabed_eigenvalue > advice.eigenvalue else "")
         )
-    steps = (
-        f", so {advice.duration:g} s needs at least ~{advice.steps:,} steps" if advice.duration is not None else ""
-    )
+    steps = f", so {advice.duration:g} s needs at least ~{advice.steps:,} steps" if advice.duration is not None else ""
     text.append(
-        f"an explicit solver (dopri5, tsit5) is stable for steps up to about {STABLE_STEP:g}/|λ| = {advice.explicit_step:.3g} s"
-        + steps
+        f"an explicit solver (dopri5, tsit5) is stable for steps up to about {STABLE_STEP:g}/|λ| = "
+        f"{advice.explicit_step:.3g} s" + steps
     )
     if advice.explicit_step < 1e-3:
         text.append(

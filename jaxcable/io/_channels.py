@@ -62,8 +62,7 @@ def parse_channel(name: str, scene: "Scene") -> tuple[str, str, int, int]:
             raise SceneError(f"output channel {name!r}: line {k + 1} has nodes 0 to {last}")
         return f"L{k + 1}N{i}{quantity}", quantity, k, i
     raise SceneError(
-        f"unknown output channel {name!r}; jaxcable writes FairTen<k>, AnchTen<k>, "
-        "L<k>N<i>PX / PY / PZ and L<k>N<i>T"
+        f"unknown output channel {name!r}; jaxcable writes FairTen<k>, AnchTen<k>, L<k>N<i>PX / PY / PZ and L<k>N<i>T"
     )
 
 

@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from .._network import Body
+from ._parse import is_number, read_text, unique_names
 from ._scene import (
     LineSpec,
     LineTypeSpec,
@@ -47,7 +48,6 @@ from ._scene import (
     Water,
     located,
 )
-from ._parse import is_number, read_text, unique_names
 
 # Section names as MoorDyn recognises them, most specific first: a header matches the
 # first entry any of whose aliases it contains.
@@ -85,17 +85,40 @@ _POINT_KINDS = {
 # Options that tune MoorDyn's own integrator, initial-condition generator or files:
 # jaxcable integrates adaptively and solves statics directly, so they do not apply.
 _NOT_APPLICABLE = {
-    "dtm", "dt", "cfl", "tscheme", "dtic", "icdt", "tmaxic", "ictmax", "cdscaleic", "icdfac",
-    "threshic", "icthresh", "gendynamicic", "icgendynamic", "fileic", "icfile",
+    "dtm",
+    "dt",
+    "cfl",
+    "tscheme",
+    "dtic",
+    "icdt",
+    "tmaxic",
+    "ictmax",
+    "cdscaleic",
+    "icdfac",
+    "threshic",
+    "icthresh",
+    "gendynamicic",
+    "icgendynamic",
+    "fileic",
+    "icfile",
 }
 _COSMETIC = {"echo", "writelog", "writeunits", "disableoutput", "disableouttime"}
 # Numeric options jaxcable uses, by lower-case name, and the values each may take.
 _USED = {
-    "g": "positive", "gravity": "positive", "rho": "positive", "wtrdnsty": "positive", "wtrdpth": "positive",
+    "g": "positive",
+    "gravity": "positive",
+    "rho": "positive",
+    "wtrdnsty": "positive",
+    "wtrdpth": "positive",
     # dtOut = 0 is MoorDyn's "every step": jaxcable then keeps its default interval.
     "dtout": "positive (or 0, MoorDyn's every step)",
-    "kbot": "positive", "kb": "positive", "cbot": "non-negative", "cb": "non-negative",
-    "frictioncoefficient": "non-negative", "fricdamp": "positive", "statdynfricscale": "positive",
+    "kbot": "positive",
+    "kb": "positive",
+    "cbot": "non-negative",
+    "cb": "non-negative",
+    "frictioncoefficient": "non-negative",
+    "fricdamp": "positive",
+    "statdynfricscale": "positive",
 }
 # MoorDyn's defaults (MoorDyn2.cpp): bottom stiffness and damping, friction damping.
 _KBOT, _CBOT, _FRICDAMP = 3.0e6, 3.0e5, 200.0
@@ -264,10 +287,17 @@ def _point(source: str, line: int, fields: list[str], index: int) -> PointSpec:
     columns = _POINT_FORCE_COLUMNS if len(fields) >= len(_POINT_FORCE_COLUMNS) else _POINT_COLUMNS
     values = {c: t for c, t in zip(columns, fields)}
     if not values["ID"].isdigit() or int(values["ID"]) != index + 1:
-        raise SceneError(f"{where}, column ID: point IDs must run 1, 2, 3, ...; expected {index + 1}, got {values['ID']!r}")
-    kind_word = re.match(r"[A-Za-z]*", values["Type"]).group(0).upper()
+        raise SceneError(
+            f"{where}, column ID: point IDs must run 1, 2, 3, ...; expected {index + 1}, got {values['ID']!r}"
+        )
+    leading = re.match(r"[A-Za-z]*", values["Type"])
+    assert leading is not None  # the pattern matches every string, if only by its empty prefix
+    kind_word = leading.group(0).upper()
     if kind_word == "BODY":
-        raise SceneError(f"{where}, column Type: {values['Type']!r} attaches the point to a 6-DOF body, which jaxcable does not model")
+        raise SceneError(
+            f"{where}, column Type: {values['Type']!r} attaches the point to a 6-DOF body, which jaxcable does not "
+            "model"
+        )
     kinds = [k for k, words in _POINT_KINDS.items() if kind_word in words]
     if not kinds:
         known = ", ".join(w.capitalize() for words in _POINT_KINDS.values() for w in words)
@@ -275,12 +305,18 @@ def _point(source: str, line: int, fields: list[str], index: int) -> PointSpec:
     number = {c: _number(source, line, c, values[c]) for c in columns[2:]}
     forces = [number.get(c, 0.0) for c in ("FX", "FY", "FZ")]
     if any(forces) and kinds[0] != "free":
-        raise SceneError(f"{where}, columns FX FY FZ: constant forces {forces} on a {kinds[0]} point act on nothing that moves")
+        raise SceneError(
+            f"{where}, columns FX FY FZ: constant forces {forces} on a {kinds[0]} point act on nothing that moves"
+        )
     body = None
     if any(number[c] for c in ("Mass", "Volume", "CdA", "Ca")) or any(forces):
         with located(where):
             body = Body(
-                mass=number["Mass"], volume=number["Volume"], drag_area=number["CdA"], added_mass=number["Ca"], force=forces
+                mass=number["Mass"],
+                volume=number["Volume"],
+                drag_area=number["CdA"],
+                added_mass=number["Ca"],
+                force=forces,
             )
     position = (number["X"], number["Y"], number["Z"])
     return PointSpec(str(index + 1), kinds[0], position, body, None, where)
@@ -291,7 +327,9 @@ def _line(source: str, line: int, fields: list[str], index: int, n_points: int, 
     where = f"{source}, line {line}"
     values = dict(zip(_LINE_COLUMNS, fields))
     if not values["ID"].isdigit() or int(values["ID"]) != index + 1:
-        raise SceneError(f"{where}, column ID: line IDs must run 1, 2, 3, ...; expected {index + 1}, got {values['ID']!r}")
+        raise SceneError(
+            f"{where}, column ID: line IDs must run 1, 2, 3, ...; expected {index + 1}, got {values['ID']!r}"
+        )
     if values["LineType"] not in type_names:
         raise SceneError(f"{where}, column LineType: unknown line type {values['LineType']!r}; defined: {type_names}")
     ends = []
@@ -300,7 +338,9 @@ def _line(source: str, line: int, fields: list[str], index: int, n_points: int, 
         match = re.fullmatch(r"(?i)(C|CON|P|POINT)?(\d+)", token)
         if match is None:
             if re.fullmatch(r"(?i)(R|ROD)\d+[AB]?", token):
-                raise SceneError(f"{where}, column {column}: {token!r} attaches to a rod, which jaxcable does not model")
+                raise SceneError(
+                    f"{where}, column {column}: {token!r} attaches to a rod, which jaxcable does not model"
+                )
             raise SceneError(f"{where}, column {column}: {token!r} is not a point (expected a number such as 1 or P1)")
         k = int(match.group(2))
         if not 1 <= k <= n_points:
@@ -338,22 +378,26 @@ def _options(source: str, lines: list[str], sections: dict[str, int], notes: lis
                 continue
             notes.append(f"{where}: option {name} = {value} ignored (MoorDyn's wave and current input; still water)")
         elif key in _NOT_APPLICABLE:
-            notes.append(f"{where}: option {name} = {value} not needed (jaxcable steps adaptively and solves statics directly)")
+            notes.append(
+                f"{where}: option {name} = {value} not needed (jaxcable steps adaptively and solves statics directly)"
+            )
         elif key not in _COSMETIC:
             notes.append(f"{where}: unknown option {name} = {value} ignored")
     return options
 
 
-def _seabed(source, options, points, line_types, lines, density, gravity, notes) -> tuple[float | None, SeabedSpec | None]:
+def _seabed(
+    source, options, points, line_types, lines, density, gravity, notes
+) -> tuple[float | None, SeabedSpec | None]:
     """The water depth and MoorDyn's seabed (module docstring)."""
     depth = options.get("wtrdpth", 0.0)
     deepest = min(range(len(points)), key=lambda k: points[k].position[2])
     lowest = -points[deepest].position[2]
     if lowest > depth:
         point = points[deepest]
-        given = f"WtrDpth = {depth:g} m" if "wtrdpth" in options else "no WtrDpth"
+        stated = f"WtrDpth = {depth:g} m" if "wtrdpth" in options else "no WtrDpth"
         notes.append(
-            f"{point.where}: {given}, but point {point.name} is at z = {-lowest:g} m: MoorDyn then sets the water "
+            f"{point.where}: {stated}, but point {point.name} is at z = {-lowest:g} m: MoorDyn then sets the water "
             f"depth to {lowest:g} m, with its seabed there, and so does jaxcable"
         )
         depth = lowest
@@ -380,11 +424,15 @@ def _seabed(source, options, points, line_types, lines, density, gravity, notes)
         # line's wet weight, here that of the line whose nodes weigh most.
         types = {t.name: t for t in line_types}
         weights = {
-            line.name: (types[line.line_type].mass_per_length - density * np.pi * types[line.line_type].diameter**2 / 4)
-            * gravity * line.length / line.segments
+            line.name: (
+                types[line.line_type].mass_per_length - density * np.pi * types[line.line_type].diameter ** 2 / 4
+            )
+            * gravity
+            * line.length
+            / line.segments
             for line in lines
         }
-        heaviest = max(weights, key=weights.get)
+        heaviest = max(weights, key=lambda k: weights[k])
         if weights[heaviest] > 0:
             friction_speed = weights[heaviest] / fricdamp
             notes.append(
@@ -429,4 +477,3 @@ def _title(lines: list[str]) -> str:
         if line.strip() and "---" not in line:
             return line.strip()
     return ""
-

@@ -62,4 +62,3 @@ def read_motion_file(path: str | Path, points: int) -> tuple[np.ndarray, np.ndar
             f"{table[i - 1, 0]:g} s"
         )
     return table[:, 0], table[:, 1:].reshape(len(rows), points, 3)
-

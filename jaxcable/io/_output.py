@@ -29,7 +29,9 @@ def write(path: str | Path, run: SceneRun, names: tuple[str, ...] = ()) -> Path:
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in TABLE_SUFFIXES + ARCHIVE_SUFFIXES:
-        raise SceneError(f"output file {path}: unknown format {suffix!r}; use one of {TABLE_SUFFIXES + ARCHIVE_SUFFIXES}")
+        raise SceneError(
+            f"output file {path}: unknown format {suffix!r}; use one of {TABLE_SUFFIXES + ARCHIVE_SUFFIXES}"
+        )
     # + 0.0 turns the −0.0 of a slack segment (negative strain times a zero switch) into 0.
     values = {name: series + 0.0 for name, series in run.channels(names).items()}
     if suffix == ".csv":

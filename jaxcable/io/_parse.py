@@ -6,6 +6,7 @@ from pathlib import Path
 
 from ._scene import SceneError
 
+
 def read_text(path: Path, what: str = "") -> str:
     """The text of `path`, or a `SceneError` saying why it cannot be read."""
     try:

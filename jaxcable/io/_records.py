@@ -113,9 +113,7 @@ def _read_columns(line: str, where: str) -> tuple[list[str], list[str], list[flo
         dimension = COLUMNS[name]
         if unit is None:
             example = next(iter(UNITS[dimension]))
-            raise _error(
-                where, f"column {name!r} has no unit; write it as '{name} [unit]', e.g. '{name} [{example}]'"
-            )
+            raise _error(where, f"column {name!r} has no unit; write it as '{name} [unit]', e.g. '{name} [{example}]'")
         factors.append(_factor(unit.strip(), dimension, f"column {name!r}", where))
         names.append(name)
         units.append(unit.strip())

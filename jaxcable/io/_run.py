@@ -154,20 +154,42 @@ def run_scene(
         as_series = lambda x: np.asarray(x)[None]  # noqa: E731
         positions = as_series(static.state.positions)
         return SceneRun(
-            built, static, np.zeros(1), positions, as_series(static.state.velocities), as_series(static.tension),
-            as_series(static.reactions), 0, statics_seconds, 0.0, _water_notes(built, positions),
+            built,
+            static,
+            np.zeros(1),
+            positions,
+            as_series(static.state.velocities),
+            as_series(static.tension),
+            as_series(static.reactions),
+            0,
+            statics_seconds,
+            0.0,
+            _water_notes(built, positions),
         )
 
     start = time.perf_counter()
     result = simulate(
-        model, env, duration, ts=output_times(duration, dt_out), initial=static.state,
-        solver=solver, progress=progress,
+        model,
+        env,
+        duration,
+        ts=output_times(duration, dt_out),
+        initial=static.state,
+        solver=solver,
+        progress=progress,
     )
     positions = np.asarray(result.positions)
     dynamics_seconds = time.perf_counter() - start
     return SceneRun(
-        built, static, np.asarray(result.times), positions, np.asarray(result.velocities), np.asarray(result.tension),
-        np.asarray(result.reactions), int(result.stats["num_steps"]), statics_seconds, dynamics_seconds,
+        built,
+        static,
+        np.asarray(result.times),
+        positions,
+        np.asarray(result.velocities),
+        np.asarray(result.tension),
+        np.asarray(result.reactions),
+        int(result.stats["num_steps"]),
+        statics_seconds,
+        dynamics_seconds,
         _water_notes(built, positions),
     )
 

@@ -166,7 +166,9 @@ class Water:
             # A cnoidal wave of low Ursell number warns; the scene reader notes it, and
             # jaxcable info's advice says which theory fits.
             warnings.filterwarnings("ignore", message="Cnoidal wave of Ursell number", category=UserWarning)
-            waves = tuple(wave.wave(self.depth, self.gravity) for wave in self.waves)
+            # Waves without a depth were refused above.
+            depth = self.depth
+            waves = () if depth is None else tuple(wave.wave(depth, self.gravity) for wave in self.waves)
         seabed = None if self.seabed is None else self.seabed.seabed()
         with located(where):
             return Environment(
@@ -396,9 +398,7 @@ class Scene:
             for line in self.lines
         ]
         constraints = {
-            k: (p.motion if p.motion is not None else Fixed())
-            for k, p in enumerate(self.points)
-            if p.kind != "free"
+            k: (p.motion if p.motion is not None else Fixed()) for k, p in enumerate(self.points) if p.kind != "free"
         }
         bodies = {k: p.body for k, p in enumerate(self.points) if p.body is not None}
         environment = self.water.environment()

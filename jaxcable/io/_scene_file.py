@@ -115,8 +115,15 @@ _SEABED = ("stiffness", "damping", "friction", "friction_speed")
 _SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "mass_matrix")
 _LINE_TYPE_REQUIRED = ("mass_per_length", "diameter", "axial_stiffness")
 _LINE_TYPE_OPTIONAL = (
-    "quadratic_stiffness", "axial_damping", "axial_damping_ratio", "normal_drag", "tangential_drag",
-    "normal_added_mass", "tangential_added_mass", "area", "slack_width",
+    "quadratic_stiffness",
+    "axial_damping",
+    "axial_damping_ratio",
+    "normal_drag",
+    "tangential_drag",
+    "normal_added_mass",
+    "tangential_added_mass",
+    "area",
+    "slack_width",
 )
 _BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height")
 _BODY_VECTORS = ("force",)
@@ -159,7 +166,9 @@ def read_scene(path: str | Path) -> Scene:
     )
     for key, allowed in (("solver", tuple(SOLVERS)), ("mass_matrix", MASS_MATRICES)):
         if getattr(run, key) not in allowed:
-            raise SceneError(f"{reader.where(('simulation', key))}: must be one of {allowed}, got {getattr(run, key)!r}")
+            raise SceneError(
+                f"{reader.where(('simulation', key))}: must be one of {allowed}, got {getattr(run, key)!r}"
+            )
     for key in ("dt_out", "rtol", "atol"):
         value = getattr(run, key)
         if value is not None and not value > 0:
@@ -186,7 +195,9 @@ def read_scene(path: str | Path) -> Scene:
         reader.keys(table, keys, ("type", "position", "motion") + _BODY + _BODY_VECTORS)
         kind = reader.string(table, (*keys, "type"))
         if kind not in POINT_KINDS:
-            raise SceneError(f"{reader.where((*keys, 'type'))}: unknown point type {kind!r}; expected one of {POINT_KINDS}")
+            raise SceneError(
+                f"{reader.where((*keys, 'type'))}: unknown point type {kind!r}; expected one of {POINT_KINDS}"
+            )
         position = reader.vector(table, (*keys, "position"))
         body = None
         if any(k in table for k in _BODY + _BODY_VECTORS):
@@ -215,7 +226,9 @@ def read_scene(path: str | Path) -> Scene:
         for end in ("from", "to"):
             point = reader.string(row, (*keys, end))
             if point not in index:
-                raise SceneError(f"{reader.where((*keys, end))}: point {point!r} does not exist; defined: {list(index)}")
+                raise SceneError(
+                    f"{reader.where((*keys, end))}: point {point!r} does not exist; defined: {list(index)}"
+                )
             ends.append(index[point])
         line_type = reader.string(row, (*keys, "type"))
         if line_type not in {t.name for t in line_types}:
@@ -225,7 +238,9 @@ def read_scene(path: str | Path) -> Scene:
             )
         length = reader.number(row, (*keys, "length"))
         if not length > 0:
-            raise SceneError(f"{reader.where((*keys, 'length'))}: the unstretched length must be positive, got {length:g}")
+            raise SceneError(
+                f"{reader.where((*keys, 'length'))}: the unstretched length must be positive, got {length:g}"
+            )
         segments = row.get("segments")
         if not (type(segments) is int and segments >= 1):
             raise SceneError(f"{reader.where((*keys, 'segments'))}: expected a positive integer, got {segments!r}")
@@ -424,7 +439,9 @@ class _Reader:
             and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value)
         ):
             raise SceneError(f"{self.where(keys)}: expected a list of finite numbers, got {value!r}")
-        return tuple(float(v) for v in value) if given else value
+        if not given:
+            return default
+        return tuple(float(v) for v in value)
 
     def vector(self, table: dict, keys: tuple, default: Any = ...) -> tuple[float, float, float]:
         value, given = self._value(table, keys, default, "[x, y, z]")
@@ -434,12 +451,15 @@ class _Reader:
             and all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in value)
         ):
             raise SceneError(f"{self.where(keys)}: expected three numbers [x, y, z], got {value!r}")
-        return tuple(float(v) for v in value) if given else value
+        if not given:
+            return default
+        x, y, z = value
+        return float(x), float(y), float(z)
 
     def motion(self, table: dict, keys: tuple, position: tuple[float, float, float]):
         spec = table[keys[-1]]
         if not isinstance(spec, dict):
-            raise SceneError(f"{self.where(keys)}: expected a table such as {{ type = \"harmonic\", ... }}")
+            raise SceneError(f'{self.where(keys)}: expected a table such as {{ type = "harmonic", ... }}')
         kind = self.string(spec, (*keys, "type"))
         if kind == "harmonic":
             self.keys(spec, keys, _HARMONIC)
