@@ -6,6 +6,8 @@ The line drag per unit stretched length on a relative velocity `u = V − Ṙ` i
 
 split into the parts normal (`u_n`) and tangential (`u_τ`) to the segment. These are the
 same reference areas as MoorDyn's Cd (on d·l) and CdAx (on π·d·l).
+
+Vectors are component-major: shape `(3, ...)`, the components first (see [`dot`][]).
 """
 
 import jax.numpy as jnp
@@ -17,10 +19,27 @@ from jaxtyping import Array, ArrayLike, Float
 _TINY_SPEED = 1e-12
 
 
-def safe_norm(v: Float[ArrayLike, "... 3"]) -> Float[Array, "..."]:
-    """`|v|` along the last axis, with a finite gradient at `v = 0`."""
+def dot(a: Float[ArrayLike, "3 *#batch"], b: Float[ArrayLike, "3 *#batch"]) -> Float[Array, "*batch"]:
+    """`a · b` over the first axis, the vectors' components.
+
+    Vectors here are component-major, shape `(3, ...)`, and the sum is written out: XLA's
+    CPU backend vectorises arithmetic along the long last axis, where a short trailing
+    axis of 3 (and a reduction or concatenation over it) costs several times the
+    arithmetic (`benchmarks/README.md`, *Where an evaluation's time goes*)."""
+    a, b = jnp.asarray(a), jnp.asarray(b)
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def matvec(m: Float[ArrayLike, "3 3 *#batch"], v: Float[ArrayLike, "3 *#batch"]) -> Float[Array, "3 ..."]:
+    """`m v` for component-major 3 × 3 matrices, shape `(3, 3, ...)`."""
+    m, v = jnp.asarray(m), jnp.asarray(v)
+    return m[:, 0] * v[0] + m[:, 1] * v[1] + m[:, 2] * v[2]
+
+
+def safe_norm(v: Float[ArrayLike, "3 ..."]) -> Float[Array, "*batch"]:
+    """`|v|` over the first axis, with a finite gradient at `v = 0`."""
     v = jnp.asarray(v)
-    return jnp.sqrt(jnp.sum(v * v, axis=-1) + _TINY_SPEED**2)
+    return jnp.sqrt(dot(v, v) + _TINY_SPEED**2)
 
 
 def gauss_legendre(points: int) -> tuple[np.ndarray, np.ndarray]:
@@ -30,12 +49,12 @@ def gauss_legendre(points: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def line_drag(
-    relative_velocity: Float[ArrayLike, "*#batch 3"],
-    tangent: Float[ArrayLike, "*#batch 3"],
+    relative_velocity: Float[ArrayLike, "3 *#batch"],
+    tangent: Float[ArrayLike, "3 *#batch"],
     normal_coefficient: Float[ArrayLike, "*#batch"],
     tangential_coefficient: Float[ArrayLike, "*#batch"],
-) -> Float[Array, "*batch 3"]:
-    """Drag per unit length, `C_n |u_n| u_n + C_τ |u_τ| u_τ` (N/m).
+) -> Float[Array, "3 ..."]:
+    """Drag per unit length, `C_n |u_n| u_n + C_τ |u_τ| u_τ` (N/m), component-major.
 
     **Arguments:**
 
@@ -45,23 +64,22 @@ def line_drag(
     - `tangential_coefficient`: C_τ = ½ ρ K_τ π d (kg/m²).
     """
     relative_velocity, tangent = jnp.asarray(relative_velocity), jnp.asarray(tangent)
-    normal_coefficient, tangential_coefficient = jnp.asarray(normal_coefficient), jnp.asarray(tangential_coefficient)
-    u_tangential = jnp.sum(relative_velocity * tangent, axis=-1, keepdims=True) * tangent
+    u_tangential = dot(relative_velocity, tangent) * tangent
     u_normal = relative_velocity - u_tangential
     return (
-        normal_coefficient[..., None] * safe_norm(u_normal)[..., None] * u_normal
-        + tangential_coefficient[..., None] * safe_norm(u_tangential)[..., None] * u_tangential
+        normal_coefficient * safe_norm(u_normal) * u_normal
+        + tangential_coefficient * safe_norm(u_tangential) * u_tangential
     )
 
 
 def line_inertia(
-    fluid_acceleration: Float[ArrayLike, "*#batch 3"],
-    tangent: Float[ArrayLike, "*#batch 3"],
+    fluid_acceleration: Float[ArrayLike, "3 *#batch"],
+    tangent: Float[ArrayLike, "3 *#batch"],
     normal_coefficient: Float[ArrayLike, "*#batch"],
     tangential_coefficient: Float[ArrayLike, "*#batch"],
-) -> Float[Array, "*batch 3"]:
+) -> Float[Array, "3 ..."]:
     """Morison's inertia force per unit length from the water's acceleration,
-    `c_n a_n + c_τ a_τ` (N/m), split like `line_drag`.
+    `c_n a_n + c_τ a_τ` (N/m), split like `line_drag`, component-major.
 
     **Arguments:**
 
@@ -71,24 +89,20 @@ def line_inertia(
     - `tangential_coefficient`: c_τ = ρ F (1 + C_aτ) (kg/m).
     """
     fluid_acceleration, tangent = jnp.asarray(fluid_acceleration), jnp.asarray(tangent)
-    normal_coefficient, tangential_coefficient = jnp.asarray(normal_coefficient), jnp.asarray(tangential_coefficient)
-    a_tangential = jnp.sum(fluid_acceleration * tangent, axis=-1, keepdims=True) * tangent
-    return (
-        normal_coefficient[..., None] * (fluid_acceleration - a_tangential)
-        + tangential_coefficient[..., None] * a_tangential
-    )
+    a_tangential = dot(fluid_acceleration, tangent) * tangent
+    return normal_coefficient * (fluid_acceleration - a_tangential) + tangential_coefficient * a_tangential
 
 
 def body_drag(
-    relative_velocity: Float[ArrayLike, "*#batch 3"], coefficient: Float[ArrayLike, "*#batch"]
-) -> Float[Array, "*batch 3"]:
-    """Quadratic drag on a body, `c |u| u` (N).
+    relative_velocity: Float[ArrayLike, "3 *#batch"], coefficient: Float[ArrayLike, "*#batch"]
+) -> Float[Array, "3 ..."]:
+    """Quadratic drag on a body, `c |u| u` (N), component-major.
 
     Both of jaxcable's body laws have this form: `c = ½ ρ C_D A` for form drag, and
     `c = k₀ m g` for Zhukov's specific-weight law `R = k₀ u² m g` (seed 001, eq. 3).
     """
-    relative_velocity, coefficient = jnp.asarray(relative_velocity), jnp.asarray(coefficient)
-    return coefficient[..., None] * safe_norm(relative_velocity)[..., None] * relative_velocity
+    relative_velocity = jnp.asarray(relative_velocity)
+    return coefficient * safe_norm(relative_velocity) * relative_velocity
 
 
 def submerged_interval(

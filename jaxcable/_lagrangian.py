@@ -37,7 +37,8 @@ from jaxtyping import Array, Float
 
 from . import _checks as checks
 from ._environment import Environment
-from ._hydro import body_drag, gauss_legendre, line_drag, line_inertia, safe_norm, submerged_interval
+from ._hydro import body_drag, dot, gauss_legendre, line_drag, line_inertia, matvec, safe_norm, submerged_interval
+from ._indexing import sum_into, take
 from ._network import CableNetwork
 
 # ∫₀¹ N_a N_b dξ for the shape functions N = (1 − ξ, ξ), exact and at the ends.
@@ -46,6 +47,9 @@ _SHAPE_WEIGHTS = {
     "lumped": np.array([[1 / 2, 0.0], [0.0, 1 / 2]]),
 }
 
+# The vertical unit vector, component-major (a column that broadcasts over nodes).
+_UP = np.array([0.0, 0.0, 1.0])[:, None]
+
 
 # Conjugate-gradient iterations for the consistent solve. The condition number is at most
 # 3, so the error falls below 2 (√3 − 1)^k / (√3 + 1)^k ≈ 1e-17 after 30 iterations. A fixed
@@ -53,61 +57,108 @@ _SHAPE_WEIGHTS = {
 # mode they would apply to the cotangent, making gradients depend on the loss's scale.
 _CG_ITERATIONS = 30
 
+# Internally every vector array is component-major, shape `(3, nodes)` or `(3,
+# segments, ...)`, and every 3 × 3 block `(3, 3, nodes)`: XLA's CPU backend vectorises
+# along the last axis, so the long axis goes there (see `_hydro.dot`). The functions
+# without a leading underscore take and return the public layout, `(nodes, 3)`; the
+# transposes at that boundary cancel where one calls another.
 
-def _scatter(model: CableNetwork, at_start: Array, at_end: Array) -> Float[Array, " nodes *trailing"]:
-    """Sum per-segment arrays (of any trailing shape) onto the segments' end nodes."""
-    ids = model.segment_nodes.T.reshape(-1)
-    return jax.ops.segment_sum(jnp.concatenate([at_start, at_end]), ids, num_segments=model.n_nodes)
+
+def _cm(vectors: Array) -> Array:
+    """`(..., 3)` → component-major `(3, ...)`; a single 3-vector becomes a column."""
+    vectors = jnp.asarray(vectors)
+    return vectors[:, None] if vectors.ndim == 1 else jnp.moveaxis(vectors, -1, 0)
+
+
+def _public(vectors: Array) -> Array:
+    """Component-major `(3, ...)` → the public layout `(..., 3)`."""
+    return jnp.moveaxis(vectors, 0, -1)
+
+
+def _scatter(model: CableNetwork, at_start: Array, at_end: Array) -> Float[Array, "*leading nodes"]:
+    """Sum per-segment arrays (segments on the last axis) onto the segments' end nodes."""
+    return sum_into(jnp.concatenate([at_start, at_end], axis=-1), model.topology.node_sums)
+
+
+def _ends(model: CableNetwork, per_node: Array) -> tuple[Array, Array]:
+    """A per-node array (nodes on the last axis) at each segment's start and end node."""
+    return take(per_node, model.segment_nodes[:, 0]), take(per_node, model.segment_nodes[:, 1])
+
+
+def _place(model: CableNetwork, free: Array, constrained: Array) -> Array:
+    """The per-node array (nodes on the last axis) whose free nodes hold `free` and
+    constrained nodes `constrained`."""
+    return take(jnp.concatenate([free, constrained], axis=-1), model.topology.placement)
+
+
+def _constrained_motion(model: CableNetwork, t) -> tuple[Array, Array, Array]:
+    reference = take(_cm(model.node_positions), model.constrained_nodes)
+    if not model.motions:
+        return reference, reference * 0.0, reference * 0.0
+    r, v, a = (jnp.stack(k, axis=-1) for k in zip(*(m.kinematics(t) for m in model.motions)))
+    return reference + r, v, a
 
 
 def constrained_motion(model: CableNetwork, t) -> tuple[Array, Array, Array]:
     """Positions (m), velocities (m/s) and accelerations (m/s²) of the constrained
     nodes at time `t`, each of shape `(constrained, 3)`."""
-    reference = model.node_positions[model.constrained_nodes]
-    if not model.motions:
-        empty = jnp.zeros((0, 3))
-        return empty, empty, empty
-    r, v, a = (jnp.stack(k) for k in zip(*(m.kinematics(t) for m in model.motions)))
-    return reference + r, v, a
+    r, v, a = _constrained_motion(model, t)
+    return _public(r), _public(v), _public(a)
+
+
+def _full_state(model: CableNetwork, t, free_positions, free_velocities):
+    r, v, _ = _constrained_motion(model, t)
+    return _place(model, free_positions, r), _place(model, free_velocities, v)
 
 
 def full_state(model: CableNetwork, t, free_positions, free_velocities):
-    """Node positions and velocities, shape `(nodes, 3)`, from the free unknowns."""
-    r, v, _ = constrained_motion(model, t)
-    positions = model.node_positions.at[model.free_nodes].set(free_positions).at[model.constrained_nodes].set(r)
-    velocities = jnp.zeros_like(positions).at[model.free_nodes].set(free_velocities)
-    return positions, velocities.at[model.constrained_nodes].set(v)
+    """Node positions and velocities, shape `(nodes, 3)`, from the free unknowns, shape
+    `(free, 3)`."""
+    positions, velocities = _full_state(model, t, _cm(free_positions), _cm(free_velocities))
+    return _public(positions), _public(velocities)
+
+
+def _geometry(model: CableNetwork, positions):
+    start, end = _ends(model, positions)
+    chord = end - start
+    stretched = safe_norm(chord)
+    return stretched, chord / stretched, stretched / model.segment_length - 1.0
 
 
 def segment_geometry(model: CableNetwork, positions):
-    """Stretched length S (m), unit tangent τ and strain ε = S/L − 1 of each segment."""
-    start, end = positions[model.segment_nodes[:, 0]], positions[model.segment_nodes[:, 1]]
-    chord = end - start
-    stretched = safe_norm(chord)
-    return stretched, chord / stretched[:, None], stretched / model.segment_length - 1.0
+    """Stretched length S (m), unit tangent τ (shape `(segments, 3)`) and strain
+    ε = S/L − 1 of each segment."""
+    stretched, tangent, strain = _geometry(model, _cm(positions))
+    return stretched, _public(tangent), strain
+
+
+def _strain_rate(model: CableNetwork, tangent, velocities):
+    start, end = _ends(model, velocities)
+    return dot(tangent, end - start) / model.segment_length
 
 
 def strain_rate(model: CableNetwork, positions, velocities) -> Float[Array, " segments"]:
     """ε̇ = τ · (v_j − v_i) / L (1/s)."""
-    _, tangent, _ = segment_geometry(model, positions)
-    dv = velocities[model.segment_nodes[:, 1]] - velocities[model.segment_nodes[:, 0]]
-    return jnp.sum(tangent * dv, axis=-1) / model.segment_length
+    _, tangent, _ = _geometry(model, _cm(positions))
+    return _strain_rate(model, tangent, _cm(velocities))
+
+
+def _tension(model: CableNetwork, positions, velocities):
+    _, tangent, strain = _geometry(model, positions)
+    return model.line.tension_law.tension(strain, _strain_rate(model, tangent, velocities))
 
 
 def tension(model: CableNetwork, positions, velocities) -> Float[Array, " segments"]:
     """Segment tension T(ε, ε̇) (N)."""
-    _, _, strain = segment_geometry(model, positions)
-    return model.line.tension_law.tension(strain, strain_rate(model, positions, velocities))
+    return _tension(model, _cm(positions), _cm(velocities))
 
 
-def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[Array, ""]:
-    """Π (J): elastic energy, gravity minus buoyancy, and the potential −F·x of the
-    bodies' constant forces."""
+def _potential_energy(model: CableNetwork, env: Environment, positions) -> Float[Array, ""]:
     line, body = model.line, model.body
-    _, _, strain = segment_geometry(model, positions)
+    _, _, strain = _geometry(model, positions)
     elastic = jnp.sum(model.segment_length * line.tension_law.elastic_energy_density(strain))
-    z = positions[:, 2]
-    z_start, z_end = z[model.segment_nodes[:, 0]], z[model.segment_nodes[:, 1]]
+    z = positions[2]
+    z_start, z_end = _ends(model, z)
     mid_depth = 0.5 * (z_start + z_end)
     weight = line.mass_per_length * env.gravity * model.segment_length
     displaced = env.water_density * line.area * env.gravity * model.segment_length
@@ -123,7 +174,7 @@ def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[
         elastic
         + jnp.sum(weight * mid_depth - displaced * submerged_depth)
         + jnp.sum(body.mass * env.gravity * z + body_buoyancy * column_buoyancy_potential(z, body.height))
-        - jnp.sum(body.force * positions)
+        - jnp.sum(_cm(body.force) * positions)
     )
     if env.seabed is not None and env.depth is not None:  # a seabed comes with a depth (Environment checks)
         penetration = jnp.maximum(-env.depth - z, 0.0)
@@ -131,30 +182,41 @@ def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[
     return energy
 
 
+def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[Array, ""]:
+    """Π (J): elastic energy, gravity minus buoyancy, and the potential −F·x of the
+    bodies' constant forces, at node `positions` (m), shape `(nodes, 3)`."""
+    return _potential_energy(model, env, _cm(positions))
+
+
 def contact_area(model: CableNetwork) -> Float[Array, " nodes"]:
     """Each node's seabed contact area (m²): half the projected area d L of each segment
     that meets there, as MoorDyn's `kBot` and `cBot` refer to."""
     half = 0.5 * model.line.diameter * model.segment_length
-    return _scatter(model, half, half)
+    return _scatter(model, jnp.broadcast_to(half, (model.n_segments,)), jnp.broadcast_to(half, (model.n_segments,)))
+
+
+def _mass_per_length(model: CableNetwork, env: Environment, positions, tangent) -> Float[Array, "3 3 segments"]:
+    line = model.line
+    axial = tangent[:, None] * tangent[None, :]
+    added = env.water_density * line.area
+    if env.free_surface:
+        # The submerged fraction's added mass, spread along the segment as the rest.
+        a, b = submerged_interval(*_ends(model, positions[2]))
+        added = added * (b - a)
+    eye = np.eye(3)[:, :, None]
+    return (
+        line.mass_per_length * eye
+        + added * line.normal_added_mass * (eye - axial)
+        + added * line.tangential_added_mass * axial
+    )
 
 
 def mass_per_length(model: CableNetwork, env: Environment, positions) -> Float[Array, "segments 3 3"]:
     """μ = m I + ρ F (C_a (I − ττᵀ) + C_aτ ττᵀ) (kg/m), each segment's mass per unit
     unstretched length, the fluid's added mass included."""
-    line = model.line
-    _, tangent, _ = segment_geometry(model, positions)
-    axial = tangent[:, :, None] * tangent[:, None, :]
-    added = env.water_density * line.area
-    if env.free_surface:
-        # The submerged fraction's added mass, spread along the segment as the rest.
-        a, b = submerged_interval(positions[model.segment_nodes[:, 0], 2], positions[model.segment_nodes[:, 1], 2])
-        added = added * (b - a)
-    eye = jnp.eye(3)
-    return (
-        line.mass_per_length[:, None, None] * eye
-        + (added * line.normal_added_mass)[:, None, None] * (eye - axial)
-        + (added * line.tangential_added_mass)[:, None, None] * axial
-    )
+    positions = _cm(positions)
+    _, tangent, _ = _geometry(model, positions)
+    return jnp.moveaxis(_mass_per_length(model, env, positions, tangent), -1, 0)
 
 
 def column_submerged_fraction(z: Array | np.ndarray | float, height: Array | np.ndarray | float) -> Array:
@@ -177,31 +239,41 @@ def column_buoyancy_potential(z: Array | np.ndarray | float, height: Array | np.
 
 def _body_mass(model: CableNetwork, env: Environment, positions) -> Float[Array, " nodes"]:
     body = model.body
-    wet = column_submerged_fraction(positions[:, 2], body.height)
+    wet = column_submerged_fraction(positions[2], body.height)
     return body.mass + body.added_mass * env.water_density * body.volume * wet
 
 
-def _segment_blocks(model: CableNetwork, env: Environment, positions, weights) -> Float[Array, "segments 2 2 3 3"]:
-    """Each segment's 6 × 6 mass matrix as 2 × 2 blocks: `W_ab L μ`."""
-    mu = mass_per_length(model, env, positions) * model.segment_length[:, None, None]
-    return weights[None, :, :, None, None] * mu[:, None, None]
+def _inertial_forces(model: CableNetwork, env: Environment, positions, accelerations) -> Float[Array, "3 nodes"]:
+    weights = _SHAPE_WEIGHTS[model.mass_matrix]
+    _, tangent, _ = _geometry(model, positions)
+    mu = _mass_per_length(model, env, positions, tangent) * model.segment_length
+    start, end = _ends(model, accelerations)
+    at_start, at_end = matvec(mu, start), matvec(mu, end)
+    return (
+        _scatter(
+            model, weights[0, 0] * at_start + weights[0, 1] * at_end, weights[1, 0] * at_start + weights[1, 1] * at_end
+        )
+        + _body_mass(model, env, positions) * accelerations
+    )
 
 
 def inertial_forces(model: CableNetwork, env: Environment, positions, accelerations) -> Float[Array, "nodes 3"]:
     """`M(x) a` (N): the generalised inertia of node accelerations `a` (m/s²), shape
     `(nodes, 3)`."""
-    blocks = _segment_blocks(model, env, positions, _SHAPE_WEIGHTS[model.mass_matrix])
-    per_end = jnp.einsum("sabij,sbj->sai", blocks, accelerations[model.segment_nodes])
-    return _scatter(model, per_end[:, 0], per_end[:, 1]) + _body_mass(model, env, positions)[:, None] * accelerations
+    return _public(_inertial_forces(model, env, _cm(positions), _cm(accelerations)))
+
+
+def _lumped_blocks(model: CableNetwork, env: Environment, positions, tangent) -> Float[Array, "3 3 nodes"]:
+    half = 0.5 * _mass_per_length(model, env, positions, tangent) * model.segment_length
+    return _scatter(model, half, half) + _body_mass(model, env, positions) * np.eye(3)[:, :, None]
 
 
 def lumped_blocks(model: CableNetwork, env: Environment, positions) -> Float[Array, "nodes 3 3"]:
     """The 3 × 3 blocks of the lumped mass matrix (kg), shape `(nodes, 3, 3)`, whichever
     matrix the model uses: they are also the consistent solve's preconditioner."""
-    blocks = _segment_blocks(model, env, positions, _SHAPE_WEIGHTS["lumped"])
-    return _scatter(model, blocks[:, 0, 0], blocks[:, 1, 1]) + _body_mass(model, env, positions)[
-        :, None, None
-    ] * jnp.eye(3)
+    positions = _cm(positions)
+    _, tangent, _ = _geometry(model, positions)
+    return jnp.moveaxis(_lumped_blocks(model, env, positions, tangent), -1, 0)
 
 
 def kinetic_energy(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, ""]:
@@ -209,51 +281,58 @@ def kinetic_energy(model: CableNetwork, env: Environment, positions, velocities)
 
     With the line's added mass anisotropic (C_a ≠ C_aτ), this plus `potential_energy` is
     not a conserved quantity even without drag; see the module docstring."""
-    return 0.5 * jnp.sum(velocities * inertial_forces(model, env, positions, velocities))
+    velocities = _cm(velocities)
+    return 0.5 * jnp.sum(velocities * _inertial_forces(model, env, _cm(positions), velocities))
 
 
-def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
-    """Generalised forces (N) of drag, fluid inertia, internal damping, the seabed's
-    damping and friction, and the loads on bodies."""
+def _water(field, points: Array, t) -> Array:
+    """An environment's field (`water_velocity`, `water_acceleration`), which speaks
+    the public layout, at component-major `points`."""
+    return _cm(field(_public(points), t))
+
+
+def _nonconservative_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "3 nodes"]:
     line, body = model.line, model.body
     rho = env.water_density
-    stretched, tangent, strain = segment_geometry(model, positions)
+    stretched, tangent, strain = _geometry(model, positions)
 
+    # One quadrature point at a time, rather than an axis of them: a short trailing axis
+    # is slow on XLA's CPU backend (see `_hydro.dot`).
     xi, w = gauss_legendre(model.drag_points)
-    ends = model.segment_nodes
-    xi, w = jnp.broadcast_to(xi, (model.n_segments, xi.size)), jnp.broadcast_to(w, (model.n_segments, w.size))
+    start, end = _ends(model, positions)
+    start_velocity, end_velocity = _ends(model, velocities)
     if env.free_surface:
         # Quadrature over the submerged part [a, b] only.
-        a, b = submerged_interval(positions[ends[:, 0], 2], positions[ends[:, 1], 2])
-        xi, w = a[:, None] + (b - a)[:, None] * xi, (b - a)[:, None] * w
-
-    def along(field):
-        return field[ends[:, 0], None] * (1 - xi)[..., None] + field[ends[:, 1], None] * xi[..., None]
-
-    points = along(positions)  # (segments, points, 3)
-    relative = env.water_velocity(points, t) - along(velocities)
+        a, b = submerged_interval(start[2], end[2])
     normal = 0.5 * rho * line.normal_drag * line.diameter  # C_n
     tangential = 0.5 * rho * line.tangential_drag * jnp.pi * line.diameter  # C_τ
-    f = line_drag(relative, tangent[:, None, :], normal[:, None], tangential[:, None])
-    if env.has_fluid_acceleration:
-        # Morison's inertia on the water's acceleration: Froude–Krylov (the 1) plus
-        # added mass, normal and tangential to the segment, as MoorDyn writes it.
-        displaced = rho * line.area
-        f = f + line_inertia(
-            env.water_acceleration(points, t),
-            tangent[:, None, :],
-            (displaced * (1 + line.normal_added_mass))[:, None],
-            (displaced * (1 + line.tangential_added_mass))[:, None],
-        )
-    drag_start = stretched[:, None] * jnp.einsum("sp,spk->sk", w * (1 - xi), f)
-    drag_end = stretched[:, None] * jnp.einsum("sp,spk->sk", w * xi, f)
+    displaced = rho * line.area
+    drag_start = drag_end = jnp.zeros_like(tangent)
+    for point, weight in zip(xi.tolist(), w.tolist()):
+        if env.free_surface:
+            point, weight = a + (b - a) * point, (b - a) * weight
+        where = start * (1 - point) + end * point
+        relative = _water(env.water_velocity, where, t) - (start_velocity * (1 - point) + end_velocity * point)
+        f = line_drag(relative, tangent, normal, tangential)
+        if env.has_fluid_acceleration:
+            # Morison's inertia on the water's acceleration: Froude–Krylov (the 1) plus
+            # added mass, normal and tangential to the segment, as MoorDyn writes it.
+            f = f + line_inertia(
+                _water(env.water_acceleration, where, t),
+                tangent,
+                displaced * (1 + line.normal_added_mass),
+                displaced * (1 + line.tangential_added_mass),
+            )
+        drag_start = drag_start + stretched * weight * (1 - point) * f
+        drag_end = drag_end + stretched * weight * point * f
 
     law = line.tension_law
-    viscous = law.tension(strain, strain_rate(model, positions, velocities)) - law.elastic_tension(strain)
-    pull = viscous[:, None] * tangent
-    forces = _scatter(model, drag_start + pull, drag_end - pull)
+    if law.damped:
+        pull = law.viscous_tension(strain, _strain_rate(model, tangent, velocities)) * tangent
+        drag_start, drag_end = drag_start + pull, drag_end - pull
+    forces = _scatter(model, drag_start, drag_end)
 
-    z = positions[:, 2]
+    z = positions[2]
     wet = column_submerged_fraction(z, body.height)
     if env.waves:
         # A floating column is wet up to the wave's surface η, not to z = 0: its buoyancy
@@ -263,33 +342,46 @@ def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, 
         # Froude–Krylov term on the wet volume this is, to first order, the wave
         # pressure on the column's bottom.
         still = wet
-        wet = column_submerged_fraction(z - env.surface_elevation(positions[:, 0], positions[:, 1], t), body.height)
-        forces = forces.at[:, 2].add(rho * env.gravity * body.volume * (wet - still))
+        wet = column_submerged_fraction(z - env.surface_elevation(positions[0], positions[1], t), body.height)
+        forces = forces + rho * env.gravity * body.volume * (wet - still) * _UP
     coefficient = (0.5 * rho * body.drag_area + body.specific_drag * body.organism_mass * env.gravity) * wet
-    forces = forces + body_drag(env.water_velocity(positions, t) - velocities, coefficient)
+    forces = forces + body_drag(_water(env.water_velocity, positions, t) - velocities, coefficient)
     if env.has_fluid_acceleration:
-        forces = forces + (rho * body.volume * (1 + body.added_mass) * wet)[..., None] * env.water_acceleration(
-            positions, t
-        )
+        forces = forces + rho * body.volume * (1 + body.added_mass) * wet * _water(env.water_acceleration, positions, t)
     if env.seabed is not None:
-        forces = forces + seabed_forces(model, env, positions, velocities)
+        forces = forces + _seabed_forces(model, env, positions, velocities)
     return forces
 
 
-def seabed_forces(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, "nodes 3"]:
-    """The seabed's damping and friction on each node (N); its spring is in
-    `potential_energy`."""
+def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
+    """Generalised forces (N) of drag, fluid inertia, internal damping, the seabed's
+    damping and friction, and the loads on bodies, shape `(nodes, 3)`."""
+    return _public(_nonconservative_forces(model, env, t, _cm(positions), _cm(velocities)))
+
+
+def _seabed_forces(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, "3 nodes"]:
     bed, depth = env.seabed, env.depth
     assert bed is not None and depth is not None, "seabed_forces needs a seabed (which comes with a depth)"
     area = contact_area(model)
-    touching = positions[:, 2] < -depth
-    penetration = jnp.maximum(-depth - positions[:, 2], 0.0)
-    damping = jnp.where(touching, -bed.damping * area * velocities[:, 2], 0.0)
+    touching = positions[2] < -depth
+    penetration = jnp.maximum(-depth - positions[2], 0.0)
+    damping = jnp.where(touching, -bed.damping * area * velocities[2], 0.0)
     normal_force = bed.stiffness * area * penetration
-    sliding = velocities.at[:, 2].set(0.0)
-    speed = jnp.sqrt(jnp.sum(sliding**2, axis=-1) + bed.friction_speed**2)
-    friction = -(bed.friction * normal_force / speed)[:, None] * sliding
-    return friction.at[:, 2].add(damping)
+    sliding = velocities * (1.0 - _UP)
+    speed = jnp.sqrt(dot(sliding, sliding) + bed.friction_speed**2)
+    return -(bed.friction * normal_force / speed) * sliding + damping * _UP
+
+
+def seabed_forces(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, "nodes 3"]:
+    """The seabed's damping and friction on each node (N), shape `(nodes, 3)`; its
+    spring is in `potential_energy`."""
+    return _public(_seabed_forces(model, env, _cm(positions), _cm(velocities)))
+
+
+def _internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "3 nodes"]:
+    _, tangent, _ = _geometry(model, positions)
+    pull = _tension(model, positions, velocities) * tangent
+    return _scatter(model, pull, -pull)
 
 
 def internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "nodes 3"]:
@@ -297,98 +389,94 @@ def internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, 
     together, on every node, shape `(nodes, 3)`: the stiff part of `Q`, which an
     implicit–explicit solver treats implicitly. Equal to the elastic part of
     `−∂Π/∂x` plus the viscous pull in `nonconservative_forces`."""
-    _, tangent, _ = segment_geometry(model, positions)
-    pull = tension(model, positions, velocities)[:, None] * tangent
-    return _scatter(model, pull, -pull)
+    return _public(_internal_forces(model, _cm(positions), _cm(velocities)))
+
+
+def _generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "3 nodes"]:
+    conservative = -jax.grad(_potential_energy, argnums=2)(model, env, positions)
+    return conservative + _nonconservative_forces(model, env, t, positions, velocities)
 
 
 def generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
     """All generalised forces Q (N) on every node, shape `(nodes, 3)`."""
-    conservative = -jax.grad(potential_energy, argnums=2)(model, env, positions)
-    return conservative + nonconservative_forces(model, env, t, positions, velocities)
+    return _public(_generalised_forces(model, env, t, _cm(positions), _cm(velocities)))
 
 
-def _inverse_3x3(blocks: Float[Array, "n 3 3"]) -> Float[Array, "n 3 3"]:
-    """The inverses of 3 × 3 blocks, by the adjugate.
+def _adjugate(blocks: Float[Array, "3 3 n"]) -> tuple[Float[Array, "3 3 n"], Float[Array, " n"]]:
+    """The cofactor matrices and determinants of component-major 3 × 3 blocks.
 
     In closed form rather than LAPACK's batched LU: it fuses with the rest of the
     step, and the batched LU was seen to deadlock under vmap across two host devices
     on a two-core machine. The blocks are mass matrices, m I plus a rank-one added
     mass, so they are well conditioned and the adjugate loses nothing.
     """
-    a = blocks
-    cofactor = jnp.stack(
-        [
-            jnp.cross(a[..., 1, :], a[..., 2, :]),
-            jnp.cross(a[..., 2, :], a[..., 0, :]),
-            jnp.cross(a[..., 0, :], a[..., 1, :]),
-        ],
-        axis=-2,
-    )
-    determinant = jnp.sum(a[..., 0, :] * cofactor[..., 0, :], axis=-1)
+
+    def cross(u, v):
+        return jnp.stack([u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]])
+
+    rows = blocks[0], blocks[1], blocks[2]
+    cofactor = jnp.stack([cross(rows[1], rows[2]), cross(rows[2], rows[0]), cross(rows[0], rows[1])])
+    return cofactor, dot(rows[0], cofactor[0])
+
+
+def _inverse_3x3(blocks: Float[Array, "3 3 n"]) -> Float[Array, "3 3 n"]:
+    """The inverses of component-major 3 × 3 blocks."""
+    cofactor, determinant = _adjugate(blocks)
     # The rows' cross products are the columns of det · A⁻¹.
-    return jnp.swapaxes(cofactor, -1, -2) / determinant[..., None, None]
+    return jnp.swapaxes(cofactor, 0, 1) / determinant
+
+
+def _solve_3x3(blocks: Float[Array, "3 3 n"], rhs: Float[Array, "3 n"]) -> Float[Array, "3 n"]:
+    """`A⁻¹ b` for each component-major 3 × 3 block, by Cramer's rule: cheaper than
+    forming the inverse, which the lumped solve never needs."""
+    cofactor, determinant = _adjugate(blocks)
+    return (cofactor[0] * rhs[0] + cofactor[1] * rhs[1] + cofactor[2] * rhs[2]) / determinant
 
 
 FORCE_PARTS = ("all", "internal", "external")
 
 
-def free_accelerations(model: CableNetwork, env: Environment, t, free_positions, free_velocities, part: str = "all"):
-    """Solve `M_ff a_f = Q_f − M_fc a_c` for the free nodes' accelerations (m/s²).
-
-    `part` splits the right-hand side for implicit–explicit solvers: `"internal"`
-    keeps the line's axial forces alone ([`internal_forces`]), `"external"` the rest,
-    `M_fc a_c` included; the two parts' accelerations sum to `"all"`'s.
-
-    Returns `(a_f, positions, velocities, a)`: the free accelerations, shape
-    `(free, 3)`, and the full node positions, velocities and accelerations (of the
-    part asked for).
-
-    **Raises:**
-
-    `ValueError` naming `part` and the choices if it is not one of `FORCE_PARTS`: a
-    misspelt part would otherwise be taken as `"all"`, and an implicit–explicit split
-    would then count some forces twice.
-    """
+def _free_accelerations(model: CableNetwork, env: Environment, t, free_positions, free_velocities, part: str):
     checks.option("free_accelerations: part", part, FORCE_PARTS)
-    positions, velocities = full_state(model, t, free_positions, free_velocities)
-    _, _, constrained_acc = constrained_motion(model, t)
-    free, constrained = model.free_nodes, model.constrained_nodes
-    known = jnp.zeros_like(positions)
-    if part != "internal":
-        known = known.at[constrained].set(constrained_acc)
+    positions, velocities = _full_state(model, t, free_positions, free_velocities)
+    _, _, constrained_acc = _constrained_motion(model, t)
+    free = model.free_nodes
     if part == "internal":
-        forces = internal_forces(model, positions, velocities)
+        constrained_acc = jnp.zeros_like(constrained_acc)
+    if part == "internal":
+        forces = _internal_forces(model, positions, velocities)
     else:
-        forces = generalised_forces(model, env, t, positions, velocities)
+        forces = _generalised_forces(model, env, t, positions, velocities)
         if model.mass_matrix == "consistent":
             # The lumped matrix is block-diagonal, so its M_fc a_c vanishes on the free
             # rows; skipping it saves about a fifth of a lumped evaluation.
-            forces = forces - inertial_forces(model, env, positions, known)
+            known = _place(model, jnp.zeros_like(free_positions), constrained_acc)
+            forces = forces - _inertial_forces(model, env, positions, known)
         if part == "external":
-            forces = forces - internal_forces(model, positions, velocities)
-    rhs = forces[free]
+            forces = forces - _internal_forces(model, positions, velocities)
+    rhs = take(forces, free)
 
     # The lumped matrix is block-diagonal: one 3 × 3 solve per node, and M_fc = 0.
-    inverse = _inverse_3x3(lumped_blocks(model, env, positions)[free])
-    a_free = jnp.einsum("nij,nj->ni", inverse, rhs)
+    _, tangent, _ = _geometry(model, positions)
+    blocks = take(_lumped_blocks(model, env, positions, tangent), free)
+    a_free = _solve_3x3(blocks, rhs)
     if model.mass_matrix == "consistent":
         # Each element's consistent matrix is [[2/3, 1/3], [1/3, 2/3]] times its lumped
         # one, so the lumped-preconditioned consistent matrix has its spectrum in
         # [1/3, 1]: conjugate gradients converge by a factor 0.27 per O(N) iteration,
         # where a dense factorisation would cost O(N³).
         structure = jax.ShapeDtypeStruct(rhs.shape, rhs.dtype)
-        zeros = jnp.zeros_like(positions)
+        no_motion = jnp.zeros_like(constrained_acc)
 
         def consistent(a):
-            return inertial_forces(model, env, positions, zeros.at[free].set(a))[free]
+            return take(_inertial_forces(model, env, positions, _place(model, a, no_motion)), free)
 
         # The preconditioner and first guess change how fast CG converges, not where
         # to, so no derivative flows through them (lineax forbids one).
-        fixed_inverse = jax.lax.stop_gradient(inverse)
+        fixed_inverse = jax.lax.stop_gradient(_inverse_3x3(blocks))
 
         def lumped_inverse(r):
-            return jnp.einsum("nij,nj->ni", fixed_inverse, r)
+            return matvec(fixed_inverse, r)
 
         psd = lx.positive_semidefinite_tag
         a_free = lx.linear_solve(
@@ -403,13 +491,39 @@ def free_accelerations(model: CableNetwork, env: Environment, t, free_positions,
             # as a failed step, rather than an error from deep inside the solve.
             throw=False,
         ).value
-    return a_free, positions, velocities, known.at[free].set(a_free)
+    return a_free, positions, velocities, _place(model, a_free, constrained_acc)
+
+
+def free_accelerations(model: CableNetwork, env: Environment, t, free_positions, free_velocities, part: str = "all"):
+    """Solve `M_ff a_f = Q_f − M_fc a_c` for the free nodes' accelerations (m/s²).
+
+    `part` splits the right-hand side for implicit–explicit solvers: `"internal"`
+    keeps the line's axial forces alone ([`internal_forces`]), `"external"` the rest,
+    `M_fc a_c` included; the two parts' accelerations sum to `"all"`'s.
+
+    Takes the free nodes' positions and velocities, shape `(free, 3)`. Returns
+    `(a_f, positions, velocities, a)`: the free accelerations, shape `(free, 3)`, and
+    the full node positions, velocities and accelerations (of the part asked for),
+    shape `(nodes, 3)`.
+
+    **Raises:**
+
+    `ValueError` naming `part` and the choices if it is not one of `FORCE_PARTS`: a
+    misspelt part would otherwise be taken as `"all"`, and an implicit–explicit split
+    would then count some forces twice.
+    """
+    out = _free_accelerations(model, env, t, _cm(free_positions), _cm(free_velocities), part)
+    return tuple(_public(x) for x in out)
+
+
+def _reactions(model: CableNetwork, env: Environment, t, positions, velocities, accelerations):
+    residual = _inertial_forces(model, env, positions, accelerations) - _generalised_forces(
+        model, env, t, positions, velocities
+    )
+    return take(residual, model.constrained_nodes)
 
 
 def reactions(model: CableNetwork, env: Environment, t, positions, velocities, accelerations):
     """Force (N) that each constrained node's support exerts on the network, `(M a − Q)_c`,
     shape `(constrained, 3)`."""
-    residual = inertial_forces(model, env, positions, accelerations) - generalised_forces(
-        model, env, t, positions, velocities
-    )
-    return residual[model.constrained_nodes]
+    return _public(_reactions(model, env, t, _cm(positions), _cm(velocities), _cm(accelerations)))

@@ -12,10 +12,13 @@ the tension directly and takes the elastic energy as its integral,
 """
 
 import abc
+from typing import ClassVar
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.custom_derivatives import SymbolicZero
 from jaxtyping import Array, ArrayLike, Float
 
 from ._typing import RealLike
@@ -62,6 +65,9 @@ class AbstractTensionLaw(eqx.Module):
 
     axial_stiffness: eqx.AbstractVar[Float[Array, "*segments"]]
     slack_width: eqx.AbstractVar[Float[Array, "*segments"]]
+    # Whether the law has a damping term at all: a class's structure, known when
+    # tracing, so that the equations skip the viscous force of a law that has none.
+    damped: ClassVar[bool] = True
 
     @abc.abstractmethod
     def quadratic_stiffness(self) -> Float[Array, "*segments"]:
@@ -77,10 +83,17 @@ class AbstractTensionLaw(eqx.Module):
             jnp.asarray(strain), self.axial_stiffness, self.quadratic_stiffness(), self.slack_width
         )
 
+    def viscous_tension(
+        self, strain: Float[ArrayLike, "*segments"], strain_rate: Float[ArrayLike, "*segments"]
+    ) -> Array:
+        """The damping part `C_v ε̇ H(ε)` (N); zero for a law that is not `damped`."""
+        if not self.damped:
+            return jnp.zeros(jnp.broadcast_shapes(jnp.shape(strain), jnp.shape(strain_rate)))
+        return self.damping() * strain_rate * slack_switch(strain, self.slack_width)
+
     def tension(self, strain: Float[ArrayLike, "*segments"], strain_rate: Float[ArrayLike, "*segments"]) -> Array:
         """The full tension `T(ε, ε̇)` (N), including damping."""
-        viscous = self.damping() * strain_rate * slack_switch(strain, self.slack_width)
-        return self.elastic_tension(strain) + viscous
+        return self.elastic_tension(strain) + self.viscous_tension(strain, strain_rate)
 
     def elastic_energy_density(self, strain: Float[ArrayLike, "*segments"]) -> Array:
         """`∫₀^ε T_e(e) de` (N, i.e. J per metre of unstretched length).
@@ -90,22 +103,61 @@ class AbstractTensionLaw(eqx.Module):
         """
         strain = jnp.asarray(strain)
         shape = jnp.shape(strain)
-        c_e = jnp.broadcast_to(self.axial_stiffness, shape)
-        c_e1 = jnp.broadcast_to(self.quadratic_stiffness(), shape)
-        width = jnp.broadcast_to(self.slack_width, shape)
-        # `where`, not `clip`/`maximum`: at the tie ε = w those split the derivative in
-        # half, and the force there must be the whole T(w).
-        inside = jnp.where(strain < width, jnp.maximum(strain, 0.0), width)
-        band_tension = _switched_polynomial(
-            inside[..., None] * _GL3_NODES, c_e[..., None], c_e1[..., None], width[..., None]
+        return _energy_density(
+            strain,
+            jnp.broadcast_to(self.axial_stiffness, shape),
+            jnp.broadcast_to(self.quadratic_stiffness(), shape),
+            jnp.broadcast_to(self.slack_width, shape),
         )
-        band = inside * jnp.sum(_GL3_WEIGHTS * band_tension, axis=-1)
 
-        def antiderivative(e):
-            return c_e * e**2 / 2 + c_e1 * e**3 / 3
 
-        above = jnp.where(strain >= width, strain, width)
-        return band + jnp.where(strain >= width, antiderivative(above) - antiderivative(width), 0.0)
+def _integrated_energy_density(strain, c_e, c_e1, width):
+    """`∫₀^ε (C_E e + C_E1 e²) H(e) de`, arrays of one shape."""
+    # `where`, not `clip`/`maximum`: at the tie ε = w those split the derivative in
+    # half, and the force there must be the whole T(w).
+    inside = jnp.where(strain < width, jnp.maximum(strain, 0.0), width)
+    # One term per quadrature point, not a trailing axis of three (see `_hydro.dot`).
+    band = inside * sum(
+        weight * _switched_polynomial(inside * node, c_e, c_e1, width)
+        for node, weight in zip(_GL3_NODES.tolist(), _GL3_WEIGHTS.tolist())
+    )
+
+    def antiderivative(e):
+        return c_e * e**2 / 2 + c_e1 * e**3 / 3
+
+    above = jnp.where(strain >= width, strain, width)
+    return band + jnp.where(strain >= width, antiderivative(above) - antiderivative(width), 0.0)
+
+
+@jax.custom_jvp
+def _energy_density(strain, c_e, c_e1, width):
+    return _integrated_energy_density(strain, c_e, c_e1, width)
+
+
+def _energy_density_jvp(primals, tangents):
+    """The derivative in ε is the tension law itself, `T_e(ε)`, by the fundamental
+    theorem of calculus: the forces `−∂Π/∂x` then cost one evaluation of the law, not
+    the reverse pass through the quadrature. Exact, since the quadrature is. The
+    parameters' derivatives (a fit of C_E, say) go through the quadrature as before,
+    and only when asked for."""
+    strain, *parameters = primals
+    d_strain, *d_parameters = tangents
+    value = _energy_density(*primals)
+    tangent = jnp.zeros_like(value)
+    if not isinstance(d_strain, SymbolicZero):
+        tangent = tangent + _switched_polynomial(*primals) * d_strain
+    if not all(isinstance(d, SymbolicZero) for d in d_parameters):
+        d_parameters = [
+            jnp.zeros_like(p) if isinstance(d, SymbolicZero) else d for p, d in zip(parameters, d_parameters)
+        ]
+        _, by_parameters = jax.jvp(
+            lambda *p: _integrated_energy_density(strain, *p), tuple(parameters), tuple(d_parameters)
+        )
+        tangent = tangent + by_parameters
+    return value, tangent
+
+
+_energy_density.defjvp(_energy_density_jvp, symbolic_zeros=True)
 
 
 def _switched_polynomial(strain, c_e, c_e1, width):
@@ -124,6 +176,7 @@ class LinearElastic(AbstractTensionLaw):
 
     axial_stiffness: Float[Array, "*segments"]
     slack_width: Float[Array, "*segments"]
+    damped: ClassVar[bool] = False
 
     def __init__(self, axial_stiffness: RealLike, slack_width: RealLike = 1e-5):
         self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
@@ -149,6 +202,7 @@ class NonlinearElastic(AbstractTensionLaw):
     axial_stiffness: Float[Array, "*segments"]
     quadratic_coefficient: Float[Array, "*segments"]
     slack_width: Float[Array, "*segments"]
+    damped: ClassVar[bool] = False
 
     def __init__(self, axial_stiffness: RealLike, quadratic_stiffness: RealLike, slack_width: RealLike = 1e-5):
         self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)

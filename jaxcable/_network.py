@@ -18,6 +18,7 @@ import numpy as np
 from jaxtyping import Array, Float, Int
 
 from . import _checks as checks
+from ._indexing import incidence
 from ._materials import AbstractTensionLaw
 from ._motion import AbstractMotion
 from ._typing import RealLike
@@ -207,7 +208,7 @@ class Topology:
     - `constrained_nodes`: the constrained nodes, increasing, shape `(constrained,)`.
     """
 
-    __slots__ = ("n_nodes", "segment_nodes", "constrained_nodes", "free_nodes", "_hash")
+    __slots__ = ("n_nodes", "segment_nodes", "constrained_nodes", "free_nodes", "node_sums", "placement", "_hash")
 
     def __init__(self, n_nodes: int, segment_nodes: np.ndarray, constrained_nodes: np.ndarray):
         def frozen(array):
@@ -219,6 +220,10 @@ class Topology:
         self.segment_nodes = frozen(np.reshape(segment_nodes, (-1, 2)))
         self.constrained_nodes = frozen(constrained_nodes)
         self.free_nodes = frozen(np.setdiff1d(np.arange(self.n_nodes), self.constrained_nodes))
+        # Static plans for `jaxcable._indexing`: which of the segments' ends (starts, then
+        # ends) meet at each node, and where each node sits in (free nodes, constrained).
+        self.node_sums = frozen(incidence(self.segment_nodes.T.reshape(-1), self.n_nodes))
+        self.placement = frozen(np.argsort(np.concatenate([self.free_nodes, self.constrained_nodes])))
         self._hash = hash((self.n_nodes, self.segment_nodes.tobytes(), self.constrained_nodes.tobytes()))
 
     def __hash__(self) -> int:

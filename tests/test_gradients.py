@@ -181,22 +181,24 @@ def test_statics_gradient_matches_central_differences():
 # same arithmetic can round differently in the last bit. With an adaptive step-size
 # controller such a difference can, rarely, add or remove a step (measured here: one
 # vmapped case took 1046 steps against 1045 alone), after which the two solutions differ
-# by the solver's tolerance, not by rounding. So: identical step counts must give
-# agreement to 1e-12 of the quantity's scale; a different step count only to 1e-9
+# by the solver's tolerance, not by rounding. Rounding differences also grow along the
+# run: the batched program fuses the arithmetic differently (measured: 2.8e-10 m on a
+# 30 m scale after 40 output times, 1e-11 relative). So: identical step counts must give
+# agreement to 1e-10 of the quantity's scale; a different step count only to 1e-9
 # (10× the solver tolerance), and the step counts may differ by at most one.
 
 
 def assert_same_solution(got, expected):
     """`got`, `expected`: (positions, tension, num_steps) of one simulation each.
 
-    Positions must agree to 1e-12 of their scale (1e-9 after a different step count).
+    Positions must agree to 1e-10 of their scale (1e-9 after a different step count).
     Tension is C_E × strain, and strain is a difference of positions over a segment
     length: a position error δ moves it by C_E δ / L. So tensions must agree to the
-    tension that the position tolerance makes, C_E × (1e-12 × scale) / L (7.5e-8 N here,
-    1e-10 of the tension), not to 1e-12 of the tension itself (measured: 1.5e-9 N)."""
+    tension that the position tolerance makes, C_E × (1e-10 × scale) / L, not to 1e-10
+    of the tension itself."""
     steps_got, steps_expected = int(got[2]), int(expected[2])
     assert abs(steps_got - steps_expected) <= 1
-    tolerance = 1e-12 if steps_got == steps_expected else 1e-9
+    tolerance = 1e-10 if steps_got == steps_expected else 1e-9
     positions_got, positions_expected = np.asarray(got[0]), np.asarray(expected[0])
     position_tolerance = tolerance * np.max(np.abs(positions_expected))
     np.testing.assert_allclose(positions_got, positions_expected, rtol=0, atol=position_tolerance)

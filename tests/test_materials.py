@@ -251,7 +251,8 @@ def test_line_drag_random_batch():
     tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
     c_n = rng.uniform(1, 20, size=50)
     c_t = rng.uniform(0.1, 2, size=50)
-    got = np.asarray(_hydro.line_drag(u, tangent, c_n, c_t))
+    # `_hydro` works component-major: vectors as shape (3, ...).
+    got = np.asarray(_hydro.line_drag(u.T, tangent.T, c_n, c_t)).T
     expected = np.stack([reference_line_drag(u[k], tangent[k], c_n[k], c_t[k]) for k in range(50)])
     np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-14)
     # Purely normal and purely tangential flows.

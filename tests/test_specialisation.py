@@ -1,0 +1,156 @@
+"""The evaluation's fast paths give the general path's answer, to rounding.
+
+The equations specialise on what is known when tracing (`benchmarks/README.md`, *Where
+an evaluation's time goes*): static indices become slices, a law without damping skips
+the viscous force, the elastic forces use the tension law as the energy's derivative,
+and the lumped solve uses Cramer's rule. Each is checked here against the general form
+it replaces, on scenes that exercise it: seed 003's chain, the moored net (a graph with
+junctions, buoys that pierce the surface, waves and a damped law) and a line on a seabed.
+"""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxcable as jc
+from jaxcable import _indexing
+from jaxcable import _lagrangian as lag
+from jaxcable import _materials as materials
+from jaxcable.examples import moored_net, seed003_line
+
+
+def _seabed_line():
+    line = jc.LineType(mass_per_length=20.0, diameter=0.05, tension_law=jc.LinearElastic(1e8))
+    model = jc.CableNetwork.from_branches(
+        np.array([[0.0, 0.0, -50.0], [80.0, 0.0, 0.0]]),
+        [jc.Branch(0, 1, line, 110.0, 8)],
+        {0: jc.Fixed(), 1: jc.Fixed()},
+        mass_matrix="lumped",
+    )
+    env = jc.Environment(depth=50.0, seabed=jc.Seabed(friction=0.3), current=[0.3, 0.0, 0.0])
+    return model, env
+
+
+SCENES = {
+    "seed003 chain": lambda: seed003_line(6, mass_matrix="lumped"),
+    "seed003 consistent": lambda: seed003_line(4, mass_matrix="consistent"),
+    "moored net": lambda: moored_net(segments=(1, 2, 2, 1)),
+    "seabed": _seabed_line,
+}
+
+
+def _state(model, seed=0):
+    rng = np.random.default_rng(seed)
+    positions = np.asarray(model.node_positions) + rng.normal(scale=0.3, size=model.node_positions.shape)
+    velocities = rng.normal(scale=0.5, size=positions.shape)
+    free = model.free_nodes
+    return positions[free], velocities[free]
+
+
+@pytest.mark.parametrize("indices", [[2, 3, 4, 0, 1], [0, -1, -1, 5, 6, 7, -1], [], [4]])
+def test_take_moves_values_like_indexing(indices):
+    array = np.arange(24.0).reshape(3, 8)
+    expected = (
+        np.where(np.asarray(indices) < 0, 0.0, array[:, np.asarray(indices, dtype=int)]) if indices else array[:, :0]
+    )
+    got = np.asarray(_indexing.take(jnp.asarray(array), np.asarray(indices)))
+    np.testing.assert_array_equal(got, expected)
+
+
+def test_take_falls_back_to_a_gather_for_scattered_indices():
+    rng = np.random.default_rng(1)
+    indices = rng.permutation(60)  # about 60 runs, past the slice limit
+    indices[::7] = -1
+    array = rng.normal(size=(2, 60))
+    got = np.asarray(_indexing.take(jnp.asarray(array), indices))
+    np.testing.assert_array_equal(got, np.where(indices < 0, 0.0, array[:, indices]))
+
+
+def test_sum_into_is_a_segment_sum():
+    rng = np.random.default_rng(2)
+    targets = rng.integers(0, 9, size=40)
+    values = rng.normal(size=(3, 40))
+    plan = _indexing.incidence(targets, 9)
+    expected = np.zeros((3, 9))
+    np.add.at(expected.T, targets, values.T)
+    np.testing.assert_allclose(np.asarray(_indexing.sum_into(jnp.asarray(values), plan)), expected, rtol=1e-14)
+
+
+def test_placement_inverts_free_then_constrained():
+    model, _ = moored_net(segments=(1, 2, 2, 1))
+    order = np.concatenate([model.free_nodes, model.constrained_nodes])
+    np.testing.assert_array_equal(order[model.topology.placement], np.arange(model.n_nodes))
+
+
+@pytest.mark.parametrize("scene", list(SCENES))
+def test_slices_give_the_gathers_answer(scene, monkeypatch):
+    """With every static index compiled as a gather (the general path), the free
+    accelerations and the reactions are those of the slices."""
+    model, env = SCENES[scene]()
+    free_positions, free_velocities = _state(model)
+
+    def evaluate():
+        a, positions, velocities, accelerations = lag.free_accelerations(
+            model, env, 0.7, free_positions, free_velocities
+        )
+        return np.asarray(a), np.asarray(lag.reactions(model, env, 0.7, positions, velocities, accelerations))
+
+    fast = evaluate()
+    monkeypatch.setattr(_indexing, "_MAX_RUNS", -1)
+    jax.clear_caches()
+    general = evaluate()
+    for got, expected in zip(fast, general):
+        np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12 * np.max(np.abs(expected)))
+
+
+@pytest.mark.parametrize("width", [1e-5, 0.0])
+def test_energy_density_derivative_is_the_tension_law(width):
+    """∂/∂ε ∫₀^ε T_e = T_e(ε) through the slack, the smoothing band and the taut part;
+    the parameters' derivatives and the second derivative are those of the quadrature
+    itself (autodiff through `_integrated_energy_density`)."""
+    law = jc.NonlinearElastic(3e7, 3e6, slack_width=width)
+    strain = jnp.array([-1e-3, 0.0, 2e-6, 5e-6, 1e-5, 3e-5, 2e-3])
+    grad = jax.vmap(jax.grad(law.elastic_energy_density))(strain)
+    np.testing.assert_allclose(np.asarray(grad), np.asarray(law.elastic_tension(strain)), rtol=1e-14, atol=0)
+
+    def by_quadrature(s, c_e, c_e1):
+        return materials._integrated_energy_density(s, c_e, c_e1, jnp.asarray(width))
+
+    def by_law(s, c_e, c_e1):
+        return jc.NonlinearElastic(c_e, c_e1, slack_width=width).elastic_energy_density(s)
+
+    for s in strain:
+        arguments = (s, jnp.asarray(3e7), jnp.asarray(3e6))
+        expected = jax.grad(by_quadrature, argnums=(1, 2))(*arguments)
+        got = jax.grad(by_law, argnums=(1, 2))(*arguments)
+        np.testing.assert_allclose(np.asarray(got), np.asarray(expected), rtol=1e-13, atol=1e-300)
+        hessian = jax.grad(jax.grad(by_law))(*arguments)
+        np.testing.assert_allclose(float(hessian), float(jax.grad(law.elastic_tension)(s)), rtol=1e-13, atol=1e-300)
+
+
+def test_undamped_law_skips_the_viscous_force():
+    """A law without damping (`damped = False`) gives the forces of a damped law whose
+    damping is zero."""
+    model, env = seed003_line(5, mass_matrix="lumped")
+    law = model.line.tension_law
+    zero_damping = jc.KelvinVoigt(law.axial_stiffness, law.quadratic_stiffness(), 0.0, law.slack_width)
+    damped = eqx.tree_at(lambda m: m.line.tension_law, model, zero_damping)
+    assert not law.damped and zero_damping.damped
+    free_positions, free_velocities = _state(model)
+    got = lag.free_accelerations(model, env, 0.2, free_positions, free_velocities)[0]
+    expected = lag.free_accelerations(damped, env, 0.2, free_positions, free_velocities)[0]
+    np.testing.assert_allclose(np.asarray(got), np.asarray(expected), rtol=1e-13, atol=1e-13)
+
+
+def test_cramer_solve_matches_a_dense_solve():
+    rng = np.random.default_rng(3)
+    tangent = rng.normal(size=(5, 3))
+    tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
+    blocks = 3.0 * np.eye(3) + 0.7 * tangent[:, :, None] * tangent[:, None, :]
+    rhs = rng.normal(size=(5, 3))
+    got = lag._solve_3x3(jnp.asarray(np.moveaxis(blocks, 0, -1)), jnp.asarray(rhs.T))
+    np.testing.assert_allclose(np.asarray(got).T, np.linalg.solve(blocks, rhs[..., None])[..., 0], rtol=1e-13)
+    inverse = lag._inverse_3x3(jnp.asarray(np.moveaxis(blocks, 0, -1)))
+    np.testing.assert_allclose(np.moveaxis(np.asarray(inverse), -1, 0), np.linalg.inv(blocks), rtol=1e-13)
