@@ -78,7 +78,7 @@ def increasing(name: str, values: Float[ArrayLike, " samples"]) -> Condition:
 
 
 def _traced(condition: Condition) -> bool:
-    return any(isinstance(x, jax.core.Tracer) for x in (condition.bad, condition.value))
+    return traced((condition.bad, condition.value))
 
 
 def enforce(conditions: Sequence[Condition]) -> None:
@@ -116,6 +116,27 @@ def guard(x, conditions: Sequence[Condition]):
     for c in conditions:
         if _traced(c):
             x = eqx.error_if(x, jnp.any(c.bad), f"{c.name} {c.requirement}")
+    return x
+
+
+def traced(tree) -> bool:
+    """Whether any leaf of `tree` is traced: the caller runs under `jit`, `vmap` or a
+    derivative, and errors must be raised from inside the program."""
+    return any(isinstance(leaf, jax.core.Tracer) for leaf in jax.tree.leaves(tree))
+
+
+def raise_if(x, failed, message: str):
+    """`x`, after raising `equinox.EquinoxRuntimeError(message)` if `failed` holds.
+
+    Where `failed` is concrete the error is raised here, in Python, so the compiled
+    program it came out of carries no host callback: JAX's persistent compilation cache
+    refuses programs with callbacks, and `eqx.error_if` is one. Where it is traced (the
+    caller's own `jit`), `eqx.error_if` raises it when the program runs, as before.
+    """
+    if traced(failed):
+        return eqx.error_if(x, failed, message)
+    if bool(jnp.any(failed)):
+        raise eqx.EquinoxRuntimeError(message)
     return x
 
 

@@ -49,6 +49,7 @@ def main(argv: list[str] | None = None) -> int:
     # The command owns its process, so it may set JAX's global configuration, which
     # the library itself never does.
     jax.config.update("jax_enable_x64", True)
+    _use_compilation_cache()
     try:
         return args.handler(args)
     except SceneError as error:
@@ -60,6 +61,26 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into `head` and the like: stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+
+
+def _use_compilation_cache() -> None:
+    """Keep compiled programs on disk between runs, so that a second `jaxcable run` of a
+    scene with the same structure (the same file, or another of the same topology and
+    options) loads its programs instead of compiling them.
+
+    The folder is `$JAXCABLE_CACHE_DIR`, or `jaxcable/xla` under `$XDG_CACHE_HOME`
+    (`~/.cache` by default); `JAXCABLE_CACHE_DIR=""` turns the cache off. A folder set
+    for JAX itself (`JAX_COMPILATION_CACHE_DIR`) is left alone.
+    """
+    if "JAX_COMPILATION_CACHE_DIR" in os.environ:
+        return
+    folder = os.environ.get("JAXCABLE_CACHE_DIR")
+    if folder is None:
+        folder = str(Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "jaxcable" / "xla")
+    if folder:
+        jax.config.update("jax_compilation_cache_dir", folder)
+        # Every program of a run is worth keeping: the small ones add up to seconds.
+        jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.1)
 
 
 def _parser() -> argparse.ArgumentParser:

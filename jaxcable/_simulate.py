@@ -163,17 +163,36 @@ def simulate(
     # with other values, or traced, is checked here, so that a bad value is named
     # rather than turning into NaNs mid-solve.
     initial_positions = checks.check(initial_positions, model.conditions() + env.conditions())
-    return _simulate(
+    initial = (initial_positions, initial_velocities)
+    # Called eagerly, the solve is compiled without error checks, which are raised here
+    # after it returns (`checks.raise_if`): a program with them could not be kept in
+    # JAX's persistent cache. Under the caller's `jit` they go inside, as they must.
+    inside = throw and checks.traced((model, env, initial, t0, t1, ts))
+    result = _simulate(
         model,
         env,
-        (initial_positions, initial_velocities),
+        initial,
         t0,
         t1,
         ts,
         for_model(as_config("simulate", solver), model),
         diffrax.TqdmProgressMeter() if progress else diffrax.NoProgressMeter(),
-        throw,
+        inside,
     )
+    if throw and not inside:
+        checks.raise_if(None, result.result != diffrax.RESULTS.successful, _failure_message(result.result))
+    return result
+
+
+def _failure_message(result: diffrax.RESULTS) -> str:
+    if result == diffrax.RESULTS.nonfinite:
+        return _NONFINITE
+    return f"simulate: {diffrax.RESULTS[result]}"
+
+
+_NONFINITE = (
+    "simulate: the state became non-finite (with a fixed step, the step is beyond the method's stability limit)"
+)
 
 
 def as_config(where: str, solver: SolverConfig | None) -> SolverConfig:
@@ -240,11 +259,6 @@ def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, thro
         diffrax.RESULTS.nonfinite,  # pyright: ignore[reportArgumentType]
     )
     if throw:
-        tension = eqx.error_if(
-            tension,
-            result == diffrax.RESULTS.nonfinite,
-            "simulate: the state became non-finite (with a fixed step, the step is beyond the method's stability "
-            "limit)",
-        )
+        tension = eqx.error_if(tension, result == diffrax.RESULTS.nonfinite, _NONFINITE)
     stats = {k: solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
     return SimulationResult(solution.ts, positions, velocities, strain, tension, reactions, stats, result)

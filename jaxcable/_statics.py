@@ -101,11 +101,22 @@ def solve_statics(
     check_held(model)
     start = model.node_positions if initial is None else initial.positions
     start = checks.check(start, model.conditions() + env.conditions())
-    return _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance, throw)
+    solution = _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance)
+    if not throw:
+        return solution
+    residual = checks.raise_if(
+        solution.residual,
+        solution.result != optx.RESULTS.successful,
+        f"solve_statics found no equilibrium: the largest force left on a free node is above "
+        f"force_tolerance ({force_tolerance}) times the heaviest segment's weight after "
+        f"max_steps ({max_steps}) iterations. Start from positions where every segment is "
+        "taut, or raise max_steps; with throw=False the solution's `residual` reports the force.",
+    )
+    return eqx.tree_at(lambda s: s.residual, solution, residual)
 
 
 @eqx.filter_jit
-def _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance, throw) -> StaticSolution:
+def _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance) -> StaticSolution:
     """The whole solve, compiled once per topology and option set, its fallbacks decided
     by `jax.lax.cond` on traced residuals."""
     if env.seabed is None:
@@ -146,15 +157,6 @@ def _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance, t
     result = optx.RESULTS.where(
         remaining <= force_tolerance, optx.RESULTS.successful, optx.RESULTS.nonlinear_divergence
     )
-    if throw:
-        remaining = eqx.error_if(
-            remaining,
-            result != optx.RESULTS.successful,
-            f"solve_statics found no equilibrium: the largest force left on a free node is above "
-            f"force_tolerance ({force_tolerance}) times the heaviest segment's weight after "
-            f"max_steps ({max_steps}) iterations. Start from positions where every segment is "
-            "taut, or raise max_steps; with throw=False the solution's `residual` reports the force.",
-        )
     return _solution(model, env, t, positions, remaining, _force_scale(model, env), result, steps)
 
 
