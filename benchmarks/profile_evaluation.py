@@ -1,0 +1,180 @@
+"""Where an evaluation's time goes, single and batched, against this CPU's roofline.
+
+On seed 003's line (lumped mass, at its static equilibrium with small velocities), for
+each segment count N, one evaluation of each part of the equations, timed as 100
+evaluations inside one compiled `fori_loop` (so no dispatch is counted), alone and as a
+`vmap` over `--batch` cases:
+
+- *geometry*: segment lengths, tangents and strains;
+- *conservative*: `−∂Π/∂x` by `jax.grad` (elastic, weight, buoyancy);
+- *non-conservative*: drag at the quadrature points, bodies, seabed;
+- *mass*: the lumped 3 × 3 blocks; *mass + solve*: and their solve by Cramer's rule;
+- *field*: the whole vector field, which is what an explicit solver evaluates.
+
+Beside the times: XLA's own count of the field's floating-point operations and bytes per
+node (`cost_analysis`), its kernels (fusions) per evaluation, and a measured roofline of
+this machine: the rate of a long fused multiply–add chain (compute bound) and of a large
+copy (memory bound), both through XLA.
+
+    python benchmarks/profile_evaluation.py --segments 20 100
+    python benchmarks/profile_evaluation.py --report
+
+Results are appended to benchmarks/results/profile_evaluation.json.
+"""
+
+import argparse
+import json
+import os
+import re
+from pathlib import Path
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+from _results import append_session
+from _timing import timed
+
+import jaxcable as jc
+from jaxcable import _lagrangian as lag
+from jaxcable.examples import seed003_line
+
+RESULTS = Path(__file__).parent / "results" / "profile_evaluation.json"
+EVALUATIONS = 100
+
+
+def parts(model, env):
+    """Each part as a function of component-major positions and velocities, (3, nodes)."""
+    free = model.free_nodes
+
+    def tangent(x):
+        return lag._geometry(model, x)[1]
+
+    return {
+        "geometry": lambda x, v: lag._geometry(model, x),
+        "conservative": lambda x, v: jax.grad(lag._potential_energy, argnums=2)(model, env, x),
+        "non-conservative": lambda x, v: lag._nonconservative_forces(model, env, 0.3, x, v),
+        "mass": lambda x, v: lag._lumped_blocks(model, env, x, tangent(x)),
+        "mass + solve": lambda x, v: lag._solve_3x3(lag._lumped_blocks(model, env, x, tangent(x)), x),
+        "field": lambda x, v: lag._free_accelerations(model, env, 0.3, x[:, free], v[:, free], "all")[0],
+    }
+
+
+def looped(part):
+    """`EVALUATIONS` evaluations of `part`, each depending on the last."""
+
+    def run(x, v):
+        def body(_, carry):
+            x, v, total = carry
+            out = jax.tree.leaves(part(x, v))
+            # A negligible update keeps each evaluation dependent on the last.
+            nudge = sum(jnp.sum(o) for o in out)
+            return x + 1e-15 * nudge, v, total + nudge
+
+        return jax.lax.fori_loop(0, EVALUATIONS, body, (x, v, 0.0))[2]
+
+    return run
+
+
+def kernels(compiled_text: str) -> int:
+    return len(re.findall(r"^\s*\S+ = \S+ fusion\(", compiled_text, re.M))
+
+
+def roofline(repeats: int) -> dict:
+    """Measured rates of this machine through XLA, both cores: an FMA chain long enough
+    to be compute bound, and a copy of 256 MB."""
+    size, chain = 1 << 16, 64
+
+    @jax.jit
+    def fma(x):
+        for _ in range(chain):
+            x = x * 0.999999 + 1e-7
+        return x
+
+    x = jnp.ones(size)
+    _, _, seconds = timed(lambda: fma(x), repeats)
+    gflops = 2 * chain * size / seconds / 1e9
+    big = jnp.ones(1 << 25)
+    copy = jax.jit(lambda y: y + 1.0)
+    _, _, seconds = timed(lambda: copy(big), repeats)
+    bandwidth = 2 * big.nbytes / seconds / 1e9
+    return {"fma_gflops": gflops, "copy_gb_per_s": bandwidth}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--segments", type=int, nargs="+", default=[20, 100])
+    parser.add_argument("--batch", type=int, default=256)
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--out", default=str(RESULTS))
+    parser.add_argument("--report", action="store_true")
+    args = parser.parse_args()
+    if args.report:
+        report(Path(args.out))
+        return
+    jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
+    rows = []
+    for n in args.segments:
+        model, env = seed003_line(n, mass_matrix="lumped")
+        state = jc.solve_statics(model, env).state
+        x = lag._cm(state.positions)
+        v = lag._cm(state.velocities) + 0.01
+        xb, vb = (jnp.broadcast_to(a, (args.batch, *a.shape)) + 0.0 for a in (x, v))
+        for name, part in parts(model, env).items():
+            single = jax.jit(looped(part))
+            batched = jax.jit(jax.vmap(looped(part)))
+            _, _, t_single = timed(lambda: single(x, v), args.repeats)
+            _, _, t_batched = timed(lambda: batched(xb, vb), args.repeats)
+            row = {
+                "segments": n,
+                "part": name,
+                "single_us": 1e6 * t_single / EVALUATIONS,
+                "batched_ns_per_node": 1e9 * t_batched / EVALUATIONS / args.batch / model.n_nodes,
+                "single_ns_per_node": 1e9 * t_single / EVALUATIONS / model.n_nodes,
+            }
+            if name == "field":
+                one = jax.jit(part).lower(x, v).compile()
+                cost = one.cost_analysis()
+                cost = cost[0] if isinstance(cost, list) else cost
+                row["flops_per_node"] = cost["flops"] / model.n_nodes
+                row["bytes_per_node"] = cost["bytes accessed"] / model.n_nodes
+                row["kernels"] = kernels(one.as_text())
+            print(json.dumps(row), flush=True)
+            rows.append(row)
+        jax.clear_caches()
+    machine = roofline(args.repeats)
+    print(json.dumps(machine))
+    append_session(
+        args.out,
+        batch=args.batch,
+        repeats=args.repeats,
+        xla_flags=os.environ.get("XLA_FLAGS", ""),
+        roofline=machine,
+        rows=rows,
+    )
+    report(Path(args.out))
+
+
+def report(path: Path):
+    session = json.loads(path.read_text())[-1]
+    machine = session["roofline"]
+    print(
+        f"roofline: {machine['fma_gflops']:.1f} GFLOP/s (FMA chain), {machine['copy_gb_per_s']:.1f} GB/s (copy); "
+        f"XLA_FLAGS={session.get('xla_flags') or '(none)'}; session {session['time'][:16]}"
+    )
+    print("| N | part | single (µs) | single (ns/node) | batched (ns/node) |")
+    print("|---|---|---|---|---|")
+    for r in session["rows"]:
+        print(
+            f"| {r['segments']} | {r['part']} | {r['single_us']:.2f} | {r['single_ns_per_node']:.0f} | "
+            f"{r['batched_ns_per_node']:.1f} |"
+        )
+    for r in session["rows"]:
+        if "flops_per_node" in r:
+            print(
+                f"N = {r['segments']}: {r['flops_per_node']:.0f} flop and {r['bytes_per_node']:.0f} bytes per node "
+                f"(XLA's count), {r['kernels']} kernels per evaluation"
+            )
+
+
+if __name__ == "__main__":
+    main()
