@@ -24,13 +24,11 @@ Results are appended to benchmarks/results/profile_evaluation.json.
 
 import argparse
 import json
-import os
 import re
 from pathlib import Path
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 from _results import append_session
 from _timing import timed
 
@@ -147,7 +145,6 @@ def main():
         args.out,
         batch=args.batch,
         repeats=args.repeats,
-        xla_flags=os.environ.get("XLA_FLAGS", ""),
         roofline=machine,
         rows=rows,
     )
