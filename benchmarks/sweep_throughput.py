@@ -45,6 +45,7 @@ def parse():
     parser.add_argument("--loop-cases", type=int, default=8, help="single runs timed in the Python loop (0: none)")
     parser.add_argument("--parameter", choices=PARAMETERS, default="amplitude")
     parser.add_argument("--initial", choices=["statics", "rest"], default="statics")
+    parser.add_argument("--steps", choices=["per_case", "shared"], default="per_case", help="the sweep's steps")
     parser.add_argument("--mass-matrix", choices=["consistent", "lumped"], default="consistent")
     parser.add_argument("--rtol", type=float, default=1e-6)
     parser.add_argument("--atol", type=float, default=1e-6)
@@ -104,7 +105,7 @@ def main():
             return np.linspace(0.0, 0.2, n)
 
     ts = np.linspace(0.0, args.duration, int(args.duration * 20) + 1)  # 20 Hz output
-    options = dict(ts=ts, rtol=args.rtol, atol=args.atol, max_steps=args.max_steps)
+    options = dict(ts=ts, solver=jc.SolverConfig(rtol=args.rtol, atol=args.atol, max_steps=args.max_steps))
     settings = {
         "segments": args.segments,
         "mass_matrix": args.mass_matrix,
@@ -115,6 +116,7 @@ def main():
         "atol": args.atol,
         "solver": type(jc.default_solver()).__name__,
         "n_devices": len(jax.devices()),
+        "steps": args.steps,
     }
     records = []
 
@@ -137,7 +139,7 @@ def main():
         parameters = {args.parameter: values(batch)}
 
         def run():
-            return sweep(build, parameters, args.duration, initial=args.initial, **options)
+            return sweep(build, parameters, args.duration, initial=args.initial, steps=args.steps, **options)
 
         result, compile_time, run_time = timed(run, args.repeats)
         record("sweep", batch, compile_time, run_time, result.simulation.stats["num_steps"], result.success)
@@ -184,8 +186,9 @@ def print_table(sessions) -> None:
             key = (r["segments"], r["mass_matrix"], r["parameter"], r["initial"], r["duration_s"])
             speedup = f"{r['cases_per_s'] / loops[key]:.2f}×" if key in loops else "–"
             failed = "" if r["all_successful"] else " (failures)"
+            shared = ", shared steps" if r.get("steps") == "shared" and r["mode"] == "sweep" else ""
             print(
-                f"| {r['mode']}{failed} | {r['batch']} | {r['n_devices']} | {r['segments']} | {r['mass_matrix']} "
+                f"| {r['mode']}{shared}{failed} | {r['batch']} | {r['n_devices']} | {r['segments']} | {r['mass_matrix']} "
                 f"| {r['parameter']} | {r['initial']} | {r['duration_s']:g} "
                 f"| {r['steps_max']} ({r['steps_mean']:.0f}) | {r['compile_s']:.1f} | {r['run_s']:.3f} "
                 f"| {r['cases_per_s']:.2f} | {speedup} | {session['machine'].split(' ', 1)[1]} |"

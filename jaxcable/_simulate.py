@@ -235,6 +235,18 @@ def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, thro
         throw=throw,
     )
 
+    # The solve saves at `ts` (SaveAt(ts=...)), so diffrax returns both.
+    assert solution.ts is not None and solution.ys is not None
+    stats = {k: solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
+    return result_of(model, env, solution.ts, solution.ys, stats, solution.result, throw)
+
+
+def result_of(model, env, ts, ys, stats, result, throw: bool = False) -> SimulationResult:
+    """The [`SimulationResult`][] of a solve that saved the free nodes' `ys = (positions,
+    velocities)`, each of shape `(times, free, 3)`, at times `ts`, with diffrax's `stats`
+    and `result`: the outputs at each time, and `result` made `nonfinite` where the
+    state is not finite though the solve reported success."""
+
     def outputs(t, free_positions, free_velocities):
         _, positions, velocities, accelerations = lag.free_accelerations(model, env, t, free_positions, free_velocities)
         _, _, strain = lag.segment_geometry(model, positions)
@@ -246,19 +258,16 @@ def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, thro
             lag.reactions(model, env, t, positions, velocities, accelerations),
         )
 
-    # The solve saves at `ts` (SaveAt(ts=...)), so diffrax returns both.
-    assert solution.ts is not None and solution.ys is not None
-    positions, velocities, strain, tension, reactions = jax.vmap(outputs)(solution.ts, *solution.ys)
+    positions, velocities, strain, tension, reactions = jax.vmap(outputs)(ts, *ys)
     # An adaptive controller rejects non-finite steps, but a fixed step (beyond the
     # method's stability limit) carries them to the end as a "successful" solve.
     finite = jnp.all(jnp.isfinite(positions)) & jnp.all(jnp.isfinite(velocities))
     result = diffrax.RESULTS.where(
-        finite | (solution.result != diffrax.RESULTS.successful),
-        solution.result,
+        finite | (result != diffrax.RESULTS.successful),
+        result,
         # pyright takes an equinox Enumeration's members for literals, not for instances of it.
         diffrax.RESULTS.nonfinite,  # pyright: ignore[reportArgumentType]
     )
     if throw:
         tension = eqx.error_if(tension, result == diffrax.RESULTS.nonfinite, _NONFINITE)
-    stats = {k: solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
-    return SimulationResult(solution.ts, positions, velocities, strain, tension, reactions, stats, result)
+    return SimulationResult(ts, positions, velocities, strain, tension, reactions, stats, result)

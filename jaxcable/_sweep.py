@@ -36,12 +36,13 @@ from . import _checks as checks
 from ._config import SolverConfig
 from ._environment import Environment
 from ._network import CableNetwork
-from ._simulate import SimulationResult, _simulate, as_config, for_model
+from ._simulate import IMEX_SOLVERS, SimulationResult, _simulate, as_config, for_model, result_of, vector_field
 from ._state import State
 from ._statics import StaticSolution, solve_statics
 from ._typing import RealLike
 
 INITIAL_STATES = ("statics", "rest")
+STEPS = ("per_case", "shared")
 
 # The mesh axis that cases are split along.
 _CASES = "cases"
@@ -168,6 +169,7 @@ def sweep(
     ts: RealLike | None = None,
     initial: str | State = "statics",
     solver: SolverConfig | None = None,
+    steps: str = "per_case",
     devices: Sequence[jax.Device] | None = None,  # pyright: ignore[reportInvalidTypeForm]  (jax.Device is an alias of jaxlib's class)
 ) -> SweepResult:
     """Simulate one model over a batch of parameter values, in one compiled solve.
@@ -239,6 +241,15 @@ def sweep(
     - `solver`: a [`jaxcable.SolverConfig`][], as for [`jaxcable.simulate`][]
         (`SolverConfig()` by default), shared by all cases; its `max_steps` counts each
         case's own steps.
+    - `steps`: `"per_case"` (default): each case chooses its own steps, and matches
+        its single run to rounding at first. `"shared"`: the batch is one system with
+        one adaptive step, the smallest any case needs, so each case is integrated at
+        least as finely as alone but with different steps (its results agree with its
+        single run to the tolerance, not to rounding), and `stats` counts the shared
+        steps. Faster on a CPU, where the per-case loop's masking of every carried
+        array at every step costs more than the evaluations (`benchmarks/README.md`,
+        *Sweeps*). One case that fails (too many steps, a collapsing step) fails them
+        all; explicit solvers only. Not with several `devices`.
     - `devices`: the JAX devices to split the cases across; `jax.devices()` by
         default.
 
@@ -273,7 +284,13 @@ def sweep(
     elif not isinstance(initial, State):
         raise ValueError(f"sweep: initial must be 'statics', 'rest' or a jaxcable.State, got {initial!r}")
     config = as_config("sweep", solver)
+    checks.option("sweep: steps", steps, STEPS)
     devices = _check_devices(devices)
+    if steps == "shared":
+        if isinstance(config.solver, IMEX_SOLVERS) or isinstance(config.solver, diffrax.AbstractImplicitSolver):
+            raise ValueError(f"sweep: steps='shared' takes an explicit solver, got {type(config.solver).__name__}")
+        if len(devices) > 1:
+            raise ValueError(f"sweep: steps='shared' runs on one device, got {len(devices)} devices")
 
     reference = _build_first(build, values)
     batched, unbatched = _build_batch(build, values, reference)
@@ -322,7 +339,7 @@ def sweep(
         per_case = _place(per_case, NamedSharding(mesh, PartitionSpec(_CASES)))
         shared = _place(shared, NamedSharding(mesh, PartitionSpec()))
 
-    simulation, statics, success = _run(per_case, shared, mode, mesh)
+    simulation, statics, success = _run(per_case, shared, mode, steps, mesh)
     if padding:
         simulation, statics, success = jax.tree.map(lambda x: x[:n_cases], (simulation, statics, success))
     return SweepResult(
@@ -335,7 +352,7 @@ def sweep(
 
 
 @eqx.filter_jit
-def _run(per_case, shared, mode, mesh):
+def _run(per_case, shared, mode, steps, mesh):
     """The compiled batch: `vmap` over cases, split across the devices of `mesh` (if
     given) by the sharding of the inputs. Returns the batched `SimulationResult`,
     `StaticSolution` (or `None`) and success flags.
@@ -348,27 +365,35 @@ def _run(per_case, shared, mode, mesh):
     # is closed over.
     shared, shared_static = eqx.partition(shared, eqx.is_array)
 
-    def one(case, shared):
+    def prepare(case, shared):
+        """A case's model, water, start and flags: `valid` input, and `ok` to integrate."""
         shared = eqx.combine(shared, shared_static)
         model, env = eqx.combine(case["model"], shared["model"])
-        t0, t1, ts = shared["t0"], shared["t1"], shared["ts"]
         valid = case["valid"]
         statics = None
         ok = valid
         if mode == "statics":
-            statics = solve_statics(model, env, t=t0, throw=False)
+            statics = solve_statics(model, env, t=shared["t0"], throw=False)
             start = (statics.state.positions, statics.state.velocities)
             ok = valid & (statics.result == optx.RESULTS.successful)
+        elif mode == "rest":
+            start = (model.node_positions, jnp.zeros_like(model.node_positions))
+        else:
+            start = case["initial"] if "initial" in case else shared["initial"]
+        return (model, env), start, statics, valid, ok
+
+    def own_steps(case_system, start, ok, shared):
+        shared = eqx.combine(shared, shared_static)
+        model, env = case_system
+        t0, t1, ts = shared["t0"], shared["t1"], shared["ts"]
         # A case that is invalid or without equilibrium is not integrated: with t1 = t0
         # diffrax takes no step, so it cannot hold the batch's loop (or its max_steps)
         # hostage.
         t1 = jnp.where(ok, t1, t0)
         ts = jnp.where(ok, ts, t0)
-        if mode == "rest":
-            start = (model.node_positions, jnp.zeros_like(model.node_positions))
-        elif mode == "state":
-            start = case["initial"] if "initial" in case else shared["initial"]
-        simulation = _simulate(model, env, start, t0, t1, ts, shared["solver"], diffrax.NoProgressMeter(), False)
+        return _simulate(model, env, start, t0, t1, ts, shared["solver"], diffrax.NoProgressMeter(), False)
+
+    def finish(simulation, statics, valid, ok):
         # No state was integrated: inf throughout, as diffrax marks outputs past a
         # failure, and the statics' code promoted to diffrax's enumeration (or, for an
         # invalid case, `nonfinite_input`) so that `simulation.success` is False too.
@@ -391,12 +416,72 @@ def _run(per_case, shared, mode, mesh):
         simulation = eqx.tree_at(lambda s: s.result, simulation, result)
         return simulation, statics, simulation.result == diffrax.RESULTS.successful
 
-    outputs = jax.vmap(one, in_axes=(0, None))(per_case, shared)
+    systems, starts, statics, valid, ok = jax.vmap(prepare, in_axes=(0, None))(per_case, shared)
+    if steps == "shared":
+        simulation = _shared_steps(systems, starts, ok, eqx.combine(shared, shared_static))
+    else:
+        simulation = jax.vmap(own_steps, in_axes=(0, 0, 0, None))(systems, starts, ok, shared)
+    outputs = jax.vmap(finish)(simulation, statics, valid, ok)
     if mesh is not None:
         # Keep every output split by case, as the inputs are, so that no device
         # gathers the whole batch.
         outputs = jax.lax.with_sharding_constraint(outputs, NamedSharding(mesh, PartitionSpec(_CASES)))
     return outputs
+
+
+def _shared_steps(systems, starts, ok, shared) -> SimulationResult:
+    """The whole batch as one system, integrated with one step size: the largest that
+    every case's error estimate allows (the controller's norm is the worst case's).
+
+    Each case is integrated at least as finely as its own solve would be, and no case
+    waits on a masked loop: under `vmap`, diffrax's while loop selects every carried
+    array, its output buffers included, between each case's old and new value at every
+    step, which on a CPU cost more than the evaluations. A case that is not to be
+    integrated (invalid, or without equilibrium) has its derivative held at zero, so
+    that it neither moves nor limits the step.
+    """
+    config: SolverConfig = shared["solver"]
+    free = _free_nodes(systems)
+    y0 = (starts[0][:, free], starts[1][:, free])
+
+    def field(t, y, args):
+        def one(system, y):
+            return vector_field(t, y, system)
+
+        derivative = jax.vmap(one)(args, y)
+        return jax.tree.map(lambda d: jnp.where(ok[:, None, None], d, 0.0), derivative)
+
+    controller = config.stepsize_controller
+    if isinstance(controller, diffrax.PIDController):
+        norm = controller.norm
+        controller = eqx.tree_at(lambda c: c.norm, controller, lambda y: jnp.max(jax.vmap(norm)(y)))
+    solution = diffrax.diffeqsolve(
+        diffrax.ODETerm(field),
+        config.solver,
+        shared["t0"],
+        shared["t1"],
+        config.dt0,
+        y0,
+        args=systems,
+        saveat=diffrax.SaveAt(ts=shared["ts"]),
+        stepsize_controller=controller,
+        max_steps=config.max_steps,
+        adjoint=config.adjoint,
+        throw=False,
+    )
+    assert solution.ts is not None and solution.ys is not None
+    stats = {k: solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
+
+    def one_result(system, positions, velocities):
+        return result_of(*system, solution.ts, (positions, velocities), stats, solution.result)
+
+    # diffrax saves the batch with times first: (times, cases, free, 3).
+    return jax.vmap(one_result, in_axes=(0, 1, 1))(systems, *solution.ys)
+
+
+def _free_nodes(systems):
+    model, _ = systems
+    return model.free_nodes
 
 
 def _place(tree, where):

@@ -129,6 +129,44 @@ def test_every_case_invalid_is_an_error():
         sweep(build, {"stiffness_scale": [-1.0, -2.0], "stretch": [1.0, 1.0]}, T1, ts=TS)
 
 
+def test_shared_steps_agree_with_own_steps_to_the_tolerance(swept):
+    """`steps="shared"`: one step for the batch, the smallest any case needs. The cases
+    that succeed alone agree with their own-step results to the solver's tolerance (not
+    to rounding: the steps differ), every case counts the same steps, at least as many
+    as the case that needs most, and the invalid and statics-failed cases are reported
+    as before without moving or holding back the others. The stiff case 2 is left out:
+    with shared steps it would fail the whole batch (as documented)."""
+    cases = [0, 1, 3, 4, 5]
+    subset = {k: [v[i] for i in cases] for k, v in CASES.items()}
+    config = jc.SolverConfig(max_steps=MAX_STEPS)
+    shared = sweep(build, subset, T1, ts=TS, solver=config, steps="shared")
+    np.testing.assert_array_equal(shared.success, [True, True, False, False, True])
+    assert shared.status[2].startswith("statics failed") and shared.status[3].startswith("invalid input: case 3")
+    steps = np.asarray(shared.simulation.stats["num_steps"])
+    own = np.asarray(swept.simulation.stats["num_steps"])
+    assert steps[0] == steps[1] == steps[4] >= max(own[0], own[1], own[5])
+    for got, i in ((0, 0), (1, 1), (4, 5)):
+        expected = np.asarray(swept.simulation.tension[i])
+        scale = np.max(np.abs(expected))
+        np.testing.assert_allclose(np.asarray(shared.simulation.tension[got]), expected, rtol=0, atol=1e-4 * scale)
+    # Case 1 needs the most steps, so the shared steps are its own; case 0 takes more
+    # steps than alone, and its history differs beyond rounding.
+    assert steps[0] == own[1] > own[0]
+    assert np.max(np.abs(np.asarray(shared.simulation.tension[0]) - np.asarray(swept.simulation.tension[0]))) > 1e-3
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"steps": "joint"}, "sweep: steps must be one of"),
+        ({"steps": "shared", "solver": jc.SolverConfig(diffrax.Kvaerno5())}, "takes an explicit solver, got Kvaerno5"),
+    ],
+)
+def test_shared_steps_input_errors(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        sweep(build, GOOD, T1, ts=TS, **kwargs)
+
+
 _SHARDED = textwrap.dedent(
     """
     import equinox as eqx
