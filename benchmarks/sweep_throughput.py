@@ -188,7 +188,8 @@ def print_table(sessions) -> None:
             failed = "" if r["all_successful"] else " (failures)"
             shared = ", shared steps" if r.get("steps") == "shared" and r["mode"] == "sweep" else ""
             print(
-                f"| {r['mode']}{shared}{failed} | {r['batch']} | {r['n_devices']} | {r['segments']} | {r['mass_matrix']} "
+                f"| {r['mode']}{shared}{failed} | {r['batch']} | {r['n_devices']} | {r['segments']} "
+                f"| {r['mass_matrix']} "
                 f"| {r['parameter']} | {r['initial']} | {r['duration_s']:g} "
                 f"| {r['steps_max']} ({r['steps_mean']:.0f}) | {r['compile_s']:.1f} | {r['run_s']:.3f} "
                 f"| {r['cases_per_s']:.2f} | {speedup} | {session['machine'].split(' ', 1)[1]} |"
