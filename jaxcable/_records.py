@@ -14,6 +14,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ._typing import RealLike
+
 _G0 = 9.80665  # standard gravity (m/s²), exact by definition
 
 UNITS: dict[str, dict[str, float]] = {
@@ -187,7 +189,7 @@ def _condition(key, value, where: str) -> float | str:
     raise _error(where, f"condition {key!r} must be a number or a string, got {type(value).__name__}")
 
 
-@dataclasses.dataclass(frozen=True, eq=False)
+@dataclasses.dataclass(frozen=True, eq=False, init=False)
 class TowingRecord:
     """A towing test's measured time series, in SI units, with its test conditions.
 
@@ -195,11 +197,12 @@ class TowingRecord:
 
     **Arguments:**
 
-    - `times`: sample times (s), shape `(samples,)`, strictly increasing, at least two.
+    - `times`: sample times (s), shape `(samples,)`, strictly increasing, at least two:
+        an array, or a list or tuple of numbers.
     - `columns`: every measured column except time, by name (a key of
         [`jaxcable.io.COLUMNS`][] such as `"speed"`, `"tension"`, `"depth"`), each in SI
-        units, shape `(samples,)`. At least one.
-    - `conditions`: the test conditions, by identifier: floats in SI units, or strings
+        units, shape `(samples,)`, as an array or a list or tuple of numbers. At least one.
+    - `conditions`: the test conditions, by identifier: numbers in SI units, or strings
         such as the rig's name.
     - `name`: a label; the file's name when read from a file.
 
@@ -215,45 +218,57 @@ class TowingRecord:
 
     times: np.ndarray
     columns: dict[str, np.ndarray]
-    conditions: dict[str, float | str] = dataclasses.field(default_factory=dict)
-    name: str = ""
+    conditions: dict[str, float | str]
+    name: str
 
-    def __post_init__(self):
-        where = self.name or "towing record"
-        times = _float_array(self.times, "times", where)
-        if times.ndim != 1:
-            raise _error(where, f"times must be 1-D, got shape {times.shape}")
-        if times.size < 2:
-            raise _error(where, f"a towing record needs at least 2 samples, got {times.size}")
-        _check_array_finite(times, "times", where)
-        stalled = np.diff(times) <= 0
+    # The fields hold what the record made of its arguments (float64 arrays, float
+    # conditions); the arguments are what a caller may give, so the dataclass's own
+    # `__init__`, which would take the fields' types, is replaced by this one.
+    def __init__(
+        self,
+        times: RealLike,
+        columns: Mapping[str, RealLike],
+        conditions: Mapping[str, float | np.floating | np.integer | str] | None = None,
+        name: str = "",
+    ):
+        where = name or "towing record"
+        times_array = _float_array(times, "times", where)
+        if times_array.ndim != 1:
+            raise _error(where, f"times must be 1-D, got shape {times_array.shape}")
+        if times_array.size < 2:
+            raise _error(where, f"a towing record needs at least 2 samples, got {times_array.size}")
+        _check_array_finite(times_array, "times", where)
+        stalled = np.diff(times_array) <= 0
         if np.any(stalled):
             i = int(np.argmax(stalled)) + 1
             raise _error(
                 where,
-                f"times must strictly increase, but times[{i}] = {float(times[i])!r} follows "
-                f"times[{i - 1}] = {float(times[i - 1])!r}",
+                f"times must strictly increase, but times[{i}] = {float(times_array[i])!r} follows "
+                f"times[{i - 1}] = {float(times_array[i - 1])!r}",
             )
-        if not isinstance(self.columns, Mapping):
-            raise _error(where, f"columns must map column names to arrays, got {type(self.columns).__name__}")
-        if not self.columns:
+        if not isinstance(columns, Mapping):
+            raise _error(where, f"columns must map column names to arrays, got {type(columns).__name__}")
+        if not columns:
             raise _error(where, "a towing record needs at least one column besides time")
-        columns = {}
-        for name, values in self.columns.items():
-            if name == "time":
+        column_arrays = {}
+        for column, values in columns.items():
+            if column == "time":
                 raise _error(where, "'time' is not one of the columns: give the times as `times`")
-            if name not in COLUMNS:
-                known = ", ".join(column for column in COLUMNS if column != "time")
-                raise _error(where, f"unknown column {name!r}; known columns: {known}")
-            array = _float_array(values, f"column {name!r}", where)
-            if array.shape != times.shape:
-                raise _error(where, f"column {name!r} has shape {array.shape}, but times has shape {times.shape}")
-            _check_array_finite(array, f"column {name!r}", where)
-            columns[name] = array
-        conditions = {key: _condition(key, value, where) for key, value in self.conditions.items()}
-        object.__setattr__(self, "times", times)
-        object.__setattr__(self, "columns", columns)
-        object.__setattr__(self, "conditions", conditions)
+            if column not in COLUMNS:
+                known = ", ".join(known_column for known_column in COLUMNS if known_column != "time")
+                raise _error(where, f"unknown column {column!r}; known columns: {known}")
+            array = _float_array(values, f"column {column!r}", where)
+            if array.shape != times_array.shape:
+                raise _error(
+                    where, f"column {column!r} has shape {array.shape}, but times has shape {times_array.shape}"
+                )
+            _check_array_finite(array, f"column {column!r}", where)
+            column_arrays[column] = array
+        checked = {key: _condition(key, value, where) for key, value in (conditions or {}).items()}
+        object.__setattr__(self, "times", times_array)
+        object.__setattr__(self, "columns", column_arrays)
+        object.__setattr__(self, "conditions", checked)
+        object.__setattr__(self, "name", name)
 
     @property
     def duration(self) -> float:

@@ -9,11 +9,12 @@ from jaxtyping import Array, Float
 
 
 class State(eqx.Module):
-    """Node positions (m) and velocities (m/s), each of shape `(nodes, 3)`.
+    """Node positions (m) and velocities (m/s), each of shape `(nodes, 3)`, or
+    `(cases, nodes, 3)` for one state per case (a [`jaxcable.sweep`][]'s `initial`).
 
     Only the free nodes' entries are used as initial conditions: constrained nodes
     always follow their motions.
     """
 
-    positions: Float[Array | np.ndarray, "nodes 3"]
-    velocities: Float[Array | np.ndarray, "nodes 3"]
+    positions: Float[Array | np.ndarray, "*cases nodes 3"]
+    velocities: Float[Array | np.ndarray, "*cases nodes 3"]

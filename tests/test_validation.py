@@ -166,6 +166,10 @@ def test_bad_motions_and_environment():
         jc.Sampled([0.0, 2.0, 1.0], np.zeros((3, 3)))
     with pytest.raises(ValueError, match=r"Environment.water_density must be positive, got -1.0"):
         jc.Environment(water_density=-1.0)
+
+
+@pytest.mark.unchecked  # a string where the hint says a motion, on purpose: the network's own error
+def test_a_constraint_that_is_not_a_motion():
     with pytest.raises(ValueError, match=r"CableNetwork.constraints\[0\] must be a motion"):
         network(constraints={0: "fixed", 2: jc.Fixed()})
 
