@@ -64,6 +64,7 @@ def line_drag(
     - `tangential_coefficient`: C_τ = ½ ρ K_τ π d (kg/m²).
     """
     relative_velocity, tangent = jnp.asarray(relative_velocity), jnp.asarray(tangent)
+    normal_coefficient, tangential_coefficient = jnp.asarray(normal_coefficient), jnp.asarray(tangential_coefficient)
     u_tangential = dot(relative_velocity, tangent) * tangent
     u_normal = relative_velocity - u_tangential
     return (
@@ -89,6 +90,7 @@ def line_inertia(
     - `tangential_coefficient`: c_τ = ρ F (1 + C_aτ) (kg/m).
     """
     fluid_acceleration, tangent = jnp.asarray(fluid_acceleration), jnp.asarray(tangent)
+    normal_coefficient, tangential_coefficient = jnp.asarray(normal_coefficient), jnp.asarray(tangential_coefficient)
     a_tangential = dot(fluid_acceleration, tangent) * tangent
     return normal_coefficient * (fluid_acceleration - a_tangential) + tangential_coefficient * a_tangential
 
@@ -101,7 +103,7 @@ def body_drag(
     Both of jaxcable's body laws have this form: `c = ½ ρ C_D A` for form drag, and
     `c = k₀ m g` for Zhukov's specific-weight law `R = k₀ u² m g` (seed 001, eq. 3).
     """
-    relative_velocity = jnp.asarray(relative_velocity)
+    relative_velocity, coefficient = jnp.asarray(relative_velocity), jnp.asarray(coefficient)
     return coefficient * safe_norm(relative_velocity) * relative_velocity
 
 

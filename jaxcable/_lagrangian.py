@@ -301,9 +301,8 @@ def _nonconservative_forces(model: CableNetwork, env: Environment, t, positions,
     xi, w = gauss_legendre(model.drag_points)
     start, end = _ends(model, positions)
     start_velocity, end_velocity = _ends(model, velocities)
-    if env.free_surface:
-        # Quadrature over the submerged part [a, b] only.
-        a, b = submerged_interval(start[2], end[2])
+    # Quadrature over the submerged part [a, b] only, with the surface.
+    a, b = submerged_interval(start[2], end[2]) if env.free_surface else (0.0, 1.0)
     normal = 0.5 * rho * line.normal_drag * line.diameter  # C_n
     tangential = 0.5 * rho * line.tangential_drag * jnp.pi * line.diameter  # C_τ
     displaced = rho * line.area

@@ -163,15 +163,15 @@ def simulate(
     # with other values, or traced, is checked here, so that a bad value is named
     # rather than turning into NaNs mid-solve.
     initial_positions = checks.check(initial_positions, model.conditions() + env.conditions())
-    initial = (initial_positions, initial_velocities)
+    start = (initial_positions, initial_velocities)
     # Called eagerly, the solve is compiled without error checks, which are raised here
     # after it returns (`checks.raise_if`): a program with them could not be kept in
     # JAX's persistent cache. Under the caller's `jit` they go inside, as they must.
-    inside = throw and checks.traced((model, env, initial, t0, t1, ts))
+    inside = throw and checks.traced((model, env, start, t0, t1, ts))
     result = _simulate(
         model,
         env,
-        initial,
+        start,
         t0,
         t1,
         ts,

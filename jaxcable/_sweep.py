@@ -473,7 +473,8 @@ def _shared_steps(systems, starts, ok, shared) -> SimulationResult:
     stats = {k: solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
 
     def one_result(system, positions, velocities):
-        return result_of(*system, solution.ts, (positions, velocities), stats, solution.result)
+        model, env = system
+        return result_of(model, env, solution.ts, (positions, velocities), stats, solution.result)
 
     # diffrax saves the batch with times first: (times, cases, free, 3).
     return jax.vmap(one_result, in_axes=(0, 1, 1))(systems, *solution.ys)
