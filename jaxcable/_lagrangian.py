@@ -33,7 +33,7 @@ import jax
 import jax.numpy as jnp
 import lineax as lx
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
 from ._environment import Environment
@@ -64,7 +64,7 @@ _CG_ITERATIONS = 30
 # transposes at that boundary cancel where one calls another.
 
 
-def _cm(vectors: Array) -> Array:
+def _cm(vectors: ArrayLike) -> Array:
     """`(..., 3)` → component-major `(3, ...)`; a single 3-vector becomes a column."""
     vectors = jnp.asarray(vectors)
     return vectors[:, None] if vectors.ndim == 1 else jnp.moveaxis(vectors, -1, 0)
