@@ -47,7 +47,7 @@ Rows (`--only` takes these names):
 `--quick` is a smoke run, NOT the target measurement: one repeat, N = 20 only over 10 s,
 a 16-case 4 s sweep, one process pair.
 
-    python benchmarks/speed.py                       # the whole table (30-40 min here)
+    python benchmarks/speed.py                       # the whole table (25 min here, quiet-ish)
     python benchmarks/speed.py --quick               # smoke run
     python benchmarks/speed.py --only seed003 --segments 20
     python benchmarks/speed.py --report              # the latest table as markdown
