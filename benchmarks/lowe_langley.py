@@ -32,18 +32,30 @@ import tempfile
 import time
 from pathlib import Path
 
-import jax
 import numpy as np
-
-import jaxcable as jc
-
-jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
 DATA = Path(__file__).resolve().parents[1] / "tests" / "data" / "lowe_and_langley_2006"
 RESULTS = Path(__file__).resolve().parent / "results" / "lowe_langley.json"
 AMPLITUDE, PERIOD, AFTER_RAMP = 10.0, 27.0, 80.0
 TOP_REFERENCE = np.array([11.40, 0.0, 45.71])  # kN
 BOTTOM_REFERENCE = np.array([-11.40, 0.0, 24.04])
+
+
+def _jaxcable():
+    """jaxcable, with JAX switched to float64 (jaxcable computes in float64 and leaves the
+    switch to us). Imported on first use, not with this module, so that a process that
+    only runs MoorDyn (`speed.py` times one whole) does not import JAX."""
+    import jax
+
+    import jaxcable
+
+    jax.config.update("jax_enable_x64", True)
+    return jaxcable
+
+
+def top_rest(line_file: Path) -> np.ndarray:
+    """The top's (point 2's) position (m) at rest, from the MoorDyn file."""
+    return np.array(_jaxcable().load_scene(line_file).points[1].position)
 
 
 def top_position(t: np.ndarray, case: int, rest: np.ndarray) -> np.ndarray:
@@ -63,8 +75,9 @@ def errors(times: np.ndarray, series_kn: np.ndarray, reference: np.ndarray) -> d
     return {"rms": float(np.sqrt(np.mean(error**2))), "max": float(np.abs(error).max()), "mean": float(error.mean())}
 
 
-def run_cli(workdir: Path, case: int, rest: np.ndarray, dt_motion: float) -> dict:
-    """`jaxcable run line.txt --motion ...` for one case; its top tensions and wall time."""
+def run_cli(workdir: Path, case: int, rest: np.ndarray, dt_motion: float, env: dict | None = None) -> dict:
+    """`jaxcable run line.txt --motion ...` for one case; its top tensions and wall time.
+    `env`: the process's environment (this one's by default)."""
     t = np.arange(0.0, PERIOD + AFTER_RAMP + dt_motion / 2, dt_motion)
     table = workdir / f"case{case}_motion.csv"
     np.savetxt(
@@ -92,7 +105,7 @@ def run_cli(workdir: Path, case: int, rest: np.ndarray, dt_motion: float) -> dic
         "AnchTen1",
     ]
     start = time.perf_counter()
-    completed = subprocess.run(command, capture_output=True, text=True, check=True)
+    completed = subprocess.run(command, capture_output=True, text=True, check=True, env=env)
     wall = time.perf_counter() - start
     data = np.load(out)
     top = int(np.flatnonzero(data["constrained_nodes"] == 1)[0])  # point 2 is node 1
@@ -107,6 +120,7 @@ def run_cli(workdir: Path, case: int, rest: np.ndarray, dt_motion: float) -> dic
 
 def time_in_process(workdir: Path, case: int, rest: np.ndarray, dt_motion: float, repeats: int) -> dict:
     """Compile and run time (s) of `run_scene` for one case, in this process."""
+    jc = _jaxcable()
     t = np.arange(0.0, PERIOD + AFTER_RAMP + dt_motion / 2, dt_motion)
     scene = jc.load_scene(workdir / "line.txt")
     scene = scene.with_motion_table(t, top_position(t, case, rest)[:, None, :])
@@ -182,7 +196,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         workdir = Path(tmp)
         shutil.copy(DATA / "line.txt", workdir / "line.txt")  # MoorDyn writes beside its input
-        rest = np.array(jc.load_scene(workdir / "line.txt").points[1].position)
+        rest = top_rest(workdir / "line.txt")
         record = {
             "statics": statics(workdir),
             "cases": {},

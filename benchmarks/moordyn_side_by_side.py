@@ -158,11 +158,12 @@ def parse():
 # The scene, and MoorDyn's input generated from it
 
 
-def scene(slack_width: float):
-    """Seed 003's line as compared here: 20 segments, linear elastic, lumped mass."""
+def scene(slack_width: float, segments: int = SEGMENTS):
+    """Seed 003's line as compared here: 20 segments (or `segments`), linear elastic,
+    lumped mass."""
     from jaxcable.examples import seed003_line
 
-    return seed003_line(SEGMENTS, quadratic_ratio=0.0, mass_matrix="lumped", slack_width=slack_width)
+    return seed003_line(segments, quadratic_ratio=0.0, mass_matrix="lumped", slack_width=slack_width)
 
 
 def moordyn_input(model, env, dtm: float, depth_margin: float = 100.0) -> str:
@@ -851,7 +852,6 @@ def part_sweep(args) -> dict:
     }
     print(json.dumps({k: v for k, v in record.items() if k != "peaks"}), flush=True)
     print({k: v for k, v in record["peaks"].items() if "diff" in k})
-    plot_sweep(record, FIGURES / "moordyn_side_by_side_sweep.png")
     return record
 
 
@@ -1098,6 +1098,8 @@ def main():
     jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
     part = {"check": part_check, "work-precision": part_work_precision, "sweep": part_sweep}[args.part]
     record = part(args)
+    if args.part == "sweep":
+        plot_sweep(record, FIGURES / "moordyn_side_by_side_sweep.png")
     append_session(args.out, part=args.part, **record)
     print()
     report(args.out, args.levels)

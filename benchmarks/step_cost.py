@@ -38,6 +38,36 @@ RESULTS = Path(__file__).parent / "results"
 EVALUATIONS = 200
 
 
+def field_seconds(build, parameter, y, repeats, evaluations=EVALUATIONS, batched=False):
+    """Seconds for one evaluation of `vector_field(t, y, build(parameter))`, timed as
+    `evaluations` of them inside one compiled `fori_loop` (so no dispatch is counted),
+    median of `repeats` warm calls; and the compile time (s).
+
+    `y` is the free nodes' (positions, velocities). With `batched`, `parameter` and `y`
+    carry a leading case axis and the evaluation is `vmap`ped over it (a batch's time is
+    returned); `build` is traced under the `vmap`, so what does not depend on the
+    parameter stays unbatched, as in `jaxcable.sweep`.
+    """
+
+    def field(t, y, parameter):
+        return vector_field(t, y, build(parameter))
+
+    if batched:
+        field = jax.vmap(field, in_axes=(None, 0, 0))
+
+    @jax.jit
+    def fields(y, parameter):
+        def body(i, y):
+            velocity, acceleration = field(1e-3 * i, y, parameter)
+            # A negligible update keeps each evaluation dependent on the last.
+            return (y[0] + 1e-12 * velocity, y[1] + 1e-12 * acceleration)
+
+        return jax.lax.fori_loop(0, evaluations, body, y)
+
+    _, compile_time, run = timed(lambda: fields(y, parameter), repeats)
+    return run / evaluations, compile_time
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--segments", type=int, nargs="+", default=[20, 100])
@@ -54,17 +84,7 @@ def main():
         model, env = seed003_line(n, mass_matrix="lumped")
         state = jc.solve_statics(model, env).state
         y = (state.positions[model.free_nodes], state.velocities[model.free_nodes])
-
-        @jax.jit
-        def fields(y):
-            def body(i, y):
-                velocity, acceleration = vector_field(1e-3 * i, y, (model, env))
-                # A negligible update keeps each evaluation dependent on the last.
-                return (y[0] + 1e-12 * velocity, y[1] + 1e-12 * acceleration)
-
-            return jax.lax.fori_loop(0, EVALUATIONS, body, y)
-
-        _, _, field = timed(lambda: fields(y), args.repeats)
+        field, _ = field_seconds(lambda _: (model, env), 0.0, y, args.repeats)
 
         def run(solver, t1, ts, **options):
             config = jc.SolverConfig(solver, **options)
@@ -80,7 +100,7 @@ def main():
         many, _, many_time = timed(run(diffrax.Dopri5(), args.duration, many_ts), args.repeats)
         row = {
             "segments": n,
-            "field_us": 1e6 * field / EVALUATIONS,
+            "field_us": 1e6 * field,
             "euler_step_us": 1e6 * euler_time / int(euler.stats["num_steps"]),
             "dopri5_step_us_1_output": 1e6 * one_time / int(one.stats["num_steps"]),
             "dopri5_step_us_20hz": 1e6 * many_time / int(many.stats["num_steps"]),
