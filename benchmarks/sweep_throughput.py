@@ -46,6 +46,7 @@ def parse():
     parser.add_argument("--parameter", choices=PARAMETERS, default="amplitude")
     parser.add_argument("--initial", choices=["statics", "rest"], default="statics")
     parser.add_argument("--steps", choices=["per_case", "shared"], default="per_case", help="the sweep's steps")
+    parser.add_argument("--chunks", type=int, default=None, help="the sweep's chunks (default: one per core on a CPU)")
     parser.add_argument("--mass-matrix", choices=["consistent", "lumped"], default="consistent")
     parser.add_argument("--rtol", type=float, default=1e-6)
     parser.add_argument("--atol", type=float, default=1e-6)
@@ -117,6 +118,7 @@ def main():
         "solver": type(jc.default_solver()).__name__,
         "n_devices": len(jax.devices()),
         "steps": args.steps,
+        "chunks": args.chunks,
     }
     records = []
 
@@ -139,7 +141,9 @@ def main():
         parameters = {args.parameter: values(batch)}
 
         def run():
-            return sweep(build, parameters, args.duration, initial=args.initial, steps=args.steps, **options)
+            return sweep(
+                build, parameters, args.duration, initial=args.initial, steps=args.steps, chunks=args.chunks, **options
+            )
 
         result, compile_time, run_time = timed(run, args.repeats)
         record("sweep", batch, compile_time, run_time, result.simulation.stats["num_steps"], result.success)

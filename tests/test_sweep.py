@@ -139,7 +139,7 @@ def test_shared_steps_agree_with_own_steps_to_the_tolerance(swept):
     cases = [0, 1, 3, 4, 5]
     subset = {k: [v[i] for i in cases] for k, v in CASES.items()}
     config = jc.SolverConfig(max_steps=MAX_STEPS)
-    shared = sweep(build, subset, T1, ts=TS, solver=config, steps="shared")
+    shared = sweep(build, subset, T1, ts=TS, solver=config, steps="shared", chunks=1)
     np.testing.assert_array_equal(shared.success, [True, True, False, False, True])
     assert shared.status[2].startswith("statics failed") and shared.status[3].startswith("invalid input: case 3")
     steps = np.asarray(shared.simulation.stats["num_steps"])
@@ -153,6 +153,47 @@ def test_shared_steps_agree_with_own_steps_to_the_tolerance(swept):
     # steps than alone, and its history differs beyond rounding.
     assert steps[0] == own[1] > own[0]
     assert np.max(np.abs(np.asarray(shared.simulation.tension[0]) - np.asarray(swept.simulation.tension[0]))) > 1e-3
+
+
+def test_chunks_equal_one_batch(swept, monkeypatch):
+    """Chunks run on threads change where the cases run, not what they give: six cases
+    in four chunks (padded to eight) equal the batch of `swept` (two chunks by default
+    on a 2-core CPU) and one batch of six, case by case, status included."""
+    calls = []
+    run = jc._sweep._run
+
+    def counted(part, *rest):
+        calls.append(len(part["valid"]))
+        return run(part, *rest)
+
+    monkeypatch.setattr(jc._sweep, "_run", counted)
+    config = jc.SolverConfig(max_steps=MAX_STEPS)
+    four = sweep(build, CASES, T1, ts=TS, solver=config, chunks=4)
+    assert calls == [2, 2, 2, 2]
+    one = sweep(build, CASES, T1, ts=TS, solver=config, chunks=1)
+    assert calls[4:] == [6]
+    for result in (four, one):
+        assert result.status == swept.status and result.n_cases == 6
+        np.testing.assert_array_equal(result.success, swept.success)
+        np.testing.assert_array_equal(result.simulation.stats["num_steps"], swept.simulation.stats["num_steps"])
+        ok = np.asarray(swept.success)
+        np.testing.assert_allclose(result.simulation.tension[ok], swept.simulation.tension[ok], rtol=1e-8)
+        np.testing.assert_allclose(result.statics.tension[ok], swept.statics.tension[ok], rtol=1e-9)
+
+
+def test_shared_steps_are_per_chunk():
+    """With chunks, each chunk takes its own shared step: the same as a sweep of its
+    cases alone. Case 1 needs more steps than case 0; apart, case 0 keeps its own."""
+    config = jc.SolverConfig(max_steps=MAX_STEPS)
+    pair = {k: v[:2] for k, v in CASES.items()}
+    apart = sweep(build, pair, T1, ts=TS, solver=config, steps="shared", chunks=2)
+    together = sweep(build, pair, T1, ts=TS, solver=config, steps="shared", chunks=1)
+    for i in range(2):
+        alone = sweep(build, {k: v[i : i + 1] for k, v in pair.items()}, T1, ts=TS, solver=config, steps="shared")
+        np.testing.assert_allclose(apart.simulation.tension[i], alone.simulation.tension[0], rtol=1e-9)
+        assert int(apart.simulation.stats["num_steps"][i]) == int(alone.simulation.stats["num_steps"][0])
+    steps = np.asarray(apart.simulation.stats["num_steps"])
+    assert steps[0] < steps[1] == int(together.simulation.stats["num_steps"][0])
 
 
 @pytest.mark.parametrize(
@@ -211,6 +252,19 @@ _SHARDED = textwrap.dedent(
     assert sorted(s.data.shape[0] for s in tension.addressable_shards) == [2, 2]
     np.testing.assert_allclose(tension[:3], alone.simulation.tension, rtol=1e-9)
     np.testing.assert_allclose(tension[3], tension[0], rtol=1e-12)
+
+    # Two chunks on threads, each split across both devices: the same cases, still split.
+    chunked = sweep(build, even, 1.0, chunks=2, **options).simulation.tension
+    assert sorted(s.data.shape[0] for s in chunked.addressable_shards) == [2, 2]
+    np.testing.assert_allclose(chunked, tension, rtol=1e-9)
+
+    # One shared step for the batch across both devices: the largest that every case's
+    # error allows, agreed between the devices at each step.
+    both = sweep(build, odd, 1.0, steps="shared", **options)
+    alone = sweep(build, odd, 1.0, steps="shared", devices=[jax.devices()[0]], chunks=1, **options)
+    assert all(both.success), both.status
+    np.testing.assert_array_equal(both.simulation.stats["num_steps"], alone.simulation.stats["num_steps"])
+    np.testing.assert_allclose(both.simulation.tension, alone.simulation.tension, rtol=1e-9)
     print("sharded sweep OK")
     """
 )
@@ -301,6 +355,9 @@ GOOD = {"stiffness_scale": [1.0, 2.0], "stretch": [1.0, 1.0]}
         (dict(initial="equilibrium"), "initial must be one of \\('statics', 'rest'\\)"),
         (dict(initial=jc.State(np.zeros((3, 3)), np.zeros((3, 3)))), "must have shape \\(5, 3\\)"),
         (dict(devices=[]), "devices must not be empty"),
+        (dict(chunks=0), "chunks must be a positive integer, got 0"),
+        pytest.param(dict(chunks=1.5), "chunks must be a positive integer, got 1.5", marks=pytest.mark.unchecked),
+        (dict(chunks=True), "chunks must be a positive integer, got True"),
         pytest.param(dict(devices=["cpu"]), "devices must be JAX devices", marks=pytest.mark.unchecked),
         (
             dict(build=_int_topology, parameters={"n": [4.0, 5.0], "stiffness_scale": [1.0, 2.0]}),
