@@ -132,6 +132,9 @@ def parse():
     parser.add_argument("--sweep-dtm", type=float, default=None)
     parser.add_argument("--sweep-repeats", type=int, default=2)
     parser.add_argument(
+        "--sweep-steps", choices=["per_case", "shared"], default="shared", help="jaxcable.sweep's steps"
+    )
+    parser.add_argument(
         "--moordyn-cases",
         type=int,
         default=None,
@@ -755,7 +758,15 @@ def part_sweep(args) -> dict:
 
     def run():
         config = jc.SolverConfig(rtol=tol, atol=tol, max_steps=args.max_steps)
-        return jc.sweep(build, {"amplitude": amplitudes}, duration, ts=ts, initial=static.state, solver=config)
+        return jc.sweep(
+            build,
+            {"amplitude": amplitudes},
+            duration,
+            ts=ts,
+            initial=static.state,
+            solver=config,
+            steps=args.sweep_steps,
+        )
 
     load_before = load()
     # As `_timing.timed`, keeping every warm time: one batch is long and the machine shared.
@@ -785,6 +796,8 @@ def part_sweep(args) -> dict:
             "slack_width": args.slack_width,
             "repeats": args.sweep_repeats,
             "n_devices": len(jax.devices()),
+            "steps": args.sweep_steps,
+            "cores": len(os.sched_getaffinity(0)),
             "wavelength_m": wavelength,
             "steepness_min": float(steepness[0]),
             "steepness_max": float(steepness[-1]),

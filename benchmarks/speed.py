@@ -28,7 +28,8 @@ Rows (`--only` takes these names):
   cheaper one; those are timed over the whole duration and each engine's time at the
   level interpolated in log-log between them (`moordyn_side_by_side.wall_at`).
 - `sweep`: `moordyn_side_by_side.part_sweep`: 256 wave steepnesses as one
-  `jaxcable.sweep`, against 256 sequential MoorDyn runs (stepping time, IC generation
+  `jaxcable.sweep` (`--sweep-steps`, shared steps by default; the default chunks, one
+  per core), against 256 sequential MoorDyn runs (stepping time, IC generation
   apart), at the pair of settings of equal error found by the N = 20 `seed003` row of
   the same run (MoorDyn at dtM = 1 ms and the Dopri5 tolerance of the same RMS error;
   `moordyn_side_by_side.sweep_pair`).
@@ -101,6 +102,9 @@ def parse(argv=None):
     parser.add_argument("--cases", type=int, default=256, help="sweep cases")
     parser.add_argument("--sweep-duration", type=float, default=10.0)
     parser.add_argument("--sweep-repeats", type=int, default=2)
+    parser.add_argument(
+        "--sweep-steps", choices=["per_case", "shared"], default="shared", help="jaxcable.sweep's steps"
+    )
     parser.add_argument("--batch", type=int, default=256, help="field row's batch")
     parser.add_argument("--slack-width", type=float, default=1e-6)
     parser.add_argument("--out", type=Path, default=RESULTS)
@@ -674,6 +678,7 @@ def rows_sweep(args, pair) -> list[dict]:
         sweep_tol=pair["tol"] if pair else None,
         sweep_dtm=pair["dtm"] if pair else None,
         sweep_repeats=args.sweep_repeats,
+        sweep_steps=args.sweep_steps,
         moordyn_cases=None,
         max_steps=200_000,
         out=mss.RESULTS,  # where the pair comes from when this run has none
@@ -687,7 +692,8 @@ def rows_sweep(args, pair) -> list[dict]:
     s, j, m, p = record["settings"], record["jaxcable"], record["moordyn"], record["peaks"]
     return [
         row(
-            f"{s['cases']}-case wave-steepness sweep of seed 003's line ({s['duration_s']:g} s each) ÷ "
+            f"{s['cases']}-case wave-steepness sweep of seed 003's line ({s['duration_s']:g} s each, "
+            f"steps {s.get('steps', 'per_case')}, chunks on {s.get('cores', 1)} cores) ÷ "
             f"{s['cases']} sequential MoorDyn runs",
             jaxcable=j["run_s"],
             moordyn=m["run_s"],
