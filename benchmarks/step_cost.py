@@ -12,7 +12,13 @@ On seed 003's line (lumped mass, from statics), per segment count N:
 The differences say what diffrax's bookkeeping costs against the physics. Times are
 medians of warm repeats.
 
+With `--batch B`, the same for a batch of B cases (seed 003's line with its top's
+amplitude spread over ±10 %), per batch: the field `vmap`ped, Euler and Dopri5 as
+`jaxcable.sweep` with `steps="shared"` in one chunk (one core), so a step is the
+batch's step.
+
     python benchmarks/step_cost.py --segments 20 100
+    python benchmarks/step_cost.py --segments 20 --batch 128
     python benchmarks/step_cost.py --report
 
 Results are appended to benchmarks/results/step_cost.json.
@@ -23,6 +29,7 @@ import json
 from pathlib import Path
 
 import diffrax
+import equinox as eqx
 import jax
 import numpy as np
 from _results import append_session
@@ -73,6 +80,7 @@ def main():
     parser.add_argument("--segments", type=int, nargs="+", default=[20, 100])
     parser.add_argument("--duration", type=float, default=3.0, help="simulated time (s) of the Dopri5 runs")
     parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--batch", type=int, default=0, help="cases in a batch (0: single runs)")
     parser.add_argument("--out", default=str(RESULTS / "step_cost.json"))
     parser.add_argument("--report", action="store_true")
     args = parser.parse_args()
@@ -84,11 +92,30 @@ def main():
         model, env = seed003_line(n, mass_matrix="lumped")
         state = jc.solve_statics(model, env).state
         y = (state.positions[model.free_nodes], state.velocities[model.free_nodes])
-        field, _ = field_seconds(lambda _: (model, env), 0.0, y, args.repeats)
+        if args.batch:
+            top = model.motions[-1]
+            scales = np.linspace(0.9, 1.1, args.batch)
 
-        def run(solver, t1, ts, **options):
-            config = jc.SolverConfig(solver, **options)
-            return lambda: jc.simulate(model, env, t1, ts=ts, initial=state, solver=config, throw=False)
+            def build(scale):
+                return eqx.tree_at(lambda m: m.motions[-1].amplitude, model, top.amplitude * scale), env
+
+            batch_y = tuple(np.broadcast_to(a, (args.batch, *a.shape)) for a in y)
+            field, _ = field_seconds(build, scales, batch_y, args.repeats, batched=True)
+
+            def run(solver, t1, ts, **options):
+                config = jc.SolverConfig(solver, **options)
+                swept = {"scale": scales}
+
+                def batch():
+                    return jc.sweep(build, swept, t1, ts=ts, initial=state, solver=config, steps="shared", chunks=1)
+
+                return lambda: batch().simulation
+        else:
+            field, _ = field_seconds(lambda _: (model, env), 0.0, y, args.repeats)
+
+            def run(solver, t1, ts, **options):
+                config = jc.SolverConfig(solver, **options)
+                return lambda: jc.simulate(model, env, t1, ts=ts, initial=state, solver=config, throw=False)
 
         euler_t1 = 2000 * 1e-5
         euler, _, euler_time = timed(
@@ -100,11 +127,12 @@ def main():
         many, _, many_time = timed(run(diffrax.Dopri5(), args.duration, many_ts), args.repeats)
         row = {
             "segments": n,
+            "batch": args.batch,
             "field_us": 1e6 * field,
-            "euler_step_us": 1e6 * euler_time / int(euler.stats["num_steps"]),
-            "dopri5_step_us_1_output": 1e6 * one_time / int(one.stats["num_steps"]),
-            "dopri5_step_us_20hz": 1e6 * many_time / int(many.stats["num_steps"]),
-            "dopri5_steps": int(one.stats["num_steps"]),
+            "euler_step_us": 1e6 * euler_time / int(np.max(euler.stats["num_steps"])),
+            "dopri5_step_us_1_output": 1e6 * one_time / int(np.max(one.stats["num_steps"])),
+            "dopri5_step_us_20hz": 1e6 * many_time / int(np.max(many.stats["num_steps"])),
+            "dopri5_steps": int(np.max(one.stats["num_steps"])),
         }
         print(json.dumps(row), flush=True)
         rows.append(row)
@@ -116,14 +144,14 @@ def main():
 def report(path: Path):
     sessions = json.loads(path.read_text())
     print(
-        "| N | field (µs) | Euler step (µs) | Euler step − field | Dopri5 step, 1 output (µs) | Dopri5 step, 20 Hz "
-        "(µs) | Dopri5 step − 6 fields | session |"
+        "| N | batch | field (µs) | Euler step (µs) | Euler step − field | Dopri5 step, 1 output (µs) | Dopri5 step, "
+        "20 Hz (µs) | Dopri5 step − 6 fields | session |"
     )
-    print("|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|")
     for session in sessions:
         for r in session["rows"]:
             print(
-                f"| {r['segments']} | {r['field_us']:.1f} | {r['euler_step_us']:.1f} | "
+                f"| {r['segments']} | {r.get('batch') or 1} | {r['field_us']:.1f} | {r['euler_step_us']:.1f} | "
                 f"{r['euler_step_us'] - r['field_us']:.1f} | "
                 f"{r['dopri5_step_us_1_output']:.1f} | {r['dopri5_step_us_20hz']:.1f} | "
                 f"{r['dopri5_step_us_1_output'] - 6 * r['field_us']:.1f} | {session['time'][:16]} |"
