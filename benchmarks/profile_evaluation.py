@@ -8,7 +8,8 @@ evaluations inside one compiled `fori_loop` (so no dispatch is counted), alone a
 - *geometry*: segment lengths, tangents and strains;
 - *conservative*: `−∂Π/∂x` by `jax.grad` (elastic, weight, buoyancy);
 - *non-conservative*: drag at the quadrature points, bodies, seabed;
-- *mass*: the lumped 3 × 3 blocks; *mass + solve*: and their solve by Cramer's rule;
+- *mass*: the lumped blocks' terms `a I + Σ b τ τᵀ`; *mass + solve*: and their solve
+  at the free nodes (Woodbury's identity);
 - *field*: the whole vector field, which is what an explicit solver evaluates.
 
 Beside the times: XLA's own count of the field's floating-point operations and bytes per
@@ -51,8 +52,8 @@ def parts(model, env):
         "geometry": lambda x, v: lag._geometry(model, x),
         "conservative": lambda x, v: jax.grad(lag._potential_energy, argnums=2)(model, env, x),
         "non-conservative": lambda x, v: lag._nonconservative_forces(model, env, 0.3, x, v),
-        "mass": lambda x, v: lag._lumped_blocks(model, env, x, tangent(x)),
-        "mass + solve": lambda x, v: lag._solve_3x3(lag._lumped_blocks(model, env, x, tangent(x)), x),
+        "mass": lambda x, v: lag._lumped_terms(model, env, x),
+        "mass + solve": lambda x, v: lag._lumped_solve(model, env, x, tangent(x), x[:, free]),
         "field": lambda x, v: lag._free_accelerations(model, env, 0.3, x[:, free], v[:, free], "all")[0],
     }
 
