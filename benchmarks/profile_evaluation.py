@@ -6,7 +6,7 @@ evaluations inside one compiled `fori_loop` (so no dispatch is counted), alone a
 `vmap` over `--batch` cases:
 
 - *geometry*: segment lengths, tangents and strains;
-- *conservative*: `−∂Π/∂x` by `jax.grad` (elastic, weight, buoyancy);
+- *conservative*: `−∂Π/∂x` (elastic, weight, buoyancy), written out;
 - *non-conservative*: drag at the quadrature points, bodies, seabed;
 - *mass*: the lumped blocks' terms `a I + Σ b τ τᵀ`; *mass + solve*: and their solve
   at the free nodes (Woodbury's identity);
@@ -50,7 +50,7 @@ def parts(model, env):
 
     return {
         "geometry": lambda x, v: lag._geometry(model, x),
-        "conservative": lambda x, v: jax.grad(lag._potential_energy, argnums=2)(model, env, x),
+        "conservative": lambda x, v: lag._conservative_forces(model, env, x),
         "non-conservative": lambda x, v: lag._nonconservative_forces(model, env, 0.3, x, v),
         "mass": lambda x, v: lag._lumped_terms(model, env, x),
         "mass + solve": lambda x, v: lag._lumped_solve(model, env, x, tangent(x), x[:, free]),

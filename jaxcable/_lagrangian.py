@@ -13,9 +13,10 @@ Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0
 - Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M g z + ρ g V Φ(z)) − Σ F·x`
   (bodies' constant forces F), plus the seabed's penalty energy `Σ ½ k δ² A` where
   nodes press into it. Φ = −z for a submerged body; a body with a height that pierces
-  the surface has the buoyancy of its submerged part only. The conservative
-  forces are `−∂Π/∂x`, by `jax.grad`. With `Environment.free_surface`, buoyancy, drag,
-  fluid inertia and added mass act on the part of each segment below z = 0 only.
+  the surface has the buoyancy of its submerged part only. The conservative forces
+  are `−∂Π/∂x`, written out term by term and tested against `jax.grad` of Π. With
+  `Environment.free_surface`, buoyancy, drag, fluid inertia and added mass act on the
+  part of each segment below z = 0 only.
 - Non-conservative loads enter by their virtual work `Q = Σ ∫ f · ∂R/∂x |∂R/∂l| dl`:
   drag on the velocity relative to the water, and (with waves) Morison's inertia force
   from the water's acceleration, both by Gauss–Legendre quadrature along each segment;
@@ -439,10 +440,16 @@ def seabed_forces(model: CableNetwork, env: Environment, positions, velocities) 
     return _public(_seabed_forces(model, env, _cm(positions), _cm(velocities)))
 
 
+def _axial_forces(model: CableNetwork, tension, tangent) -> Float[Array, "3 nodes"]:
+    """Each segment's `tension` (N) along its unit `tangent`, pulling its two ends
+    together, summed on the nodes."""
+    pull = tension * tangent
+    return _scatter(model, pull, -pull)
+
+
 def _internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "3 nodes"]:
     _, tangent, _ = _geometry(model, positions)
-    pull = _tension(model, positions, velocities) * tangent
-    return _scatter(model, pull, -pull)
+    return _axial_forces(model, _tension(model, positions, velocities), tangent)
 
 
 def internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "nodes 3"]:
@@ -453,9 +460,40 @@ def internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, 
     return _public(_internal_forces(model, _cm(positions), _cm(velocities)))
 
 
+def _conservative_forces(model: CableNetwork, env: Environment, positions) -> Float[Array, "3 nodes"]:
+    """`−∂Π/∂x` (N), component-major `(3, nodes)`, written out term by term.
+
+    The same as `jax.grad` of `_potential_energy` to rounding (tested), which stays the
+    definition; written out, the elastic part is the tension law along the tangent the
+    drag also uses, and the rest is vertical, so an evaluation skips the reverse pass
+    through the geometry (`benchmarks/README.md`, *Where an evaluation's time goes*).
+    """
+    line, body = model.line, model.body
+    _, tangent, strain = _geometry(model, positions)
+    weight = line.mass_per_length * env.gravity * model.segment_length
+    displaced = env.water_density * line.area * env.gravity * model.segment_length
+    z = positions[2]
+    if env.free_surface:
+        # ∂/∂z at each end of ∫_a^b z(ξ) dξ, z(ξ) = z_i (1 − ξ) + z_j ξ. The bounds move
+        # with the ends too, but only where they sit at the surface, where z = 0.
+        a, b = submerged_interval(*_ends(model, z))
+        buoyant_end = 0.5 * (b * b - a * a)
+        buoyant_start = (b - a) - buoyant_end
+    else:
+        buoyant_start = buoyant_end = 0.5
+    lift = _scatter(model, displaced * buoyant_start - 0.5 * weight, displaced * buoyant_end - 0.5 * weight)
+    # Φ' = −(the submerged fraction), so a body's buoyancy is ρ g V times that fraction.
+    lift = (
+        lift + (env.water_density * body.volume * column_submerged_fraction(z, body.height) - body.mass) * env.gravity
+    )
+    if env.seabed is not None and env.depth is not None:  # as in `_potential_energy`
+        lift = lift + env.seabed.stiffness * contact_area(model) * jnp.maximum(-env.depth - z, 0.0)
+    elastic = _axial_forces(model, line.tension_law.elastic_tension(strain), tangent)
+    return elastic + lift * _UP + _cm(body.force)
+
+
 def _generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "3 nodes"]:
-    conservative = -jax.grad(_potential_energy, argnums=2)(model, env, positions)
-    return conservative + _nonconservative_forces(model, env, t, positions, velocities)
+    return _conservative_forces(model, env, positions) + _nonconservative_forces(model, env, t, positions, velocities)
 
 
 def generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:

@@ -35,14 +35,14 @@ def _seabed_line():
 
 def _surface_line():
     """A line that pierces the free surface, with MoorDyn's default added mass
-    (C_a = 1, C_aτ = 0: anisotropic blocks), a floating column at its middle and a
-    damped law."""
+    (C_a = 1, C_aτ = 0: anisotropic blocks), a spar buoy (a column 10 m tall, with a
+    constant force on it) at its node nearest the surface and a damped law."""
     line = jc.LineType(mass_per_length=3.0, diameter=0.08, tension_law=jc.KelvinVoigt(2e6, 1e5, 4e3))
     model = jc.CableNetwork.from_branches(
         np.array([[0.0, 0.0, -30.0], [40.0, 0.0, 2.0]]),
         [jc.Branch(0, 1, line, 52.0, 7)],
         {0: jc.Fixed(), 1: jc.Fixed()},
-        bodies={5: jc.Body(mass=50.0, volume=0.3, height=1.0, added_mass=0.8)},
+        bodies={7: jc.Body(mass=50.0, volume=0.3, height=10.0, added_mass=0.8, force=[100.0, 0.0, -50.0])},
         mass_matrix="lumped",
     )
     return model, jc.Environment(free_surface=True, current=[0.4, 0.1, 0.0])
@@ -209,3 +209,30 @@ def test_surface_line_blocks_are_anisotropic():
     eigenvalues = np.linalg.eigvalsh(blocks)
     assert np.all(eigenvalues[:, -1] - eigenvalues[:, 0] > 1e-3 * eigenvalues[:, -1])
     assert np.any(positions[:, 2] > 0) and np.any(positions[:, 2] < 0)
+
+
+@pytest.mark.parametrize("scene", list(SCENES))
+def test_conservative_forces_are_the_potentials_gradient(scene):
+    """The conservative forces written out are `−∂Π/∂x` by `jax.grad`: elastic,
+    weight, buoyancy (with the free surface across segments and floating columns),
+    the bodies' constant forces and the seabed's spring."""
+    model, env = SCENES[scene]()
+    free_positions, free_velocities = _state(model)
+    positions = lag._cm(lag.full_state(model, 0.0, free_positions, free_velocities)[0])
+    expected = np.asarray(-jax.grad(lag._potential_energy, argnums=2)(model, env, positions))
+    got = np.asarray(lag._conservative_forces(model, env, positions))
+    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12 * np.max(np.abs(expected)))
+
+
+def test_conservative_scenes_exercise_every_term():
+    """The scenes above cross the surface with segments and a column, press into the
+    seabed and carry bodies' constant forces, so that each term is compared."""
+    model, env = _surface_line()
+    z = lag._cm(lag.full_state(model, 0.0, *_state(model))[0])[2]
+    start, end = z[model.segment_nodes[:, 0]], z[model.segment_nodes[:, 1]]
+    assert np.any(np.asarray(start * end) < 0)
+    assert abs(float(z[7])) < 0.5 * float(model.body.height[7])
+    assert np.any(np.asarray(model.body.force) != 0)
+    model, env = _seabed_line()
+    assert env.depth is not None
+    assert np.any(np.asarray(lag.full_state(model, 0.0, *_state(model))[0])[:, 2] < -env.depth)
