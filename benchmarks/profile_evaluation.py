@@ -44,6 +44,7 @@ EVALUATIONS = 100
 
 def parts(model, env):
     """Each part as a function of component-major positions and velocities, (3, nodes)."""
+
     def free(x):
         # The free nodes by slices, as the solver's state holds them: `x[:, free_nodes]`
         # would time a gather and a transpose that no evaluation does.

@@ -300,7 +300,7 @@ def _lumped_solve(model: CableNetwork, env: Environment, positions, tangent, rhs
     Where no free node joins more than two segments (a line, or a network without
     junctions among its free nodes; the topology is static, so this is known when
     tracing), each block is `a I + b₁ τ₁τ₁ᵀ + b₂ τ₂τ₂ᵀ`, and Woodbury's identity with
-    the 2 × 2 capacitance matrix solves it in closed form, about a fifth of the
+    the 2 × 2 capacitance matrix solves it in closed form, about a quarter of the
     arithmetic of forming the 3 × 3 blocks and Cramer's rule (`benchmarks/README.md`,
     *Where an evaluation's time goes*):
 

@@ -3,9 +3,12 @@
 The equations specialise on what is known when tracing (`benchmarks/README.md`, *Where
 an evaluation's time goes*): static indices become slices, a law without damping skips
 the viscous force, the elastic forces use the tension law as the energy's derivative,
-and the lumped solve uses Cramer's rule. Each is checked here against the general form
-it replaces, on scenes that exercise it: seed 003's chain, the moored net (a graph with
-junctions, buoys that pierce the surface, waves and a damped law) and a line on a seabed.
+the conservative forces are written out rather than taken by `jax.grad` of the
+potential, and the lumped solve uses Woodbury's identity along a line and Cramer's rule
+at junctions. Each is checked here against the general form it replaces, on scenes that
+exercise it: seed 003's chain, the moored net (a graph with junctions, buoys that
+pierce the surface, waves and a damped law), a line on a seabed, and a line that
+pierces the free surface with anisotropic added mass and a spar buoy.
 """
 
 import equinox as eqx
