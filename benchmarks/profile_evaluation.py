@@ -6,9 +6,10 @@ evaluations inside one compiled `fori_loop` (so no dispatch is counted), alone a
 `vmap` over `--batch` cases:
 
 - *geometry*: segment lengths, tangents and strains;
-- *conservative*: `−∂Π/∂x` by `jax.grad` (elastic, weight, buoyancy);
+- *conservative*: `−∂Π/∂x` (elastic, weight, buoyancy), written out;
 - *non-conservative*: drag at the quadrature points, bodies, seabed;
-- *mass*: the lumped 3 × 3 blocks; *mass + solve*: and their solve by Cramer's rule;
+- *mass*: the lumped blocks' terms `a I + Σ b τ τᵀ`; *mass + solve*: and their solve
+  at the free nodes (Woodbury's identity);
 - *field*: the whole vector field, which is what an explicit solver evaluates.
 
 Beside the times: XLA's own count of the field's floating-point operations and bytes per
@@ -34,6 +35,7 @@ from _timing import timed
 
 import jaxcable as jc
 from jaxcable import _lagrangian as lag
+from jaxcable._indexing import take
 from jaxcable.examples import seed003_line
 
 RESULTS = Path(__file__).parent / "results" / "profile_evaluation.json"
@@ -42,18 +44,22 @@ EVALUATIONS = 100
 
 def parts(model, env):
     """Each part as a function of component-major positions and velocities, (3, nodes)."""
-    free = model.free_nodes
+
+    def free(x):
+        # The free nodes by slices, as the solver's state holds them: `x[:, free_nodes]`
+        # would time a gather and a transpose that no evaluation does.
+        return take(x, model.free_nodes)
 
     def tangent(x):
         return lag._geometry(model, x)[1]
 
     return {
         "geometry": lambda x, v: lag._geometry(model, x),
-        "conservative": lambda x, v: jax.grad(lag._potential_energy, argnums=2)(model, env, x),
+        "conservative": lambda x, v: lag._conservative_forces(model, env, x),
         "non-conservative": lambda x, v: lag._nonconservative_forces(model, env, 0.3, x, v),
-        "mass": lambda x, v: lag._lumped_blocks(model, env, x, tangent(x)),
-        "mass + solve": lambda x, v: lag._solve_3x3(lag._lumped_blocks(model, env, x, tangent(x)), x),
-        "field": lambda x, v: lag._free_accelerations(model, env, 0.3, x[:, free], v[:, free], "all")[0],
+        "mass": lambda x, v: lag._lumped_terms(model, env, x),
+        "mass + solve": lambda x, v: lag._lumped_solve(model, env, x, tangent(x), free(x)),
+        "field": lambda x, v: lag._free_accelerations(model, env, 0.3, free(x), free(v), "all")[0],
     }
 
 

@@ -65,11 +65,13 @@ def line_drag(
     """
     relative_velocity, tangent = jnp.asarray(relative_velocity), jnp.asarray(tangent)
     normal_coefficient, tangential_coefficient = jnp.asarray(normal_coefficient), jnp.asarray(tangential_coefficient)
-    u_tangential = dot(relative_velocity, tangent) * tangent
-    u_normal = relative_velocity - u_tangential
+    along = dot(relative_velocity, tangent)
+    u_normal = relative_velocity - along * tangent
+    # |u_τ| = |u · τ| for a unit τ: no square root (which XLA keeps in a kernel of its
+    # own, recomputing its operands on each side), and |s| s is differentiable at 0.
     return (
         normal_coefficient * safe_norm(u_normal) * u_normal
-        + tangential_coefficient * safe_norm(u_tangential) * u_tangential
+        + (tangential_coefficient * jnp.abs(along) * along) * tangent
     )
 
 

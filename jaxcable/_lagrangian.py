@@ -13,9 +13,10 @@ Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0
 - Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M g z + ρ g V Φ(z)) − Σ F·x`
   (bodies' constant forces F), plus the seabed's penalty energy `Σ ½ k δ² A` where
   nodes press into it. Φ = −z for a submerged body; a body with a height that pierces
-  the surface has the buoyancy of its submerged part only. The conservative
-  forces are `−∂Π/∂x`, by `jax.grad`. With `Environment.free_surface`, buoyancy, drag,
-  fluid inertia and added mass act on the part of each segment below z = 0 only.
+  the surface has the buoyancy of its submerged part only. The conservative forces
+  are `−∂Π/∂x`, written out term by term and tested against `jax.grad` of Π. With
+  `Environment.free_surface`, buoyancy, drag, fluid inertia and added mass act on the
+  part of each segment below z = 0 only.
 - Non-conservative loads enter by their virtual work `Q = Σ ∫ f · ∂R/∂x |∂R/∂l| dl`:
   drag on the velocity relative to the water, and (with waves) Morison's inertia force
   from the water's acceleration, both by Gauss–Legendre quadrature along each segment;
@@ -50,6 +51,10 @@ _SHAPE_WEIGHTS = {
 # The vertical unit vector, component-major (a column that broadcasts over nodes).
 _UP = np.array([0.0, 0.0, 1.0])[:, None]
 
+
+# The most segments that may meet at a free node for the lumped solve's closed form
+# (`_lumped_solve`): two, as along a line; a junction takes the 3 × 3 blocks.
+_CLOSED_FORM_SEGMENTS = 2
 
 # Conjugate-gradient iterations for the consistent solve. The condition number is at most
 # 3, so the error falls below 2 (√3 − 1)^k / (√3 + 1)^k ≈ 1e-17 after 30 iterations. A fixed
@@ -195,14 +200,20 @@ def contact_area(model: CableNetwork) -> Float[Array, " nodes"]:
     return _scatter(model, jnp.broadcast_to(half, (model.n_segments,)), jnp.broadcast_to(half, (model.n_segments,)))
 
 
+def _displaced_mass(model: CableNetwork, env: Environment, positions) -> Float[Array, "*segments"]:
+    """ρ F (kg/m) per unit length of each segment; with the free surface, times the
+    submerged fraction, so that added mass is spread along the segment as the rest."""
+    added = env.water_density * model.line.area
+    if env.free_surface:
+        a, b = submerged_interval(*_ends(model, positions[2]))
+        added = added * (b - a)
+    return added
+
+
 def _mass_per_length(model: CableNetwork, env: Environment, positions, tangent) -> Float[Array, "3 3 segments"]:
     line = model.line
     axial = tangent[:, None] * tangent[None, :]
-    added = env.water_density * line.area
-    if env.free_surface:
-        # The submerged fraction's added mass, spread along the segment as the rest.
-        a, b = submerged_interval(*_ends(model, positions[2]))
-        added = added * (b - a)
+    added = _displaced_mass(model, env, positions)
     eye = np.eye(3)[:, :, None]
     return (
         line.mass_per_length * eye
@@ -266,6 +277,58 @@ def inertial_forces(model: CableNetwork, env: Environment, positions, accelerati
 def _lumped_blocks(model: CableNetwork, env: Environment, positions, tangent) -> Float[Array, "3 3 nodes"]:
     half = 0.5 * _mass_per_length(model, env, positions, tangent) * model.segment_length
     return _scatter(model, half, half) + _body_mass(model, env, positions) * np.eye(3)[:, :, None]
+
+
+def _lumped_terms(model: CableNetwork, env: Environment, positions) -> tuple[Array, Array]:
+    """The lumped blocks as `a I + Σ_k b_k τ_k τ_kᵀ`, the sum over the segments k that
+    meet at a node: `(a, b)`, the isotropic mass `a` (kg) per node, shape `(nodes,)`,
+    and each segment's axial excess `b = ½ L ρ F (C_aτ − C_a)` (kg), shape
+    `(segments,)`, from `μ = (m + ρ F C_a) I + ρ F (C_aτ − C_a) ττᵀ`. `b` is negative
+    where C_aτ < C_a (MoorDyn's default), and zero for isotropic added mass."""
+    line = model.line
+    added = _displaced_mass(model, env, positions)
+    half = 0.5 * model.segment_length
+    isotropic = half * (line.mass_per_length + added * line.normal_added_mass)
+    axial = half * added * (line.tangential_added_mass - line.normal_added_mass)
+    return _scatter(model, isotropic, isotropic) + _body_mass(model, env, positions), axial
+
+
+def _lumped_solve(model: CableNetwork, env: Environment, positions, tangent, rhs) -> Float[Array, "3 free"]:
+    """`M_ff⁻¹ rhs` for the lumped matrix, one block per free node, `rhs` of shape
+    `(3, free)`.
+
+    Where no free node joins more than two segments (a line, or a network without
+    junctions among its free nodes; the topology is static, so this is known when
+    tracing), each block is `a I + b₁ τ₁τ₁ᵀ + b₂ τ₂τ₂ᵀ`, and Woodbury's identity with
+    the 2 × 2 capacitance matrix solves it in closed form, about a quarter of the
+    arithmetic of forming the 3 × 3 blocks and Cramer's rule (`benchmarks/README.md`,
+    *Where an evaluation's time goes*):
+
+        (a I + U B Uᵀ)⁻¹ r = (r − U B (a I₂ + UᵀU B)⁻¹ Uᵀ r) / a,   U = [τ₁ τ₂],
+
+    with UᵀU = [[1, c], [c, 1]], c = τ₁ · τ₂. It is exact for any B (B = 0 for isotropic
+    added mass), and the 2 × 2 matrix is nonsingular wherever the block is positive
+    definite. A free node at a junction takes the 3 × 3 blocks and Cramer's rule.
+    """
+    free = model.free_nodes
+    plan = model.topology.node_sums[free]
+    if plan.shape[1] > _CLOSED_FORM_SEGMENTS:
+        blocks = take(_lumped_blocks(model, env, positions, tangent), free)
+        return _solve_3x3(blocks, rhs)
+    isotropic, axial = _lumped_terms(model, env, positions)
+    a = take(isotropic, free)
+    # The segments meeting at each free node (the plan indexes segments' starts, then
+    # ends); −1 where a node has fewer than two, whose term `take` makes zero.
+    incident = np.full((free.size, 2), -1)
+    incident[:, : plan.shape[1]] = np.where(plan < 0, -1, plan % model.n_segments)
+    t1, t2 = take(tangent, incident[:, 0]), take(tangent, incident[:, 1])
+    b1, b2 = take(axial, incident[:, 0]), take(axial, incident[:, 1])
+    s1, s2, c = dot(t1, rhs), dot(t2, rhs), dot(t1, t2)
+    d1, d2 = a + b1, a + b2
+    scale = 1.0 / (d1 * d2 - c * c * b1 * b2)
+    w1 = b1 * (d2 * s1 - c * b2 * s2) * scale
+    w2 = b2 * (d1 * s2 - c * b1 * s1) * scale
+    return (rhs - w1 * t1 - w2 * t2) / a
 
 
 def lumped_blocks(model: CableNetwork, env: Environment, positions) -> Float[Array, "nodes 3 3"]:
@@ -377,10 +440,16 @@ def seabed_forces(model: CableNetwork, env: Environment, positions, velocities) 
     return _public(_seabed_forces(model, env, _cm(positions), _cm(velocities)))
 
 
+def _axial_forces(model: CableNetwork, tension, tangent) -> Float[Array, "3 nodes"]:
+    """Each segment's `tension` (N) along its unit `tangent`, pulling its two ends
+    together, summed on the nodes."""
+    pull = tension * tangent
+    return _scatter(model, pull, -pull)
+
+
 def _internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "3 nodes"]:
     _, tangent, _ = _geometry(model, positions)
-    pull = _tension(model, positions, velocities) * tangent
-    return _scatter(model, pull, -pull)
+    return _axial_forces(model, _tension(model, positions, velocities), tangent)
 
 
 def internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "nodes 3"]:
@@ -391,9 +460,40 @@ def internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, 
     return _public(_internal_forces(model, _cm(positions), _cm(velocities)))
 
 
+def _conservative_forces(model: CableNetwork, env: Environment, positions) -> Float[Array, "3 nodes"]:
+    """`−∂Π/∂x` (N), component-major `(3, nodes)`, written out term by term.
+
+    The same as `jax.grad` of `_potential_energy` to rounding (tested), which stays the
+    definition; written out, the elastic part is the tension law along the tangent the
+    drag also uses, and the rest is vertical, so an evaluation skips the reverse pass
+    through the geometry (`benchmarks/README.md`, *Where an evaluation's time goes*).
+    """
+    line, body = model.line, model.body
+    _, tangent, strain = _geometry(model, positions)
+    weight = line.mass_per_length * env.gravity * model.segment_length
+    displaced = env.water_density * line.area * env.gravity * model.segment_length
+    z = positions[2]
+    if env.free_surface:
+        # ∂/∂z at each end of ∫_a^b z(ξ) dξ, z(ξ) = z_i (1 − ξ) + z_j ξ. The bounds move
+        # with the ends too, but only where they sit at the surface, where z = 0.
+        a, b = submerged_interval(*_ends(model, z))
+        buoyant_end = 0.5 * (b * b - a * a)
+        buoyant_start = (b - a) - buoyant_end
+    else:
+        buoyant_start = buoyant_end = 0.5
+    lift = _scatter(model, displaced * buoyant_start - 0.5 * weight, displaced * buoyant_end - 0.5 * weight)
+    # Φ' = −(the submerged fraction), so a body's buoyancy is ρ g V times that fraction.
+    lift = (
+        lift + (env.water_density * body.volume * column_submerged_fraction(z, body.height) - body.mass) * env.gravity
+    )
+    if env.seabed is not None and env.depth is not None:  # as in `_potential_energy`
+        lift = lift + env.seabed.stiffness * contact_area(model) * jnp.maximum(-env.depth - z, 0.0)
+    elastic = _axial_forces(model, line.tension_law.elastic_tension(strain), tangent)
+    return elastic + lift * _UP + _cm(body.force)
+
+
 def _generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "3 nodes"]:
-    conservative = -jax.grad(_potential_energy, argnums=2)(model, env, positions)
-    return conservative + _nonconservative_forces(model, env, t, positions, velocities)
+    return _conservative_forces(model, env, positions) + _nonconservative_forces(model, env, t, positions, velocities)
 
 
 def generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
@@ -455,11 +555,11 @@ def _free_accelerations(model: CableNetwork, env: Environment, t, free_positions
             forces = forces - _internal_forces(model, positions, velocities)
     rhs = take(forces, free)
 
-    # The lumped matrix is block-diagonal: one 3 × 3 solve per node, and M_fc = 0.
     _, tangent, _ = _geometry(model, positions)
-    blocks = take(_lumped_blocks(model, env, positions, tangent), free)
-    a_free = _solve_3x3(blocks, rhs)
-    if model.mass_matrix == "consistent":
+    if model.mass_matrix == "lumped":
+        # Block-diagonal: one block's solve per node, and M_fc = 0.
+        a_free = _lumped_solve(model, env, positions, tangent, rhs)
+    else:
         # Each element's consistent matrix is [[2/3, 1/3], [1/3, 2/3]] times its lumped
         # one, so the lumped-preconditioned consistent matrix has its spectrum in
         # [1/3, 1]: conjugate gradients converge by a factor 0.27 per O(N) iteration,
@@ -472,6 +572,7 @@ def _free_accelerations(model: CableNetwork, env: Environment, t, free_positions
 
         # The preconditioner and first guess change how fast CG converges, not where
         # to, so no derivative flows through them (lineax forbids one).
+        blocks = take(_lumped_blocks(model, env, positions, tangent), free)
         fixed_inverse = jax.lax.stop_gradient(_inverse_3x3(blocks))
 
         def lumped_inverse(r):
@@ -484,7 +585,7 @@ def _free_accelerations(model: CableNetwork, env: Environment, t, free_positions
             lx.CG(rtol=0.0, atol=0.0, max_steps=_CG_ITERATIONS),
             options={
                 "preconditioner": lx.FunctionLinearOperator(lumped_inverse, structure, psd),
-                "y0": jax.lax.stop_gradient(a_free),
+                "y0": lumped_inverse(jax.lax.stop_gradient(rhs)),
             },
             # A non-finite state gives non-finite accelerations, which diffrax rejects
             # as a failed step, rather than an error from deep inside the solve.

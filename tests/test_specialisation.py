@@ -3,9 +3,12 @@
 The equations specialise on what is known when tracing (`benchmarks/README.md`, *Where
 an evaluation's time goes*): static indices become slices, a law without damping skips
 the viscous force, the elastic forces use the tension law as the energy's derivative,
-and the lumped solve uses Cramer's rule. Each is checked here against the general form
-it replaces, on scenes that exercise it: seed 003's chain, the moored net (a graph with
-junctions, buoys that pierce the surface, waves and a damped law) and a line on a seabed.
+the conservative forces are written out rather than taken by `jax.grad` of the
+potential, and the lumped solve uses Woodbury's identity along a line and Cramer's rule
+at junctions. Each is checked here against the general form it replaces, on scenes that
+exercise it: seed 003's chain, the moored net (a graph with junctions, buoys that
+pierce the surface, waves and a damped law), a line on a seabed, and a line that
+pierces the free surface with anisotropic added mass and a spar buoy.
 """
 
 import equinox as eqx
@@ -33,8 +36,24 @@ def _seabed_line():
     return model, env
 
 
+def _surface_line():
+    """A line that pierces the free surface, with MoorDyn's default added mass
+    (C_a = 1, C_aτ = 0: anisotropic blocks), a spar buoy (a column 10 m tall, with a
+    constant force on it) at its node nearest the surface and a damped law."""
+    line = jc.LineType(mass_per_length=3.0, diameter=0.08, tension_law=jc.KelvinVoigt(2e6, 1e5, 4e3))
+    model = jc.CableNetwork.from_branches(
+        np.array([[0.0, 0.0, -30.0], [40.0, 0.0, 2.0]]),
+        [jc.Branch(0, 1, line, 52.0, 7)],
+        {0: jc.Fixed(), 1: jc.Fixed()},
+        bodies={7: jc.Body(mass=50.0, volume=0.3, height=10.0, added_mass=0.8, force=[100.0, 0.0, -50.0])},
+        mass_matrix="lumped",
+    )
+    return model, jc.Environment(free_surface=True, current=[0.4, 0.1, 0.0])
+
+
 SCENES = {
     "seed003 chain": lambda: seed003_line(6, mass_matrix="lumped"),
+    "surface line": _surface_line,
     "seed003 consistent": lambda: seed003_line(4, mass_matrix="consistent"),
     "moored net": lambda: moored_net(segments=(1, 2, 2, 1)),
     "seabed": _seabed_line,
@@ -154,3 +173,69 @@ def test_cramer_solve_matches_a_dense_solve():
     np.testing.assert_allclose(np.asarray(got).T, np.linalg.solve(blocks, rhs[..., None])[..., 0], rtol=1e-13)
     inverse = lag._inverse_3x3(jnp.asarray(np.moveaxis(blocks, 0, -1)))
     np.testing.assert_allclose(np.moveaxis(np.asarray(inverse), -1, 0), np.linalg.inv(blocks), rtol=1e-13)
+
+
+@pytest.mark.parametrize("scene", ["seed003 chain", "surface line", "seabed"])
+def test_closed_form_lumped_solve_gives_cramers_answer(scene, monkeypatch):
+    """Woodbury's closed form for `a I + b₁ τ₁τ₁ᵀ + b₂ τ₂τ₂ᵀ` gives the free
+    accelerations of the 3 × 3 blocks and Cramer's rule (the general path, forced by
+    allowing no segments at a node for the closed form), and solves the blocks as
+    numpy does."""
+    model, env = SCENES[scene]()
+    free_positions, free_velocities = _state(model)
+    assert model.topology.node_sums.shape[1] <= lag._CLOSED_FORM_SEGMENTS
+
+    def evaluate():
+        return np.asarray(lag.free_accelerations(model, env, 0.4, free_positions, free_velocities)[0])
+
+    fast = evaluate()
+    monkeypatch.setattr(lag, "_CLOSED_FORM_SEGMENTS", 0)
+    jax.clear_caches()
+    general = evaluate()
+    np.testing.assert_allclose(fast, general, rtol=1e-12, atol=1e-12 * np.max(np.abs(general)))
+
+    positions = lag._cm(lag.full_state(model, 0.4, free_positions, free_velocities)[0])
+    tangent = lag._geometry(model, positions)[1]
+    rhs = np.random.default_rng(4).normal(size=(3, model.free_nodes.size))
+    blocks = np.asarray(lag.lumped_blocks(model, env, lag._public(positions)))[model.free_nodes]
+    expected = np.linalg.solve(blocks, rhs.T[..., None])[..., 0].T
+    got = lag._lumped_solve(model, env, positions, tangent, jnp.asarray(rhs))
+    np.testing.assert_allclose(np.asarray(got), expected, rtol=1e-12, atol=1e-14 * np.max(np.abs(expected)))
+
+
+def test_surface_line_blocks_are_anisotropic():
+    """The surface line exercises the rank-one terms: its blocks are not a multiple of
+    the identity, and some of its segments are partly out of the water."""
+    model, env = _surface_line()
+    positions = np.asarray(model.node_positions)
+    blocks = np.asarray(lag.lumped_blocks(model, env, positions))[model.free_nodes]
+    eigenvalues = np.linalg.eigvalsh(blocks)
+    assert np.all(eigenvalues[:, -1] - eigenvalues[:, 0] > 1e-3 * eigenvalues[:, -1])
+    assert np.any(positions[:, 2] > 0) and np.any(positions[:, 2] < 0)
+
+
+@pytest.mark.parametrize("scene", list(SCENES))
+def test_conservative_forces_are_the_potentials_gradient(scene):
+    """The conservative forces written out are `−∂Π/∂x` by `jax.grad`: elastic,
+    weight, buoyancy (with the free surface across segments and floating columns),
+    the bodies' constant forces and the seabed's spring."""
+    model, env = SCENES[scene]()
+    free_positions, free_velocities = _state(model)
+    positions = lag._cm(lag.full_state(model, 0.0, free_positions, free_velocities)[0])
+    expected = np.asarray(-jax.grad(lag._potential_energy, argnums=2)(model, env, positions))
+    got = np.asarray(lag._conservative_forces(model, env, positions))
+    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12 * np.max(np.abs(expected)))
+
+
+def test_conservative_scenes_exercise_every_term():
+    """The scenes above cross the surface with segments and a column, press into the
+    seabed and carry bodies' constant forces, so that each term is compared."""
+    model, env = _surface_line()
+    z = lag._cm(lag.full_state(model, 0.0, *_state(model))[0])[2]
+    start, end = z[model.segment_nodes[:, 0]], z[model.segment_nodes[:, 1]]
+    assert np.any(np.asarray(start * end) < 0)
+    assert abs(float(z[7])) < 0.5 * float(model.body.height[7])
+    assert np.any(np.asarray(model.body.force) != 0)
+    model, env = _seabed_line()
+    assert env.depth is not None
+    assert np.any(np.asarray(lag.full_state(model, 0.0, *_state(model))[0])[:, 2] < -env.depth)
