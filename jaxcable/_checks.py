@@ -14,7 +14,7 @@ their values, and what the field requires. The same conditions serve three place
 
 import warnings
 from collections.abc import Callable, Sequence
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import equinox as eqx
 import jax
@@ -58,7 +58,7 @@ class Condition(NamedTuple):
     detail: Callable[[], str] | None = None
 
 
-def _on_host(value: ArrayLike) -> tuple[ArrayLike, object]:
+def _on_host(value: ArrayLike) -> tuple[Any, Any]:
     """`value` and the array module to test it with: numpy where it is concrete, jax.numpy
     where it is traced. Each eager jax.numpy operation on a new shape compiles a small XLA
     program (10–30 ms); a scene file's checks made dozens of them on every run."""
