@@ -108,6 +108,11 @@ def run_scene(
     """Solve a scene's statics in still water (with its current, without its waves) and,
     for a positive duration, integrate its motion from that equilibrium.
 
+    The motion is integrated interval by interval between output times (see
+    `jaxcable._blocks`), so that its compiled program can stay in JAX's persistent
+    cache; the answers agree with one [`jaxcable.simulate`][] call to within the
+    solver's tolerance. A solver with a given `dt0` runs one `simulate` call instead.
+
     **Arguments:**
 
     - `scene`: the [`jaxcable.io.Scene`][].
