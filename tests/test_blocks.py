@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable import _blocks
+from jaxcable import _blocks, examples
 from jaxcable._simulate import as_config, for_model
 
 
@@ -102,3 +102,15 @@ def test_bad_times_and_a_first_step_are_refused(scene):
         _blocks.simulate_in_blocks(model, env, np.array([0.0, 0.2, 0.1]), static.state)
     with pytest.raises(ValueError, match="dt0 must be None"):
         _blocks.simulate_in_blocks(model, env, TS, static.state, jc.SolverConfig(dt0=1e-3))
+
+
+def test_the_progress_bar_changes_no_answer(capsys):
+    """`run_scene`'s bar is drawn from Python between blocks: the same arrays with it or
+    without it."""
+    scene = jc.read_scene(examples.scene_path("seed003_line"))
+    quiet = jc.run_scene(scene, duration=0.2, dt_out=0.05)
+    assert "simulated" not in capsys.readouterr().err
+    shown = jc.run_scene(scene, duration=0.2, dt_out=0.05, progress=True)
+    assert "0.2/0.2 s simulated" in capsys.readouterr().err
+    np.testing.assert_array_equal(shown.tension, quiet.tension)
+    assert shown.steps == quiet.steps
