@@ -14,7 +14,7 @@ their values, and what the field requires. The same conditions serve three place
 
 import warnings
 from collections.abc import Callable, Sequence
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import equinox as eqx
 import jax
@@ -58,12 +58,23 @@ class Condition(NamedTuple):
     detail: Callable[[], str] | None = None
 
 
+def _on_host(value: ArrayLike) -> tuple[Any, Any]:
+    """`value` and the array module to test it with: numpy where it is concrete, jax.numpy
+    where it is traced. Each eager jax.numpy operation on a new shape compiles a small XLA
+    program (10–30 ms); a scene file's checks made dozens of them on every run."""
+    if traced(value):
+        return value, jnp
+    return np.asarray(value), np
+
+
 def finite(name: str, value: ArrayLike) -> Condition:
-    return Condition(name, ~jnp.isfinite(value), value, "must be finite")
+    value, xp = _on_host(value)
+    return Condition(name, ~xp.isfinite(value), value, "must be finite")
 
 
 def sign(name: str, value: Array | np.ndarray, allow_zero: bool = False) -> Condition:
     """Positive (or, with `allow_zero`, non-negative) entries; NaN breaks it too."""
+    value, _ = _on_host(value)
     kept = value >= 0 if allow_zero else value > 0
     return Condition(name, ~kept, value, "must be " + ("non-negative" if allow_zero else "positive"))
 
@@ -71,9 +82,10 @@ def sign(name: str, value: Array | np.ndarray, allow_zero: bool = False) -> Cond
 def increasing(name: str, values: Float[ArrayLike, " samples"]) -> Condition:
     """Strictly increasing along the last axis: an entry breaks it if it is not above
     the one before."""
-    values = jnp.asarray(values)
-    rising = jnp.diff(values, axis=-1) > 0
-    bad = jnp.concatenate([jnp.zeros_like(rising[..., :1]), ~rising], axis=-1)
+    values, xp = _on_host(values)
+    values = xp.asarray(values)
+    rising = xp.diff(values, axis=-1) > 0
+    bad = xp.concatenate([xp.zeros_like(rising[..., :1]), ~rising], axis=-1)
     return Condition(name, bad, values, "must be strictly increasing")
 
 

@@ -180,11 +180,11 @@ def simulate(
         inside,
     )
     if throw and not inside:
-        checks.raise_if(None, result.result != diffrax.RESULTS.successful, _failure_message(result.result))
+        checks.raise_if(None, result.result != diffrax.RESULTS.successful, failure_message(result.result))
     return result
 
 
-def _failure_message(result: diffrax.RESULTS) -> str:
+def failure_message(result: diffrax.RESULTS) -> str:
     if result == diffrax.RESULTS.nonfinite:
         return _NONFINITE
     return f"simulate: {diffrax.RESULTS[result]}"

@@ -1,11 +1,14 @@
 """Running a scene: statics, then dynamics, with the results as numpy arrays."""
 
 import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from .._blocks import simulate_in_blocks
 from .._config import SolverConfig
 from .._motion import Sampled
 from .._simulate import simulate
@@ -105,6 +108,11 @@ def run_scene(
     """Solve a scene's statics in still water (with its current, without its waves) and,
     for a positive duration, integrate its motion from that equilibrium.
 
+    The motion is integrated interval by interval between output times (see
+    `jaxcable._blocks`), so that its compiled program can stay in JAX's persistent
+    cache; the answers agree with one [`jaxcable.simulate`][] call to within the
+    solver's tolerance. A solver with a given `dt0` runs one `simulate` call instead.
+
     **Arguments:**
 
     - `scene`: the [`jaxcable.io.Scene`][].
@@ -168,15 +176,16 @@ def run_scene(
         )
 
     start = time.perf_counter()
-    result = simulate(
-        model,
-        env,
-        duration,
-        ts=output_times(duration, dt_out),
-        initial=static.state,
-        solver=solver,
-        progress=progress,
-    )
+    ts = output_times(duration, dt_out)
+    if solver.dt0 is None:
+        # Interval by interval, so that the compiled solve has no host callback and a
+        # second run loads it from JAX's persistent cache (see `jaxcable._blocks`).
+        with _progress_bar(duration, progress) as bar:
+            result = simulate_in_blocks(model, env, ts, static.state, solver, on_block=bar)
+    else:
+        # diffrax checks a given first step with a callback, so this solve is compiled on
+        # every run; it is one `simulate` call, with diffrax's own progress bar.
+        result = simulate(model, env, duration, ts=ts, initial=static.state, solver=solver, progress=progress)
     positions = np.asarray(result.positions)
     dynamics_seconds = time.perf_counter() - start
     return SceneRun(
@@ -192,6 +201,28 @@ def run_scene(
         dynamics_seconds,
         _water_notes(built, positions),
     )
+
+
+@contextmanager
+def _progress_bar(duration: float, show: bool) -> Iterator[Callable[[float], None] | None]:
+    """A tqdm bar over `duration` (s) of simulated time, or none; yields the function to
+    call with the time reached."""
+    if not show:
+        yield None
+        return
+    from tqdm.auto import tqdm
+
+    with tqdm(
+        total=duration,
+        unit="s",
+        desc="simulate",
+        bar_format="{l_bar}{bar}| {n:.1f}/{total:.1f} s simulated [{elapsed}<{remaining}]",
+    ) as bar:
+
+        def reached(t: float) -> None:
+            bar.update(t - bar.n)
+
+        yield reached
 
 
 def _water_notes(built: BuiltScene, positions: np.ndarray) -> tuple[str, ...]:

@@ -1,0 +1,202 @@
+"""Integration interval by interval between output times, in compiled blocks, for runs
+whose programs must stay in JAX's persistent compilation cache.
+
+[`jaxcable.simulate`][] hands its output times to diffrax (`SaveAt(ts=...)`), which
+checks them with a host callback: diffrax 0.7.2's `diffeqsolve` is itself compiled
+(`eqx.filter_jit`), so its `ts` are always traced and `eqx.error_if` always inserts the
+callback. JAX keeps no program with a callback on disk, so every `jaxcable run` compiled
+its solve again (3.1 s of a 13.4 s warm run of the Low & Langley file, quiet).
+
+Here each output interval is a `diffeqsolve` of its own that saves only its end
+(`SaveAt(t1=True)`, no callback), and carries diffrax's solver state (Dopri5's last
+derivative), the step-size controller's error history and `made_jump` on to the next, so
+the intervals continue one solve. They differ from one `simulate` call only in that every
+output time ends a step, and each interval starts with diffrax's first-step estimate
+(the controller keeps no step size between solves): on the Low & Langley file 57,417
+steps against 54,992, positions within 4.2e-8 m of `simulate`'s and tensions within
+3.3e-4 of the peak (measured; `benchmarks/README.md`). The intervals run `BLOCK` at a
+time in one compiled `lax.scan`, so the program depends on the model's structure and not
+on the duration, and Python reports progress between blocks.
+"""
+
+from collections.abc import Callable
+from typing import Any
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+from jaxtyping import ArrayLike, Bool, Float
+
+from . import _checks as checks
+from ._config import SolverConfig
+from ._environment import Environment
+from ._network import CableNetwork
+from ._simulate import SimulationResult, as_config, failure_message, for_model, result_of, terms_for
+from ._state import State
+
+BLOCK = 64
+"""Output intervals per compiled call: larger blocks make fewer calls from Python and a
+coarser progress bar (the Low & Langley run, 2,140 intervals, makes 34 calls); the
+compiled program is the same size either way."""
+
+
+def simulate_in_blocks(
+    model: CableNetwork,
+    env: Environment,
+    ts: Float[np.ndarray, " times"],
+    initial: State,
+    solver: SolverConfig | None = None,
+    on_block: Callable[[float], None] | None = None,
+) -> SimulationResult:
+    """Integrate from `ts[0]` to `ts[-1]` (s), saving at `ts`, as [`jaxcable.simulate`][]
+    does with `t0=ts[0]` and `throw=True`, but interval by interval (see the module's
+    notes for how the two differ).
+
+    **Arguments:**
+
+    - `model`, `env`: the network and the water, concrete (not traced).
+    - `ts`: output times (s), concrete, strictly increasing, at least two.
+    - `initial`: the state at `ts[0]`.
+    - `solver`: a [`jaxcable.SolverConfig`][] whose `dt0` is `None` (diffrax would check
+        a first step with a callback); `SolverConfig()` by default.
+    - `on_block`: called after each block with the simulated time (s) it reached.
+
+    **Returns:**
+
+    A [`jaxcable.SimulationResult`][]; `stats` holds the step counts summed over the
+    intervals.
+
+    **Raises:**
+
+    `ValueError` for bad times or a `solver` with `dt0`, and for a bad model field as
+    `simulate` does; `equinox.EquinoxRuntimeError` (a `RuntimeError`) with diffrax's
+    message if the solve fails, or if the intervals together take more than the
+    configuration's `max_steps`.
+    """
+    config = for_model(as_config("simulate_in_blocks", solver), model)
+    if config.dt0 is not None:
+        raise ValueError(
+            "simulate_in_blocks: the solver's dt0 must be None (diffrax checks a first step with a callback)"
+        )
+    ts = np.asarray(ts, dtype=float)
+    if ts.ndim != 1 or ts.size < 2:
+        raise ValueError(f"simulate_in_blocks: ts must be 1-D with at least 2 times, got shape {ts.shape}")
+    checks.enforce([checks.finite("simulate_in_blocks: ts", ts), checks.increasing("simulate_in_blocks: ts", ts)])
+    checks.enforce(model.conditions() + env.conditions())
+    carry, first = _start(model, env, (initial.positions, initial.velocities), ts[0], ts[1], config)
+    starts, ends = ts[:-1], ts[1:]
+    pad = -len(starts) % BLOCK
+    # Padding intervals (zero length, at the end) are skipped inside the block.
+    starts, ends = np.append(starts, np.full(pad, ts[-1])), np.append(ends, np.full(pad, ts[-1]))
+    active = np.arange(len(starts)) < len(ts) - 1
+    blocks, steps = [], np.zeros(3, dtype=np.int64)
+    for k in range(0, len(starts), BLOCK):
+        part = slice(k, k + BLOCK)
+        carry, saved, counts, result = _block(model, env, carry, starts[part], ends[part], active[part], config)
+        blocks.append(saved)
+        steps += np.asarray(counts)
+        # `max_steps` bounds each interval's solve; the run as a whole is held to it here.
+        code = diffrax.RESULTS.where(steps[0] > config.max_steps, diffrax.RESULTS.max_steps_reached, result)
+        checks.raise_if(None, code != diffrax.RESULTS.successful, failure_message(code))
+        if on_block is not None:
+            on_block(float(ends[part][active[part]][-1]))
+    columns = [
+        np.concatenate([np.asarray(f)] + [np.asarray(b[i]) for b in blocks])[: len(ts)] for i, f in enumerate(first)
+    ]
+    stats: dict[str, Any] = dict(zip(("num_steps", "num_accepted_steps", "num_rejected_steps"), map(int, steps)))
+    positions, velocities, strain, tension, reactions = map(jnp.asarray, columns)
+    return SimulationResult(
+        jnp.asarray(ts), positions, velocities, strain, tension, reactions, stats, diffrax.RESULTS.successful
+    )
+
+
+@eqx.filter_jit
+def _start(model, env, initial, t0, t1, config: SolverConfig):
+    """The carry at `t0`: the free state, diffrax's solver state, the controller's state
+    and `made_jump`, as `diffeqsolve` makes them for a solve from `t0` towards `t1`;
+    and the outputs at `t0` `(positions, velocities, strain, tension, reactions)`, each
+    with a leading axis of one time."""
+    free = model.free_nodes
+    y0 = (initial[0][free], initial[1][free])
+    terms, solver = terms_for(config.solver), config.solver
+    args = (model, env)
+    error_order = solver.error_order(terms)
+    _, controller_state = config.stepsize_controller.init(terms, t0, t1, y0, None, args, solver.func, error_order)
+    carry = (y0, solver.init(terms, t0, t1, y0, args), controller_state, False)
+    # As arrays, the types `_block` returns: the controller's initial state holds a
+    # Python bool, which `eqx.filter_jit` would take for a static argument and compile
+    # the first block apart from the rest.
+    carry = jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), carry)
+    first = result_of(
+        model,
+        env,
+        jnp.asarray(t0, dtype=float)[None],
+        jax.tree.map(lambda x: x[None], y0),
+        {},
+        diffrax.RESULTS.successful,
+    )
+    return carry, (first.positions, first.velocities, first.strain, first.tension, first.reactions)
+
+
+@eqx.filter_jit
+def _block(
+    model,
+    env,
+    carry,
+    starts: Float[ArrayLike, " block"],
+    ends: Float[ArrayLike, " block"],
+    active: Bool[ArrayLike, " block"],
+    config: SolverConfig,
+):
+    """`BLOCK` intervals, each one `diffeqsolve` continuing the last: the carry after
+    them, the outputs at their ends `(positions, velocities, strain, tension,
+    reactions)`, the step counts `(steps, accepted, rejected)` summed, and the first
+    failure's result code (successful if none)."""
+    terms, solver = terms_for(config.solver), config.solver
+    saveat = diffrax.SaveAt(t1=True, solver_state=True, controller_state=True, made_jump=True)
+
+    def interval(carry, piece):
+        t0, t1, on = piece
+
+        def solve(carry):
+            y, solver_state, controller_state, made_jump = carry
+            solution = diffrax.diffeqsolve(
+                terms,
+                solver,
+                t0,
+                t1,
+                None,
+                y,
+                args=(model, env),
+                saveat=saveat,
+                stepsize_controller=config.stepsize_controller,
+                max_steps=config.max_steps,
+                adjoint=config.adjoint,
+                solver_state=solver_state,
+                controller_state=controller_state,
+                made_jump=made_jump,
+                throw=False,
+            )
+            assert solution.ys is not None
+            y = jax.tree.map(lambda x: x[-1], solution.ys)
+            counts = jnp.stack(
+                [solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")]
+            ).astype(jnp.int64)
+            after = (y, solution.solver_state, solution.controller_state, solution.made_jump)
+            return after, counts, solution.result
+
+        def skip(carry):
+            return carry, jnp.zeros(3, jnp.int64), diffrax.RESULTS.successful
+
+        carry, first_failure = carry
+        carry, counts, result = jax.lax.cond(on, solve, skip, carry)
+        first_failure = diffrax.RESULTS.where(first_failure == diffrax.RESULTS.successful, result, first_failure)
+        return (carry, first_failure), (carry[0], counts)
+
+    (carry, failure), (ys, counts) = jax.lax.scan(interval, (carry, diffrax.RESULTS.successful), (starts, ends, active))
+    # Without a failed solve, `result_of` still reports a state gone non-finite.
+    outputs = result_of(model, env, ends, ys, {}, failure)
+    saved = (outputs.positions, outputs.velocities, outputs.strain, outputs.tension, outputs.reactions)
+    return carry, saved, jnp.sum(counts, axis=0), outputs.result
