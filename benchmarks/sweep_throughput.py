@@ -191,6 +191,8 @@ def print_table(sessions) -> None:
             speedup = f"{r['cases_per_s'] / loops[key]:.2f}×" if key in loops else "–"
             failed = "" if r["all_successful"] else " (failures)"
             shared = ", shared steps" if r.get("steps") == "shared" and r["mode"] == "sweep" else ""
+            if r["mode"] == "sweep" and "chunks" in r:
+                shared += f", {r['chunks'] or 'default'} chunk{'' if r['chunks'] == 1 else 's'}"
             print(
                 f"| {r['mode']}{shared}{failed} | {r['batch']} | {r['n_devices']} | {r['segments']} "
                 f"| {r['mass_matrix']} "
