@@ -357,9 +357,13 @@ def sweep(
     if chunks == 1:
         simulation, statics, success = _run(parts[0], shared, mode, steps, mesh)
     else:
-        # JAX compiles the program once, for the first thread to ask; the others wait.
+        # Compiled ahead of the threads: called first through `jit`, the chunks of a
+        # first call ran one after the other (a 128-case run: 5.0 s against 2.4 s warm).
+        compiled = _run.lower(parts[0], shared, mode, steps, mesh).compile()
         with ThreadPoolExecutor(chunks) as pool:
-            outputs = list(pool.map(lambda part: jax.block_until_ready(_run(part, shared, mode, steps, mesh)), parts))
+            outputs = list(
+                pool.map(lambda part: jax.block_until_ready(compiled(part, shared, mode, steps, mesh)), parts)
+            )
         simulation, statics, success = jax.tree.map(lambda *x: jnp.concatenate(x), *outputs)
         if mesh is not None:
             simulation, statics, success = _place(

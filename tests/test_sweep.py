@@ -160,18 +160,18 @@ def test_chunks_equal_one_batch(swept, monkeypatch):
     in four chunks (padded to eight) equal the batch of `swept` (two chunks by default
     on a 2-core CPU) and one batch of six, case by case, status included."""
     calls = []
-    run = jc._sweep._run
+    split = jc._sweep._split
 
-    def counted(part, *rest):
-        calls.append(len(part["valid"]))
-        return run(part, *rest)
+    def counted(per_case, chunks):
+        parts = split(per_case, chunks)
+        calls.append([len(part["valid"]) for part in parts])
+        return parts
 
-    monkeypatch.setattr(jc._sweep, "_run", counted)
+    monkeypatch.setattr(jc._sweep, "_split", counted)
     config = jc.SolverConfig(max_steps=MAX_STEPS)
     four = sweep(build, CASES, T1, ts=TS, solver=config, chunks=4)
-    assert calls == [2, 2, 2, 2]
     one = sweep(build, CASES, T1, ts=TS, solver=config, chunks=1)
-    assert calls[4:] == [6]
+    assert calls == [[2, 2, 2, 2], [6]]
     for result in (four, one):
         assert result.status == swept.status and result.n_cases == 6
         np.testing.assert_array_equal(result.success, swept.success)
