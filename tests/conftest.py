@@ -4,6 +4,8 @@ import os
 import jax
 import pytest
 
+import jaxcable as jc
+
 # jaxcable computes in float64 and leaves the switch to its caller; the suite is the
 # caller here, and flips it before any test builds an array.
 jax.config.update("jax_enable_x64", True)
@@ -55,3 +57,18 @@ def _unchecked(request):
         yield
     finally:
         jaxtyping.config.update("jaxtyping_disable", before)
+
+
+@pytest.fixture(scope="module")
+def driven_line():
+    """A four-segment line from an anchor to a body driven at its top, in a 0.3 m/s
+    current: `(model, env, its statics)`, small enough to compile and run quickly."""
+    line = jc.LineType(mass_per_length=2.0, diameter=0.03, tension_law=jc.LinearElastic(2e6))
+    model = jc.CableNetwork.from_branches(
+        [[0.0, 0.0, -30.0], [30.0, 0.0, 0.0]],
+        [jc.Branch(0, 1, line, 43.0, 4)],
+        {0: jc.Fixed(), 1: jc.Harmonic(0.5, 4.0)},
+        bodies={1: jc.Body(mass=5.0)},
+    )
+    env = jc.Environment(current=(0.3, 0.0, 0.0))
+    return model, env, jc.solve_statics(model, env)

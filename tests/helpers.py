@@ -8,8 +8,14 @@
 - `hand_forces`, `wet_fraction`: the static force balance of a network's nodes, with
   numpy, independent of jaxcable's Lagrangian.
 - `chain_nodes`: the node order of a single branch built by `from_branches`.
+- `compilations`: the compilations of one program, counted from JAX's compile log.
 """
 
+import contextlib
+import logging
+import re
+
+import jax
 import numpy as np
 from scipy.optimize import brentq, fsolve
 
@@ -171,3 +177,24 @@ class ElasticCatenary:
         x = 0.5 * s * np.sum(self.weights * stretch * h / t)
         z = 0.5 * s * np.sum(self.weights * stretch * (v + self.w * arc) / t)
         return x, z
+
+
+@contextlib.contextmanager
+def compilations(program: str):
+    """Collect, in the list this yields, JAX's "Compiling ..." log messages for the
+    program named `program` ("Compiling jit(_simulate) ..."; older JAX: "Compiling
+    _simulate ...") while the block runs."""
+    compiled = []
+
+    class Compiles(logging.Handler):
+        def emit(self, record):
+            if re.match(rf"Compiling (jit\()?{program}\b", record.getMessage()):
+                compiled.append(record.getMessage())
+
+    handler = Compiles()
+    logging.getLogger("jax").addHandler(handler)
+    try:
+        with jax.log_compiles():
+            yield compiled
+    finally:
+        logging.getLogger("jax").removeHandler(handler)

@@ -1,43 +1,27 @@
 """Integration interval by interval (`jaxcable._blocks`), which the scene runner and the
 command line use so that their compiled solve can stay in JAX's persistent cache."""
 
-import logging
-import re
-
 import diffrax
 import equinox as eqx
 import jax
 import numpy as np
 import pytest
+from helpers import compilations
 
 import jaxcable as jc
 from jaxcable import _blocks, examples
 from jaxcable._simulate import as_config, for_model
 
-
-@pytest.fixture(scope="module")
-def scene():
-    line = jc.LineType(mass_per_length=2.0, diameter=0.03, tension_law=jc.LinearElastic(2e6))
-    model = jc.CableNetwork.from_branches(
-        [[0.0, 0.0, -30.0], [30.0, 0.0, 0.0]],
-        [jc.Branch(0, 1, line, 43.0, 4)],
-        {0: jc.Fixed(), 1: jc.Harmonic(0.5, 4.0)},
-        bodies={1: jc.Body(mass=5.0)},
-    )
-    env = jc.Environment(current=(0.3, 0.0, 0.0))
-    return model, env, jc.solve_statics(model, env)
-
-
 # Three blocks, the last padded: 150 intervals of 0.04 s.
 TS = np.linspace(0.0, 6.0, 151)
 
 
-def test_blocks_are_as_accurate_as_one_simulate_call(scene):
+def test_blocks_are_as_accurate_as_one_simulate_call(driven_line):
     """Against a reference at rtol = atol = 1e-10, the blocks' positions are about as
     close as one `simulate` call's at the same tolerance, 1e-6 (4.7e-3 m against 2.5e-3 m,
     measured), though every output time now ends a step; the step counts differ by a
     few percent."""
-    model, env, static = scene
+    model, env, static = driven_line
     config = jc.SolverConfig(rtol=1e-6, atol=1e-6)
     reference = jc.simulate(
         model, env, TS[-1], ts=TS, initial=static.state, solver=jc.SolverConfig(rtol=1e-10, atol=1e-10)
@@ -54,11 +38,11 @@ def test_blocks_are_as_accurate_as_one_simulate_call(scene):
     assert abs(steps - whole_steps) <= 0.1 * whole_steps, (steps, whole_steps)
 
 
-def test_the_block_has_no_host_callback_and_compiles_once(scene):
+def test_the_block_has_no_host_callback_and_compiles_once(driven_line):
     """JAX keeps no program with a host callback in its persistent cache: `simulate`'s
     has diffrax's (its output times are checked by one); a block's has none, and one
     program serves every block, the first and the padded last included."""
-    model, env, static = scene
+    model, env, static = driven_line
     config = for_model(as_config("test", None), model)
     carry, _ = _blocks._start(model, env, (static.state.positions, static.state.velocities), 0.0, 0.04, config)
     block = TS[: _blocks.BLOCK]
@@ -69,35 +53,23 @@ def test_the_block_has_no_host_callback_and_compiles_once(scene):
     with_ts = jc._simulate._simulate.lower(*args, config, diffrax.NoProgressMeter(), False)
     assert "callback" in with_ts.as_text()
 
-    compiled = []
-
-    class Compiles(logging.Handler):
-        def emit(self, record):
-            if re.match(r"Compiling (jit\()?_block\b", record.getMessage()):
-                compiled.append(record.getMessage())
-
-    handler = Compiles()
-    logging.getLogger("jax").addHandler(handler)
     reached = []
-    try:
-        with jax.log_compiles():
-            _blocks.simulate_in_blocks(
-                model, env, TS, static.state, jc.SolverConfig(rtol=1e-7, atol=1e-7), on_block=reached.append
-            )
-    finally:
-        logging.getLogger("jax").removeHandler(handler)
+    with compilations("_block") as compiled:
+        _blocks.simulate_in_blocks(
+            model, env, TS, static.state, jc.SolverConfig(rtol=1e-7, atol=1e-7), on_block=reached.append
+        )
     assert len(compiled) <= 1  # none where an earlier test compiled it
     assert reached == pytest.approx([TS[64], TS[128], TS[150]])
 
 
-def test_a_failed_interval_raises_diffrax_message(scene):
-    model, env, static = scene
+def test_a_failed_interval_raises_diffrax_message(driven_line):
+    model, env, static = driven_line
     with pytest.raises(eqx.EquinoxRuntimeError, match="simulate: The maximum number of solver steps was reached"):
         _blocks.simulate_in_blocks(model, env, TS, static.state, jc.SolverConfig(max_steps=40))
 
 
-def test_bad_times_and_a_first_step_are_refused(scene):
-    model, env, static = scene
+def test_bad_times_and_a_first_step_are_refused(driven_line):
+    model, env, static = driven_line
     with pytest.raises(ValueError, match="simulate_in_blocks: ts must be strictly increasing"):
         _blocks.simulate_in_blocks(model, env, np.array([0.0, 0.2, 0.1]), static.state)
     with pytest.raises(ValueError, match="dt0 must be None"):

@@ -1,33 +1,17 @@
 """The simulation's contract: shapes, failure reporting, progress, solver choice."""
 
-import logging
-import re
-
 import diffrax
 import equinox as eqx
-import jax
 import numpy as np
 import pytest
+from helpers import compilations
 
 import jaxcable as jc
 from jaxcable.examples import seed003_line
 
 
-@pytest.fixture(scope="module")
-def scene():
-    line = jc.LineType(mass_per_length=2.0, diameter=0.03, tension_law=jc.LinearElastic(2e6))
-    model = jc.CableNetwork.from_branches(
-        [[0.0, 0.0, -30.0], [30.0, 0.0, 0.0]],
-        [jc.Branch(0, 1, line, 43.0, 4)],
-        {0: jc.Fixed(), 1: jc.Harmonic(0.5, 4.0)},
-        bodies={1: jc.Body(mass=5.0)},
-    )
-    env = jc.Environment(current=(0.3, 0.0, 0.0))
-    return model, env, jc.solve_statics(model, env)
-
-
-def test_result_shapes_and_constrained_nodes(scene):
-    model, env, static = scene
+def test_result_shapes_and_constrained_nodes(driven_line):
+    model, env, static = driven_line
     ts = np.linspace(0.0, 1.0, 11)
     result = jc.simulate(model, env, 1.0, ts=ts, initial=static.state)
     assert bool(result.success)
@@ -46,22 +30,22 @@ def test_result_shapes_and_constrained_nodes(scene):
     assert {"num_steps", "num_accepted_steps", "num_rejected_steps"} <= set(result.stats)
 
 
-def test_failure_raises_by_default(scene):
-    model, env, static = scene
+def test_failure_raises_by_default(driven_line):
+    model, env, static = driven_line
     with pytest.raises(eqx.EquinoxRuntimeError, match="maximum number of solver steps"):
         jc.simulate(model, env, 1.0, initial=static.state, solver=jc.SolverConfig(max_steps=5))
 
 
-def test_failure_is_reported_without_throw(scene):
-    model, env, static = scene
+def test_failure_is_reported_without_throw(driven_line):
+    model, env, static = driven_line
     result = jc.simulate(model, env, 1.0, initial=static.state, solver=jc.SolverConfig(max_steps=5), throw=False)
     assert not bool(result.success)
     assert result.result == diffrax.RESULTS.max_steps_reached
 
 
 @pytest.mark.slow
-def test_any_diffrax_solver_and_progress(scene, capsys):
-    model, env, static = scene
+def test_any_diffrax_solver_and_progress(driven_line, capsys):
+    model, env, static = driven_line
     # Two different solvers integrating the same equations must agree (independent
     # discretisations of the same ODE), and the progress meter must print.
     dopri8 = jc.SolverConfig(diffrax.Dopri8(), rtol=1e-10, atol=1e-10)
@@ -72,11 +56,11 @@ def test_any_diffrax_solver_and_progress(scene, capsys):
     assert "100.00%" in capsys.readouterr().err
 
 
-def test_statics_state_is_at_rest(scene):
+def test_statics_state_is_at_rest(driven_line):
     # With both ends held where statics put them, the equilibrium must stay put: tension
     # constant and velocities zero. Position errors of the integrator's tolerance times
     # the segment stiffness (~2e5 N/m) show up in the tension, hence the tight rtol.
-    model, env, static = scene
+    model, env, static = driven_line
     still = jc.Environment(current=(0.3, 0.0, 0.0))
     frozen = jc.CableNetwork(
         model.node_positions,
@@ -111,36 +95,23 @@ def test_fixed_step_blow_up_is_a_failure_not_output():
     assert bool(stable.success)
 
 
-def test_a_new_tolerance_reuses_the_compiled_solve(scene):
+def test_a_new_tolerance_reuses_the_compiled_solve(driven_line):
     """Tolerances are array leaves of the configuration, not static fields: after the
     first run, two more tolerances compile nothing (counted from JAX's compile log),
     yet each changes the steps taken. A static change (`max_steps`) does recompile,
     which shows that the count sees compilations."""
-    model, env, static = scene
-    compiled = []
-
-    class Compiles(logging.Handler):
-        def emit(self, record):
-            # "Compiling jit(_simulate) with ..." (older JAX: "Compiling _simulate ...").
-            if re.match(r"Compiling (jit\()?_simulate\b", record.getMessage()):
-                compiled.append(record.getMessage())
-
-    handler = Compiles()
-    logging.getLogger("jax").addHandler(handler)
+    model, env, static = driven_line
     steps = []
-    try:
-        with jax.log_compiles():
-            for tol in (1e-6, 1e-8, 1e-7):
-                config = jc.SolverConfig(rtol=tol, atol=tol)
-                result = jc.simulate(model, env, 1.0, ts=np.linspace(0.0, 1.0, 7), initial=static.state, solver=config)
-                steps.append(int(result.stats["num_steps"]))
-                if tol == 1e-6:
-                    first, compiled[:] = len(compiled), []
-            after_tolerances = list(compiled)
-            config = jc.SolverConfig(max_steps=500_000)
-            jc.simulate(model, env, 1.0, ts=np.linspace(0.0, 1.0, 7), initial=static.state, solver=config)
-    finally:
-        logging.getLogger("jax").removeHandler(handler)
+    with compilations("_simulate") as compiled:
+        for tol in (1e-6, 1e-8, 1e-7):
+            config = jc.SolverConfig(rtol=tol, atol=tol)
+            result = jc.simulate(model, env, 1.0, ts=np.linspace(0.0, 1.0, 7), initial=static.state, solver=config)
+            steps.append(int(result.stats["num_steps"]))
+            if tol == 1e-6:
+                first, compiled[:] = len(compiled), []
+        after_tolerances = list(compiled)
+        config = jc.SolverConfig(max_steps=500_000)
+        jc.simulate(model, env, 1.0, ts=np.linspace(0.0, 1.0, 7), initial=static.state, solver=config)
     assert first <= 1  # once, or already compiled by an earlier test
     assert after_tolerances == []
     assert len(set(steps)) == 3, steps
@@ -162,8 +133,8 @@ def test_solver_config_errors_name_the_field():
 
 
 @pytest.mark.unchecked
-def test_simulate_takes_a_configuration_not_a_bare_solver(scene):
-    model, env, static = scene
+def test_simulate_takes_a_configuration_not_a_bare_solver(driven_line):
+    model, env, static = driven_line
     with pytest.raises(ValueError, match=r"simulate: solver must be a jaxcable.SolverConfig.*SolverConfig\(diffrax"):
         jc.simulate(model, env, 1.0, initial=static.state, solver=diffrax.Tsit5())
 
@@ -178,10 +149,10 @@ def test_presets_are_configurations():
     assert jc.SolverConfig().max_steps == 1_000_000
 
 
-def test_bad_values_are_named_eagerly_and_under_jit(scene):
+def test_bad_values_are_named_eagerly_and_under_jit(driven_line):
     """A stiffness made negative after construction, or bad times, are refused naming
     the field: with the value eagerly, by `eqx.error_if` when traced."""
-    model, env, static = scene
+    model, env, static = driven_line
     law = model.line.tension_law
     bad = eqx.tree_at(lambda m: m.line.tension_law.axial_stiffness, model, -law.axial_stiffness)
     with pytest.raises(ValueError, match="LineType.tension_law.axial_stiffness must be positive, got -"):
