@@ -128,7 +128,7 @@ def time_in_process(workdir: Path, case: int, rest: np.ndarray, dt_motion: float
     first = jc.run_scene(scene, duration=duration, dt_out=0.05)
     runs = [jc.run_scene(scene, duration=duration, dt_out=0.05) for _ in range(repeats)]
     run = float(np.median([r.dynamics_seconds for r in runs]))
-    return {"compile": first.dynamics_seconds - run, "run": run, "steps": runs[0].steps}
+    return {"compile": first.dynamics_seconds - run, "run": run, "steps": runs[0].steps, "stepping": runs[0].stepping}
 
 
 def run_moordyn(workdir: Path, case: int, dt: float = 0.005) -> dict:

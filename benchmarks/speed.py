@@ -455,7 +455,7 @@ def rows_ll(args) -> list[dict]:
             target=0.5,
             accuracy=accuracy,
             accuracy_met=accurate,
-            notes=f"compile {timing['compile']:.1f} s apart; {timing['steps']} Dopri5 steps; median of "
+            notes=f"compile {timing['compile']:.1f} s apart; {timing['steps']} steps ({timing['stepping']}); median of "
             f"{args.repeats}; MoorDyn with the file's tScheme (midpoint5); jaxcable's errors from its `jaxcable run` "
             "process (the same solver and settings)",
             compile_s=timing["compile"],

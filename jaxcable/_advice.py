@@ -125,6 +125,31 @@ def stiffest_axial_mode(model, env: Environment | None = None) -> tuple[float, f
     eigenvalue magnitude, damping included, at the segment where |λ| is largest.
     """
     model, env, _ = _unpack(model, env, None)
+    omega, eigenvalues = _axial_modes(model, env)
+    magnitude = np.abs(eigenvalues)
+    s = int(np.argmax(magnitude))
+    return float(omega[s]), float(magnitude[s]), s
+
+
+def fastest_eigenvalues(model, env: Environment | None = None) -> np.ndarray:
+    """The eigenvalues λ (1/s, complex) that bound an explicit step: each segment's
+    highest axial mode ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode])
+    and, with a seabed, the contact and friction modes of a node on it
+    ([`seabed_mode`][jaxcable._advice.seabed_mode]) for every segment, whether or not
+    it reaches the bed. Of each pair of roots the one of larger magnitude (the other is
+    its conjugate, or a slower real root). Shape `(modes,)`."""
+    model, env, _ = _unpack(model, env, None)
+    _, axial = _axial_modes(model, env)
+    if env.seabed is None:
+        return axial
+    damping, stiffness, friction = _seabed_rates(model, env, np.ones(model.n_segments, bool))
+    contact = -0.5 * (damping + np.sqrt((damping**2 - 4 * stiffness).astype(complex)))
+    return np.concatenate([axial, contact, -friction[friction > 0].astype(complex)])
+
+
+def _axial_modes(model: CableNetwork, env: Environment) -> tuple[np.ndarray, np.ndarray]:
+    """Each segment's highest axial mode: ω_n (rad/s) and the eigenvalue λ (1/s,
+    complex) of larger magnitude, roots of `m_n λ² + 4 c λ + 4 k = 0`."""
     line = model.line
     length = np.asarray(model.segment_length)
     rho = float(env.water_density)
@@ -132,12 +157,9 @@ def stiffest_axial_mode(model, env: Environment | None = None) -> tuple[float, f
     node_mass = mass * length / (3.0 if model.mass_matrix == "consistent" else 1.0)
     stiffness = np.asarray(line.tension_law.axial_stiffness) / length
     damping = np.asarray(line.tension_law.damping()) / length
-    omega = 2 * np.sqrt(stiffness / node_mass)
-    half_trace = 2 * damping / node_mass
-    discriminant = half_trace**2 - omega**2
-    magnitude = np.where(discriminant > 0, half_trace + np.sqrt(np.maximum(discriminant, 0)), omega)
-    s = int(np.argmax(magnitude))
-    return float(omega[s]), float(magnitude[s]), s
+    omega = np.broadcast_to(2 * np.sqrt(stiffness / node_mass), (model.n_segments,))
+    half_trace = np.broadcast_to(2 * damping / node_mass, (model.n_segments,))
+    return omega, -half_trace - np.sqrt((half_trace**2 - omega**2).astype(complex))
 
 
 def seabed_mode(model: CableNetwork, env: Environment, touching=None) -> tuple[float, str]:
@@ -159,30 +181,38 @@ def seabed_mode(model: CableNetwork, env: Environment, touching=None) -> tuple[f
 
     `(|λ| (1/s), "damping" | "stiffness" | "friction")`; `(0.0, "")` without a seabed.
     """
-    bed = env.seabed
-    if bed is None:
+    if env.seabed is None:
         return 0.0, ""
-    line = model.line
-    rho, g = float(env.water_density), float(env.gravity)
-    fields = {
-        f: np.broadcast_to(np.asarray(getattr(line, f)), (model.n_segments,))
-        for f in ("mass_per_length", "area", "diameter", "normal_added_mass", "tangential_added_mass")
-    }
     mask = np.ones(model.n_segments, bool) if touching is None else np.asarray(touching, bool)
     if not mask.any():
         return 0.0, ""
-    share = 3.0 if model.mass_matrix == "consistent" else 1.0
-    m, area, d = fields["mass_per_length"][mask], fields["area"][mask], fields["diameter"][mask]
-    normal = (m + rho * area * fields["normal_added_mass"][mask]) / share
-    damping, stiffness = float(bed.damping) * d / normal, float(bed.stiffness) * d / normal
+    damping, stiffness, friction = _seabed_rates(model, env, mask)
     discriminant = damping**2 - 4 * stiffness
     contact = np.where(discriminant > 0, 0.5 * (damping + np.sqrt(np.maximum(discriminant, 0))), np.sqrt(stiffness))
-    along = (m + rho * area * fields["tangential_added_mass"][mask]) / share
-    weight = np.maximum((m - rho * area) * g, 0.0)
-    friction = float(bed.friction) * weight / (float(bed.friction_speed) * along)
     if friction.max() > contact.max():
         return float(friction.max()), "friction"
     return float(contact.max()), "damping" if np.any(discriminant > 0) else "stiffness"
+
+
+def _seabed_rates(model: CableNetwork, env: Environment, mask: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Per masked segment, the bed's damping c' (1/s) and stiffness k' (1/s²) on a
+    node's normal mass, and friction's viscous rate μ w / (v_s M) (1/s) on its
+    tangential mass (`seabed_mode`)."""
+    bed = env.seabed
+    assert bed is not None
+    line = model.line
+    rho, g = float(env.water_density), float(env.gravity)
+    fields = {
+        f: np.broadcast_to(np.asarray(getattr(line, f)), (model.n_segments,))[mask]
+        for f in ("mass_per_length", "area", "diameter", "normal_added_mass", "tangential_added_mass")
+    }
+    share = 3.0 if model.mass_matrix == "consistent" else 1.0
+    m, area, d = fields["mass_per_length"], fields["area"], fields["diameter"]
+    normal = (m + rho * area * fields["normal_added_mass"]) / share
+    along = (m + rho * area * fields["tangential_added_mass"]) / share
+    weight = np.maximum((m - rho * area) * g, 0.0)
+    friction = float(bed.friction) * weight / (float(bed.friction_speed) * along)
+    return float(bed.damping) * d / normal, float(bed.stiffness) * d / normal, friction
 
 
 # --------------------------------------------------------------------------------------

@@ -17,8 +17,16 @@ steps against 54,992, positions within 4.2e-8 m of `simulate`'s and tensions wit
 3.3e-4 of the peak (measured; `benchmarks/README.md`). The intervals run `BLOCK` at a
 time in one compiled `lax.scan`, so the program depends on the model's structure and not
 on the duration, and Python reports progress between blocks.
+
+With a fixed step (`diffrax.ConstantStepSize`, as MoorDyn steps at its `dtM`) each
+interval is `n` equal steps of the solver's own `step`, `n` the fewest that keep the
+step at or below `dt0`: no step-size control to carry, and no interpolation, since
+every output time ends a step. diffrax would check the given `dt0` with a callback, so
+these steps are not taken through `diffeqsolve`.
 """
 
+import functools
+import math
 from collections.abc import Callable
 from typing import Any
 
@@ -59,8 +67,10 @@ def simulate_in_blocks(
     - `model`, `env`: the network and the water, concrete (not traced).
     - `ts`: output times (s), concrete, strictly increasing, at least two.
     - `initial`: the state at `ts[0]`.
-    - `solver`: a [`jaxcable.SolverConfig`][] whose `dt0` is `None` (diffrax would check
-        a first step with a callback); `SolverConfig()` by default.
+    - `solver`: a [`jaxcable.SolverConfig`][]: adaptive with `dt0` `None` (diffrax would
+        check a first step with a callback), or a fixed step
+        (`stepsize_controller=diffrax.ConstantStepSize()` with `dt0`); `SolverConfig()`
+        by default.
     - `on_block`: called after each block with the simulated time (s) it reached.
 
     **Returns:**
@@ -76,16 +86,31 @@ def simulate_in_blocks(
     configuration's `max_steps`.
     """
     config = for_model(as_config("simulate_in_blocks", solver), model)
-    if config.dt0 is not None:
+    fixed = isinstance(config.stepsize_controller, diffrax.ConstantStepSize)
+    if fixed and config.dt0 is None:
+        raise ValueError("simulate_in_blocks: a fixed step (diffrax.ConstantStepSize) needs the solver's dt0")
+    if not fixed and config.dt0 is not None:
         raise ValueError(
-            "simulate_in_blocks: the solver's dt0 must be None (diffrax checks a first step with a callback)"
+            "simulate_in_blocks: an adaptive solver's dt0 must be None (diffrax checks a first step with a callback)"
         )
     ts = np.asarray(ts, dtype=float)
     if ts.ndim != 1 or ts.size < 2:
         raise ValueError(f"simulate_in_blocks: ts must be 1-D with at least 2 times, got shape {ts.shape}")
     checks.enforce([checks.finite("simulate_in_blocks: ts", ts), checks.increasing("simulate_in_blocks: ts", ts)])
     checks.enforce(model.conditions() + env.conditions())
-    carry, first = _start(model, env, (initial.positions, initial.velocities), ts[0], ts[1], config)
+    if fixed:
+        substeps = substeps_per_interval(ts, float(np.asarray(config.dt0)))
+        if substeps * (ts.size - 1) > config.max_steps:
+            raise ValueError(
+                f"simulate_in_blocks: a fixed step of {float(np.asarray(config.dt0)):g} s takes "
+                f"{substeps * (ts.size - 1)} steps from {ts[0]:g} to {ts[-1]:g} s, more than the solver's "
+                f"max_steps = {config.max_steps}"
+            )
+        block = functools.partial(_fixed_block, substeps=substeps)
+        carry, first = _fixed_start(model, env, (initial.positions, initial.velocities), ts[0], ts[1], config)
+    else:
+        block = _block
+        carry, first = _start(model, env, (initial.positions, initial.velocities), ts[0], ts[1], config)
     starts, ends = ts[:-1], ts[1:]
     pad = -len(starts) % BLOCK
     # Padding intervals (zero length, at the end) are skipped inside the block.
@@ -94,7 +119,7 @@ def simulate_in_blocks(
     blocks, steps = [], np.zeros(3, dtype=np.int64)
     for k in range(0, len(starts), BLOCK):
         part = slice(k, k + BLOCK)
-        carry, saved, counts, result = _block(model, env, carry, starts[part], ends[part], active[part], config)
+        carry, saved, counts, result = block(model, env, carry, starts[part], ends[part], active[part], config)
         blocks.append(saved)
         steps += np.asarray(counts)
         # `max_steps` bounds each interval's solve; the run as a whole is held to it here.
@@ -129,15 +154,21 @@ def _start(model, env, initial, t0, t1, config: SolverConfig):
     # Python bool, which `eqx.filter_jit` would take for a static argument and compile
     # the first block apart from the rest.
     carry = jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), carry)
+    return carry, _outputs_at(model, env, t0, y0)
+
+
+def _outputs_at(model, env, t, y):
+    """The outputs `(positions, velocities, strain, tension, reactions)` of the free
+    state `y` at time `t`, each with a leading axis of one time."""
     first = result_of(
         model,
         env,
-        jnp.asarray(t0, dtype=float)[None],
-        jax.tree.map(lambda x: x[None], y0),
+        jnp.asarray(t, dtype=float)[None],
+        jax.tree.map(lambda x: x[None], y),
         {},
         diffrax.RESULTS.successful,
     )
-    return carry, (first.positions, first.velocities, first.strain, first.tension, first.reactions)
+    return first.positions, first.velocities, first.strain, first.tension, first.reactions
 
 
 @eqx.filter_jit
@@ -200,3 +231,67 @@ def _block(
     outputs = result_of(model, env, ends, ys, {}, failure)
     saved = (outputs.positions, outputs.velocities, outputs.strain, outputs.tension, outputs.reactions)
     return carry, saved, jnp.sum(counts, axis=0), outputs.result
+
+
+def substeps_per_interval(ts: Float[np.ndarray, " times"], dt: float) -> int:
+    """The fewest equal steps that cover the longest interval between output times
+    `ts` (s) with steps of at most `dt` (s). A step that divides the interval to
+    rounding (MoorDyn's dtM = 1 ms into 0.05 s, say) gives the exact quotient."""
+    longest = float(np.max(np.diff(ts)))
+    return max(1, math.ceil(longest / dt * (1 - 1e-9)))
+
+
+@eqx.filter_jit
+def _fixed_start(model, env, initial, t0, t1, config: SolverConfig):
+    """As `_start`, for a fixed step: the carry is the free state, the solver's state
+    and `made_jump`."""
+    free = model.free_nodes
+    y0 = (initial[0][free], initial[1][free])
+    terms, solver = terms_for(config.solver), config.solver
+    carry = (y0, solver.init(terms, t0, t1, y0, (model, env)), False)
+    carry = jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), carry)
+    return carry, _outputs_at(model, env, t0, y0)
+
+
+@eqx.filter_jit
+def _fixed_block(
+    model,
+    env,
+    carry,
+    starts: Float[ArrayLike, " block"],
+    ends: Float[ArrayLike, " block"],
+    active: Bool[ArrayLike, " block"],
+    config: SolverConfig,
+    substeps: int,
+):
+    """`BLOCK` intervals of `substeps` equal steps each, with `_block`'s returns. An
+    explicit method's step cannot fail; an implicit one's root finder can, and the
+    first failure is kept."""
+    terms, solver = terms_for(config.solver), config.solver
+    args = (model, env)
+
+    def interval(carry, piece):
+        t0, t1, on = piece
+        dt = (t1 - t0) / substeps
+
+        def step(inner, k):
+            (y, solver_state, made_jump), failure = inner
+            a = t0 + k * dt
+            b = jnp.where(k == substeps - 1, t1, a + dt)
+            y, _, _, solver_state, result = solver.step(terms, a, b, y, args, solver_state, made_jump)
+            failure = diffrax.RESULTS.where(failure == diffrax.RESULTS.successful, result, failure)
+            return ((y, solver_state, jnp.asarray(False)), failure), None
+
+        def solve(inner):
+            inner, _ = jax.lax.scan(step, inner, jnp.arange(substeps))
+            return inner
+
+        carry, failure = jax.lax.cond(on, solve, lambda inner: inner, carry)
+        counts = jnp.where(on, substeps, 0).astype(jnp.int64) * jnp.ones(2, jnp.int64)
+        return (carry, failure), (carry[0], counts)
+
+    (carry, failure), (ys, counts) = jax.lax.scan(interval, (carry, diffrax.RESULTS.successful), (starts, ends, active))
+    outputs = result_of(model, env, ends, ys, {}, failure)
+    saved = (outputs.positions, outputs.velocities, outputs.strain, outputs.tension, outputs.reactions)
+    steps = jnp.sum(counts, axis=0)
+    return carry, saved, jnp.concatenate([steps, jnp.zeros(1, jnp.int64)]), outputs.result

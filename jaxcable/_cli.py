@@ -1,7 +1,9 @@
 """The `jaxcable` command line: run or describe a scene file or a MoorDyn input file.
 
     jaxcable run INPUT [--duration S] [--motion FILE] [--out FILE] [--dt-out S]
-                       [--plot FILE.png] [--solver NAME] [--segments N] [--channels ...]
+                       [--plot FILE.png] [--solver NAME] [--dt S | --adaptive]
+                       [--rtol R] [--atol A] [--max-steps N] [--segments N]
+                       [--channels ...]
     jaxcable info INPUT [--segments N] [--duration S]
     jaxcable calibrate RECORD.csv [RECORD.csv ...] --fit NAME=START [NAME=START ...]
                        [--optimizer lbfgs|adam] [--max-steps N] [--plot FILE.png]
@@ -29,8 +31,9 @@ from ._advice import advise
 from ._calibrate import calibrate, calibration_solver, default_optimizer
 from ._config import SOLVERS
 from ._motion import Harmonic, Sampled
+from ._stability import STABLE_GROWTH, fixed_step_growth
 from .examples import scene_names, scene_path
-from .io import Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
+from .io import RunSettings, Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
 from .io._run import load_scene, run_scene
 
@@ -115,7 +118,16 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--out", type=Path, help="output file: .csv, .out (MoorDyn layout), .npz or .nc")
     run.add_argument("--dt-out", type=float, help="output interval (s); default: the file's dtOut, or 0.1 s")
     run.add_argument("--plot", type=Path, help="save tension histories and line shapes to this image")
-    run.add_argument("--solver", choices=sorted(SOLVERS), help="ODE solver (default: the scene's, or dopri5)")
+    run.add_argument(
+        "--solver",
+        choices=sorted(SOLVERS),
+        help="ODE solver (default: the scene's; dopri5, or midpoint for a MoorDyn file with dtM)",
+    )
+    run.add_argument("--dt", type=float, help="fixed step (s), as MoorDyn's dtM (default: the file's dtM, if any)")
+    run.add_argument("--adaptive", action="store_true", help="step adaptively, even where the file gives dtM")
+    run.add_argument("--rtol", type=float, help="relative tolerance of adaptive steps (default 1e-6)")
+    run.add_argument("--atol", type=float, help="absolute tolerance of adaptive steps, m and m/s (default 1e-6)")
+    run.add_argument("--max-steps", type=int, help="most solver steps before the run fails (default 1000000)")
     run.add_argument("--segments", type=int, help="divide every line into this many segments")
     run.add_argument("--channels", nargs="+", help="output channels, e.g. FairTen1 AnchTen1 L1N10PZ")
     run.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
@@ -187,7 +199,7 @@ def _run(args) -> int:
     channels = tuple(args.channels or ())
     for name in channels or default_channels(scene):
         parse_channel(name, scene)  # fail now, not after the simulation
-    settings = scene.run if args.solver is None else dataclasses.replace(scene.run, solver=args.solver)
+    settings = _run_settings(scene, args)
     run = run_scene(
         scene, duration=duration, dt_out=args.dt_out, solver=settings.solver_config(), progress=not args.no_progress
     )
@@ -209,6 +221,32 @@ def _run(args) -> int:
         print(f"wrote {args.plot}")
     print(run.summary())
     return 0
+
+
+def _run_settings(scene: Scene, args) -> RunSettings:
+    """The scene's run settings with the command line's `--solver`, `--dt`,
+    `--adaptive`, `--rtol`, `--atol` and `--max-steps`; `SceneError` naming the flag
+    for a bad value or a contradiction."""
+    for flag, value in (("--dt", args.dt), ("--rtol", args.rtol), ("--atol", args.atol)):
+        if value is not None and not (np.isfinite(value) and value > 0):
+            raise SceneError(f"{flag} must be a positive number, got {value:g}")
+    if args.max_steps is not None and args.max_steps < 1:
+        raise SceneError(f"--max-steps must be a positive integer, got {args.max_steps}")
+    if args.dt is not None and args.adaptive:
+        raise SceneError("--dt asks for fixed steps and --adaptive for adaptive ones: give one of them")
+    changes: dict = {"solver": args.solver, "dt": args.dt, "rtol": args.rtol, "atol": args.atol}
+    changes = {key: value for key, value in changes.items() if value is not None}
+    if args.max_steps is not None:
+        changes["max_steps"] = args.max_steps
+    if args.adaptive:
+        changes["dt"] = None
+    settings = dataclasses.replace(scene.run, **changes)
+    if settings.dt is not None and (args.rtol is not None or args.atol is not None):
+        raise SceneError(
+            f"--rtol and --atol set adaptive steps, but this run takes fixed steps of {settings.dt:g} s "
+            f"({'--dt' if args.dt is not None else 'the file'}): add --adaptive, or leave them out"
+        )
+    return settings
 
 
 def _info(args) -> int:
@@ -284,9 +322,20 @@ def _info(args) -> int:
         )
     run = scene.run
     print(
-        f"run: {duration:g} s, solver {run.solver} (rtol {run.rtol:g}, atol {run.atol:g}), output every "
+        f"run: {duration:g} s, solver {run.solver} "
+        + (f"(fixed steps of {run.dt:g} s)" if run.dt is not None else f"(rtol {run.rtol:g}, atol {run.atol:g})")
+        + ", output every "
         f"{run.dt_out or 0.1:g} s"
     )
+    if run.dt is not None:
+        solver = run.solver_config().solver
+        growth = fixed_step_growth(solver, run.dt, built)
+        if growth is not None:
+            verdict = "stable" if growth <= STABLE_GROWTH else "unstable: the run will step adaptively instead"
+            print(
+                f"fixed step: {type(solver).__name__} at {run.dt:g} s, largest growth of a fast mode a step "
+                f"|R(λΔt)| = {growth:.3g}: {verdict}"
+            )
     print("channels: " + " ".join(scene.channels or ["FairTen<k> AnchTen<k> for every line"]))
     print("ignored or assumed:" if scene.notes else "ignored or assumed: nothing")
     for note in scene.notes:

@@ -181,6 +181,9 @@ SOLVERS: dict[str, Callable[..., SolverConfig]] = _Presets(
         "dopri5": _preset(default_solver),
         "tsit5": _preset(diffrax.Tsit5),
         "dopri8": _preset(diffrax.Dopri8),
+        "midpoint": _preset(diffrax.Midpoint),
+        "heun": _preset(diffrax.Heun),
+        "euler": _preset(diffrax.Euler),
         "kvaerno5": _preset(stiff_solver),
         "kencarp4": _preset(diffrax.KenCarp4),
         "picard": _preset(PicardTrapezoid),
@@ -189,7 +192,10 @@ SOLVERS: dict[str, Callable[..., SolverConfig]] = _Presets(
 """Solver configurations by the names scene files and the command line use, each a
 factory `SOLVERS[name](**options) -> SolverConfig` taking [`jaxcable.SolverConfig`][]'s
 keyword arguments (`rtol`, `atol`, ...): explicit Runge–Kutta `dopri5` (the default),
-`tsit5` and `dopri8`, implicit `kvaerno5` ([`jaxcable.stiff_solver`][]),
+`tsit5` and `dopri8`; the two-stage `midpoint` and `heun` and the one-stage `euler`,
+for fixed steps as MoorDyn takes them (its `RK2` is the midpoint method) with
+`dt0=` and `stepsize_controller=diffrax.ConstantStepSize()`; implicit `kvaerno5`
+([`jaxcable.stiff_solver`][]),
 implicit–explicit `kencarp4` (the line's axial forces implicit, the rest explicit), and
 `picard`, seed 001's Picard–trapezoid iteration ([`jaxcable.PicardTrapezoid`][]), the
 historical baseline. An unknown name raises `ValueError` naming it and the choices."""

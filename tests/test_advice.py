@@ -4,6 +4,9 @@ solved by bisection; the Keulegan–Carpenter number against Airy's speed amplit
 curvature and segment counts on a circle and a catenary; quasi-static tensions against
 the catenary; slack on a line with nothing to hold it taut."""
 
+import math
+
+import diffrax
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -23,6 +26,7 @@ from jaxcable._advice import (
     stiffest_axial_mode,
     wave_fit,
 )
+from jaxcable._stability import fixed_step_growth, stability_function
 from jaxcable.io import advice_lines
 
 
@@ -44,6 +48,12 @@ def taut_line(mass_matrix: str, damping_ratio: float = 0.0) -> jc.io.BuiltScene:
 
 def largest_eigenvalue(built: jc.io.BuiltScene) -> float:
     """|λ|max of the first-order system linearised about the equilibrium at rest."""
+    return float(np.abs(linearised_eigenvalues(built)).max())
+
+
+def linearised_eigenvalues(built: jc.io.BuiltScene) -> np.ndarray:
+    """The eigenvalues (1/s, complex) of the first-order system linearised about the
+    equilibrium at rest."""
     model, env = built.model, built.environment
     static = jc.solve_statics(model, env)
     free = model.free_nodes
@@ -56,7 +66,7 @@ def largest_eigenvalue(built: jc.io.BuiltScene) -> float:
         return jnp.concatenate([v.ravel(), a.ravel()])
 
     jacobian = jax.jacfwd(field)(jnp.concatenate([x0.ravel(), jnp.zeros(n)]))
-    return float(np.abs(np.linalg.eigvals(np.asarray(jacobian))).max())
+    return np.linalg.eigvals(np.asarray(jacobian))
 
 
 @pytest.mark.parametrize("mass_matrix", ["lumped", "consistent"])
@@ -69,6 +79,46 @@ def test_stiffest_mode_bounds_the_linearised_spectrum(mass_matrix, damping_ratio
     _, bound, _ = stiffest_axial_mode(built)
     measured = largest_eigenvalue(built)
     assert 0.97 * bound < measured <= bound * (1 + 1e-6)
+
+
+@pytest.mark.parametrize("damping_ratio", [0.5, 2.0])
+def test_a_fixed_step_stable_by_the_bound_is_stable_for_the_linearised_line(damping_ratio):
+    """Midpoint's longest step that `fixed_step_growth` calls stable (|R| = 1 at the
+    bound's eigenvalues, found by bisection) keeps the fast eigenvalues of the
+    linearised line within |R(λ Δt)| ≤ 1, and is not far short of the true limit: 1.5
+    times it is unstable for the line itself. (The slow transverse modes, undamped when
+    linearised at rest, grow by 1e-4 a step at this step: quadratic drag, not a linear
+    term, holds them, as it does in MoorDyn.)"""
+    built = taut_line("lumped", damping_ratio)
+    solver = diffrax.Midpoint()
+    low, high = 1e-6, 1.0
+    for _ in range(60):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if fixed_step_growth(solver, middle, built) <= 1 else (low, middle)
+    eigenvalues = linearised_eigenvalues(built)
+    fast = eigenvalues[np.abs(eigenvalues) > 0.5 * stiffest_axial_mode(built)[1]]
+    assert fast.size >= 9
+    assert np.abs(stability_function(solver, fast * low)).max() <= 1 + 1e-9
+    assert np.abs(stability_function(solver, eigenvalues * 1.5 * low)).max() > 1
+
+
+def test_an_undamped_line_has_no_stable_two_stage_fixed_step():
+    # |R(iy)|² = 1 + y⁴/4 for the two-stage methods: an undamped axial mode grows a
+    # little with any step.
+    built = taut_line("lumped", 0.0)
+    for dt in (1e-5, 1e-4, 1e-3):
+        assert fixed_step_growth(diffrax.Midpoint(), dt, built) > 1
+
+
+def test_stability_functions_are_the_closed_forms():
+    z = np.array([-1.0, 0.5j, -2.0, -0.3 + 1j, -2.5 + 0.5j])
+    polynomial = lambda z, n: sum(z**k / math.factorial(k) for k in range(n + 1))  # noqa: E731
+    np.testing.assert_allclose(stability_function(diffrax.Euler(), z), polynomial(z, 1), atol=1e-15)
+    for two_stage in (diffrax.Midpoint(), diffrax.Heun()):
+        np.testing.assert_allclose(stability_function(two_stage, z), polynomial(z, 2), atol=1e-15)
+    # Dopri5's: Taylor's to z⁵/5! and z⁶/600 (Hairer, Nørsett & Wanner I, §IV.2).
+    np.testing.assert_allclose(stability_function(diffrax.Dopri5(), z), polynomial(z, 5) + z**6 / 600, atol=1e-14)
+    assert stability_function(diffrax.Kvaerno5(), z) is None
 
 
 def test_advice_counts_steps_from_the_bound():

@@ -72,7 +72,7 @@ def test_bad_times_and_a_first_step_are_refused(driven_line):
     model, env, static = driven_line
     with pytest.raises(ValueError, match="simulate_in_blocks: ts must be strictly increasing"):
         _blocks.simulate_in_blocks(model, env, np.array([0.0, 0.2, 0.1]), static.state)
-    with pytest.raises(ValueError, match="dt0 must be None"):
+    with pytest.raises(ValueError, match="an adaptive solver.s dt0 must be None"):
         _blocks.simulate_in_blocks(model, env, TS, static.state, jc.SolverConfig(dt0=1e-3))
 
 
@@ -86,3 +86,63 @@ def test_the_progress_bar_changes_no_answer(capsys):
     assert "0.2/0.2 s simulated" in capsys.readouterr().err
     np.testing.assert_array_equal(shown.tension, quiet.tension)
     assert shown.steps == quiet.steps
+
+
+# Fixed steps: 40 midpoint steps of 1 ms in each 0.04 s interval.
+FIXED = jc.SolverConfig(diffrax.Midpoint(), dt0=1e-3, stepsize_controller=diffrax.ConstantStepSize())
+
+
+def test_fixed_steps_are_one_simulate_call_with_the_same_steps(driven_line):
+    """Every output time ends a step of 1 ms, as in one `simulate` call with the same
+    constant step: the same arithmetic, so the same answers but for rounding (the step
+    times are summed differently), which the snapping line grows to 1e-9 m by 5 s."""
+    model, env, static = driven_line
+    whole = jc.simulate(model, env, TS[-1], ts=TS, initial=static.state, solver=FIXED)
+    blocks = _blocks.simulate_in_blocks(model, env, TS, static.state, FIXED)
+    np.testing.assert_allclose(blocks.positions, whole.positions, rtol=0, atol=1e-7)
+    np.testing.assert_allclose(blocks.tension, whole.tension, rtol=0, atol=1e-5 * np.max(whole.tension))
+    assert blocks.stats == {"num_steps": 6000, "num_accepted_steps": 6000, "num_rejected_steps": 0}
+    assert int(whole.stats["num_steps"]) == 6000
+
+
+def test_a_fixed_block_has_no_host_callback_and_compiles_once(driven_line):
+    model, env, static = driven_line
+    config = for_model(FIXED, model)
+    carry, _ = _blocks._fixed_start(model, env, (static.state.positions, static.state.velocities), 0.0, 0.04, config)
+    block = TS[: _blocks.BLOCK]
+    lowered = _blocks._fixed_block.lower(model, env, carry, block, block + 0.04, block < 1.0, config, 40)
+    assert "callback" not in lowered.as_text()
+    fine = jc.SolverConfig(diffrax.Midpoint(), dt0=5e-4, stepsize_controller=diffrax.ConstantStepSize())
+    with compilations("_fixed_block") as compiled:
+        _blocks.simulate_in_blocks(model, env, TS, static.state, fine)
+    assert len(compiled) <= 1
+
+
+@pytest.mark.parametrize(
+    "ts, dt, substeps",
+    [
+        (np.arange(0.0, 1.0001, 0.05), 1e-3, 50),  # MoorDyn's dtM into its dtOut: exact
+        (np.arange(0.0, 1.0001, 0.05), 0.03, 2),  # 0.025 s steps, the fewest within 0.03
+        (np.array([0.0, 0.1, 0.2, 0.21]), 0.01, 10),  # the longest interval decides
+        (np.array([0.0, 0.1]), 1.0, 1),
+    ],
+)
+def test_substeps_per_interval(ts, dt, substeps):
+    assert _blocks.substeps_per_interval(ts, dt) == substeps
+
+
+def test_fixed_steps_past_max_steps_are_refused_before_running(driven_line):
+    model, env, static = driven_line
+    config = jc.SolverConfig(
+        diffrax.Midpoint(), dt0=1e-3, stepsize_controller=diffrax.ConstantStepSize(), max_steps=5999
+    )
+    with pytest.raises(ValueError, match="takes 6000 steps from 0 to 6 s, more than the solver's max_steps = 5999"):
+        _blocks.simulate_in_blocks(model, env, TS, static.state, config)
+    with pytest.raises(ValueError, match="needs the solver's dt0"):
+        _blocks.simulate_in_blocks(
+            model,
+            env,
+            TS,
+            static.state,
+            jc.SolverConfig(diffrax.Midpoint(), stepsize_controller=diffrax.ConstantStepSize()),
+        )

@@ -13,6 +13,7 @@ import re
 import warnings
 from pathlib import Path
 
+import diffrax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -416,9 +417,42 @@ def test_moordyn_file_with_nothing_left_out_reads_without_warnings(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         scene = jc.read_moordyn(write_moordyn(tmp_path, options=options))
-    # Integrator options are noted as not needed, without a warning.
-    assert any("dtM" in n and "not needed" in n for n in scene.notes)
+    # The initial-condition options are noted as not needed, without a warning.
+    assert any("dtIC" in n and "not needed" in n for n in scene.notes)
     assert not any("WaveKin" in n or "disableOutTime" in n for n in scene.notes)
+
+
+@pytest.mark.parametrize(
+    "scheme, solver, honoured",
+    [
+        (None, "midpoint", True),
+        ("RK2", "midpoint", True),
+        ("heun", "heun", True),
+        ("Euler", "euler", True),
+        ("midpoint5", "midpoint", False),
+        ("RK4", "midpoint", False),
+    ],
+)
+def test_moordyn_dtm_and_tscheme_are_fixed_steps(tmp_path, scheme, solver, honoured):
+    options = (*OPTIONS, "0.002  dtM") + (() if scheme is None else (f"{scheme}  tScheme",))
+    scene = jc.read_moordyn(write_moordyn(tmp_path, options=options))
+    assert (scene.run.dt, scene.run.solver) == (0.002, solver)
+    config = scene.run.solver_config()
+    assert isinstance(config.stepsize_controller, diffrax.ConstantStepSize)
+    assert float(config.dt0) == 0.002
+    (note,) = [n for n in scene.notes if "dtM" in n]
+    assert "fixed steps of dtM = 0.002 s" in note and "--adaptive" in note
+    assert ("does not have" in note) is not honoured
+
+
+def test_moordyn_without_dtm_steps_adaptively(tmp_path):
+    scene = jc.read_moordyn(write_moordyn(tmp_path, options=OPTIONS))
+    assert scene.run.dt is None and scene.run.solver == "dopri5"
+
+
+def test_moordyn_non_positive_dtm_is_located(tmp_path):
+    with pytest.raises(jc.io.SceneError, match=r"line \d+: option dtM must be positive, got 0"):
+        jc.read_moordyn(write_moordyn(tmp_path, options=(*OPTIONS, "0  dtM")))
 
 
 def test_moordyn_coupled_points_note(tmp_path):
@@ -1318,7 +1352,7 @@ def test_run_notes_a_line_out_of_the_water(tmp_path):
 @pytest.mark.parametrize(
     "old, new, key",
     [
-        ("dt_out = 0.5", 'dt_out = 0.5\nsolver = "euler"', "simulation.solver"),
+        ("dt_out = 0.5", 'dt_out = 0.5\nsolver = "rk4"', "simulation.solver"),
         ("dt_out = 0.5", 'dt_out = 0.5\nmass_matrix = "diagonal"', "simulation.mass_matrix"),
         ("dt_out = 0.5", "dt_out = -0.5", "simulation.dt_out"),
         ("duration = 10.0", "duration = -1.0", "simulation.duration"),

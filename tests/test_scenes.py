@@ -505,3 +505,79 @@ def test_cli_solver_runs_the_named_configuration_at_the_scenes_tolerances(tmp_pa
     run = jc.run_scene(scene, duration=0.2, dt_out=0.05, solver=config)
     with np.load(npz) as archive:
         np.testing.assert_allclose(archive["tension"], run.tension, rtol=1e-12, atol=1e-9)
+
+
+# ---------------------------------------------------------------------------------------
+# Fixed steps (MoorDyn's dtM): honoured where the method is stable at the scene's fastest
+# modes, replaced by adaptive steps with a note where it is not.
+
+
+def seed003_scene(damping_ratio: float = 0.0, **run) -> jc.io.Scene:
+    scene = jc.read_scene(examples.scene_path("seed003_line"))
+    rope = dataclasses.replace(scene.line_types[0], axial_damping_ratio=damping_ratio)
+    return scene.replace(line_types=(rope,), run=dataclasses.replace(scene.run, **run))
+
+
+def test_a_damped_scene_takes_its_fixed_steps():
+    scene = seed003_scene(0.5, solver="midpoint", dt=2e-3)
+    run = jc.run_scene(scene, duration=0.2, dt_out=0.05)
+    assert run.steps == 100 and run.stepping == "Midpoint, fixed steps of 0.002 s"
+    assert not any("stability" in note for note in run.notes)
+    assert "(100 steps, Midpoint, fixed steps of 0.002 s)" in run.summary()
+
+
+def test_fixed_steps_beyond_the_stability_limit_are_replaced_by_adaptive_ones():
+    # Undamped, the axial mode grows under any two-stage step; damped at ζ = 0.5
+    # (ω_n = 514 rad/s with the consistent mass matrix) |R| is 0.35 a step at 2 ms, as
+    # above, and 1.63 at 5 ms.
+    for scene in (seed003_scene(0.0, solver="midpoint", dt=2e-3), seed003_scene(0.5, solver="midpoint", dt=5e-3)):
+        run = jc.run_scene(scene, duration=0.2, dt_out=0.05)
+        assert run.stepping.startswith("Dopri5, adaptive")
+        (note,) = [note for note in run.notes if "stability" in note]
+        assert "beyond Midpoint's stability limit here" in note and "stepped adaptively with Dopri5" in note
+
+
+def test_fixed_steps_past_max_steps_are_replaced_by_adaptive_ones():
+    run = jc.run_scene(seed003_scene(0.5, solver="midpoint", dt=2e-3, max_steps=99), duration=0.2, dt_out=0.05)
+    assert run.stepping.startswith("Dopri5, adaptive")
+    assert any("would take 100 steps, more than max_steps = 99" in note for note in run.notes)
+
+
+def test_scene_file_fixed_step_and_max_steps(tmp_path):
+    text = examples.scene_path("seed003_line").read_text(encoding="utf-8")
+    path = tmp_path / "fixed.toml"
+    path.write_text(text.replace('solver = "dopri5"', 'solver = "heun"\ndt = 0.001\nmax_steps = 5000'))
+    run = jc.read_scene(path).run
+    assert (run.solver, run.dt, run.max_steps) == ("heun", 0.001, 5000)
+    config = run.solver_config()
+    assert isinstance(config.solver, diffrax.Heun) and isinstance(config.stepsize_controller, diffrax.ConstantStepSize)
+    assert float(config.dt0) == 0.001 and config.max_steps == 5000
+    for bad, message in (("dt = 0.0", "simulation.dt: must be positive"), ("max_steps = 1.5", "expected an integer")):
+        path.write_text(text.replace('solver = "dopri5"', bad))
+        with pytest.raises(jc.io.SceneError, match=message):
+            jc.read_scene(path)
+
+
+@pytest.mark.parametrize(
+    "flags, message",
+    [
+        (["--dt", "0"], "--dt must be a positive number, got 0"),
+        (["--rtol=-1e-6"], "--rtol must be a positive number"),
+        (["--max-steps", "0"], "--max-steps must be a positive integer, got 0"),
+        (["--dt", "0.001", "--adaptive"], "give one of them"),
+        (["--dt", "0.001", "--rtol", "1e-5"], r"fixed steps of 0.001 s \(--dt\): add --adaptive"),
+    ],
+)
+def test_cli_stepping_flags_are_checked_before_running(flags, message, capsys):
+    assert main(["run", "seed003_line", "--duration", "0.1", "--no-progress", *flags]) == 2
+    assert re.search(message, capsys.readouterr().err)
+
+
+def test_cli_fixed_step_beyond_the_limit_warns_and_steps_adaptively(capsys):
+    status = main(
+        ["run", "seed003_line", "--duration", "0.1", "--solver", "midpoint", "--dt", "0.002", "--no-progress"]
+    )
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    assert "warning: fixed steps of 0.002 s are beyond Midpoint's stability limit here" in err
+    assert "Dopri5, adaptive (rtol 1e-06, atol 1e-06)" in out.splitlines()[-1]

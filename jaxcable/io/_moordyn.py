@@ -82,13 +82,10 @@ _POINT_KINDS = {
     "coupled": ("FAIRLEAD", "VESSEL", "VES", "COUPLED", "CPLD"),
     "free": ("POINT", "CONNECT", "CON", "FREE"),
 }
-# Options that tune MoorDyn's own integrator, initial-condition generator or files:
-# jaxcable integrates adaptively and solves statics directly, so they do not apply.
+# Options that tune MoorDyn's initial-condition generator, or its step from a CFL
+# number: jaxcable solves statics directly and takes dtM as given, so they do not apply.
 _NOT_APPLICABLE = {
-    "dtm",
-    "dt",
     "cfl",
-    "tscheme",
     "dtic",
     "icdt",
     "tmaxic",
@@ -103,6 +100,11 @@ _NOT_APPLICABLE = {
     "icfile",
 }
 _COSMETIC = {"echo", "writelog", "writeunits", "disableoutput", "disableouttime"}
+# MoorDyn's step (dtM, or dt) and time scheme: jaxcable takes fixed steps of dtM with
+# the explicit method of the same name where it has one, and otherwise with the
+# midpoint method, MoorDyn's default RK2.
+_STEP, _SCHEME = ("dtm", "dt"), "tscheme"
+_SCHEMES = {"rk2": "midpoint", "heun": "heun", "euler": "euler"}
 # Numeric options jaxcable uses, by lower-case name, and the values each may take.
 _USED = {
     "g": "positive",
@@ -183,7 +185,7 @@ def read_moordyn(path: str | Path) -> Scene:
         free_surface=True,  # MoorDyn counts only the submerged part of each segment
         seabed=seabed,
     )
-    run = RunSettings(dt_out=options.get("dtout") or None, mass_matrix="lumped")
+    run = RunSettings(dt_out=options.get("dtout") or None, mass_matrix="lumped", **_stepping(options, notes))
     for note in notes:
         if " ignored" in note:  # physics left out, as opposed to options not needed
             warnings.warn(note, stacklevel=2)
@@ -364,7 +366,15 @@ def _options(source: str, lines: list[str], sections: dict[str, int], notes: lis
         value, name = fields[0], fields[1]
         key = name.lower()
         where = f"{source}, line {line}"
-        if key in _USED:
+        if key == _SCHEME:
+            options[key] = value
+            options["@" + key] = f"{source}, line {line}"
+        elif key in _STEP:
+            options["dtm"] = step = _number(source, line, name, value)
+            options["@dtm"] = f"{source}, line {line}"
+            if not step > 0:
+                raise SceneError(f"{source}, line {line}: option {name} must be positive, got {value}")
+        elif key in _USED:
             options[key] = number = _number(source, line, name, value)
             options["@" + key] = where
             if not (number >= 0 if _USED[key] != "positive" else number > 0):
@@ -378,12 +388,29 @@ def _options(source: str, lines: list[str], sections: dict[str, int], notes: lis
                 continue
             notes.append(f"{where}: option {name} = {value} ignored (MoorDyn's wave and current input; still water)")
         elif key in _NOT_APPLICABLE:
-            notes.append(
-                f"{where}: option {name} = {value} not needed (jaxcable steps adaptively and solves statics directly)"
-            )
+            notes.append(f"{where}: option {name} = {value} not needed (jaxcable solves statics directly)")
         elif key not in _COSMETIC:
             notes.append(f"{where}: unknown option {name} = {value} ignored")
     return options
+
+
+def _stepping(options: dict, notes: list[str]) -> dict:
+    """The run settings for MoorDyn's `dtM` and `tScheme` (see `_SCHEMES`): fixed steps
+    of dtM, or none (adaptive) without a dtM; a note says what runs."""
+    if "dtm" not in options:
+        return {}
+    step, scheme = options["dtm"], options.get(_SCHEME, "RK2")
+    solver = _SCHEMES.get(scheme.lower(), "midpoint")
+    where = options["@dtm"]
+    if scheme.lower() in _SCHEMES:
+        how = f"tScheme {scheme}: {solver}"
+    else:
+        how = f"tScheme {scheme}, which jaxcable does not have: {solver}, MoorDyn's RK2, instead"
+    notes.append(
+        f"{where}: fixed steps of dtM = {step:g} s, {how} (jaxcable run --adaptive steps adaptively "
+        "instead; a step beyond the method's stability limit here is replaced by adaptive steps, with a warning)"
+    )
+    return {"dt": step, "solver": solver}
 
 
 def _seabed(

@@ -6,12 +6,14 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
+import diffrax
 import numpy as np
 
-from .._blocks import simulate_in_blocks
+from .._blocks import simulate_in_blocks, substeps_per_interval
 from .._config import SolverConfig
 from .._motion import Sampled
 from .._simulate import simulate
+from .._stability import STABLE_GROWTH, fixed_step_growth
 from .._statics import StaticSolution, solve_statics
 from . import _channels
 from ._moordyn import read_moordyn
@@ -43,6 +45,8 @@ class SceneRun:
     - `reactions`: force (N) of each support on the network, in the order of
         `built.model.constrained_nodes`, shape `(times, constrained, 3)`.
     - `steps`: solver steps taken (0 for statics only).
+    - `stepping`: how the motion was integrated, such as `"Midpoint, fixed steps of
+        0.001 s"` or `"Dopri5, adaptive (rtol 1e-06, atol 1e-06)"`; empty for statics only.
     - `statics_seconds`, `dynamics_seconds`: wall time (s), compilation included.
     - `notes`: what the user should know about this run (seabed penetration, ...).
     """
@@ -55,6 +59,7 @@ class SceneRun:
     tension: np.ndarray
     reactions: np.ndarray
     steps: int
+    stepping: str
     statics_seconds: float
     dynamics_seconds: float
     notes: tuple[str, ...]
@@ -86,7 +91,7 @@ class SceneRun:
             return f"statics: {int(self.static.steps)} iterations in {self.statics_seconds:.1f} s wall; {peak}"
         return (
             f"simulated {self.times[-1] - self.times[0]:.3f} s in {self.statics_seconds + self.dynamics_seconds:.1f} s "
-            f"wall ({self.steps} steps); {peak}"
+            f"wall ({self.steps} steps, {self.stepping}); {peak}"
         )
 
 
@@ -170,6 +175,7 @@ def run_scene(
             as_series(static.tension),
             as_series(static.reactions),
             0,
+            "",
             statics_seconds,
             0.0,
             _water_notes(built, positions),
@@ -177,14 +183,16 @@ def run_scene(
 
     start = time.perf_counter()
     ts = output_times(duration, dt_out)
-    if solver.dt0 is None:
+    solver, stepping_notes = _feasible(solver, built, ts)
+    if solver.dt0 is None or isinstance(solver.stepsize_controller, diffrax.ConstantStepSize):
         # Interval by interval, so that the compiled solve has no host callback and a
         # second run loads it from JAX's persistent cache (see `jaxcable._blocks`).
         with _progress_bar(duration, progress) as bar:
             result = simulate_in_blocks(model, env, ts, static.state, solver, on_block=bar)
     else:
-        # diffrax checks a given first step with a callback, so this solve is compiled on
-        # every run; it is one `simulate` call, with diffrax's own progress bar.
+        # diffrax checks an adaptive solve's given first step with a callback, so this
+        # solve is compiled on every run; it is one `simulate` call, with diffrax's own
+        # progress bar.
         result = simulate(model, env, duration, ts=ts, initial=static.state, solver=solver, progress=progress)
     positions = np.asarray(result.positions)
     dynamics_seconds = time.perf_counter() - start
@@ -197,10 +205,47 @@ def run_scene(
         np.asarray(result.tension),
         np.asarray(result.reactions),
         int(result.stats["num_steps"]),
+        describe_stepping(solver),
         statics_seconds,
         dynamics_seconds,
-        _water_notes(built, positions),
+        stepping_notes + _water_notes(built, positions),
     )
+
+
+def _feasible(solver: SolverConfig, built: BuiltScene, ts: np.ndarray) -> tuple[SolverConfig, tuple[str, ...]]:
+    """`solver`, or adaptive steps in its place where its fixed step would fail: a step
+    beyond its method's stability limit at the scene's fastest modes (`jaxcable._stability`),
+    or more steps than its `max_steps`; with a note that says why."""
+    if not isinstance(solver.stepsize_controller, diffrax.ConstantStepSize) or solver.dt0 is None:
+        return solver, ()
+    dt = float(np.asarray(solver.dt0))
+    method = type(solver.solver).__name__
+    adaptive = SolverConfig(max_steps=solver.max_steps)
+    instead = f"stepped adaptively with {describe_stepping(adaptive)} instead"
+    steps = substeps_per_interval(ts, dt) * (ts.size - 1)
+    if steps > solver.max_steps:
+        return adaptive, (
+            f"fixed steps of {dt:g} s would take {steps} steps, more than max_steps = {solver.max_steps}: {instead}",
+        )
+    growth = fixed_step_growth(solver.solver, dt, built)
+    if growth is not None and growth > STABLE_GROWTH:
+        return adaptive, (
+            f"fixed steps of {dt:g} s are beyond {method}'s stability limit here (the fastest mode grows "
+            f"{growth:.3g}× a step: no damping holds it): {instead}",
+        )
+    return solver, ()
+
+
+def describe_stepping(solver: SolverConfig) -> str:
+    """How `solver` steps, in words: its method and fixed step or tolerances."""
+    method = type(solver.solver).__name__
+    controller = solver.stepsize_controller
+    if isinstance(controller, diffrax.ConstantStepSize) and solver.dt0 is not None:
+        return f"{method}, fixed steps of {float(np.asarray(solver.dt0)):g} s"
+    if isinstance(controller, diffrax.PIDController):
+        rtol, atol = (float(np.asarray(x)) for x in (controller.rtol, controller.atol))
+        return f"{method}, adaptive (rtol {rtol:g}, atol {atol:g})"
+    return f"{method}, {type(controller).__name__}"
 
 
 @contextmanager

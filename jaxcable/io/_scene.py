@@ -13,6 +13,7 @@ import dataclasses
 import warnings
 from dataclasses import dataclass, field
 
+import diffrax
 import numpy as np
 
 from .._advice import Labels
@@ -279,21 +280,30 @@ class LineSpec:
 @dataclass(frozen=True)
 class RunSettings:
     """How to run a scene: `duration` (s), the output interval `dt_out` (s; `None` for
-    0.1 s), the `solver` (a name in [`jaxcable.SOLVERS`][]), its tolerances and the
-    `mass_matrix` (`"consistent"` or `"lumped"`). Plain data, as a scene file holds it;
-    `solver_config()` makes the [`jaxcable.SolverConfig`][] that runs it."""
+    0.1 s), the `solver` (a name in [`jaxcable.SOLVERS`][]), its tolerances, a fixed
+    step `dt` (s; `None` to step adaptively, as by default), the most steps
+    `max_steps`, and the `mass_matrix` (`"consistent"` or `"lumped"`). Plain data, as a
+    scene file holds it; `solver_config()` makes the [`jaxcable.SolverConfig`][] that
+    runs it."""
 
     duration: float = 60.0
     dt_out: float | None = None
     solver: str = "dopri5"
     rtol: float = 1e-6
     atol: float = 1e-6
+    dt: float | None = None
+    max_steps: int = 1_000_000
     mass_matrix: str = "consistent"
 
     def solver_config(self) -> SolverConfig:
-        """`SOLVERS[solver](rtol=rtol, atol=atol)`; `ValueError` naming the solver and
-        the choices for an unknown name."""
-        return SOLVERS[self.solver](rtol=self.rtol, atol=self.atol)
+        """`SOLVERS[solver](rtol=rtol, atol=atol, max_steps=max_steps)`, or with `dt`
+        fixed steps of `dt` (`dt0=dt`, `diffrax.ConstantStepSize()`; the tolerances
+        unused); `ValueError` naming the solver and the choices for an unknown name."""
+        if self.dt is not None:
+            return SOLVERS[self.solver](
+                dt0=self.dt, stepsize_controller=diffrax.ConstantStepSize(), max_steps=self.max_steps
+            )
+        return SOLVERS[self.solver](rtol=self.rtol, atol=self.atol, max_steps=self.max_steps)
 
 
 @dataclass(frozen=True)

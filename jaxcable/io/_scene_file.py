@@ -37,6 +37,9 @@ A scene file names its points and line types and lists its lines::
     solver = "dopri5"            # see jaxcable.SOLVERS
     rtol = 1e-6
     atol = 1e-6
+    # dt = 0.001                 # s: fixed steps (as MoorDyn's dtM) instead of adaptive;
+    #                            # with solver = "midpoint", "heun" or "euler", say
+    max_steps = 1000000
     mass_matrix = "consistent"   # or "lumped"
 
     [line_types.rope]
@@ -112,7 +115,7 @@ _WATER = ("density", "gravity", "depth", "current", "current_profile", "free_sur
 _CURRENT_PROFILE = ("heights", "speeds", "heading")
 _WAVE = ("theory", "height", "steepness", "period", "heading", "phase", "wheeler")
 _SEABED = ("stiffness", "damping", "friction", "friction_speed")
-_SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "mass_matrix")
+_SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "dt", "max_steps", "mass_matrix")
 _LINE_TYPE_REQUIRED = ("mass_per_length", "diameter", "axial_stiffness")
 _LINE_TYPE_OPTIONAL = (
     "quadratic_stiffness",
@@ -162,6 +165,8 @@ def read_scene(path: str | Path) -> Scene:
         solver=reader.string(simulation, ("simulation", "solver"), defaults.solver),
         rtol=reader.number(simulation, ("simulation", "rtol"), defaults.rtol),
         atol=reader.number(simulation, ("simulation", "atol"), defaults.atol),
+        dt=reader.number(simulation, ("simulation", "dt"), None),
+        max_steps=reader.integer(simulation, ("simulation", "max_steps"), defaults.max_steps),
         mass_matrix=reader.string(simulation, ("simulation", "mass_matrix"), defaults.mass_matrix),
     )
     for key, allowed in (("solver", tuple(SOLVERS)), ("mass_matrix", MASS_MATRICES)):
@@ -169,7 +174,7 @@ def read_scene(path: str | Path) -> Scene:
             raise SceneError(
                 f"{reader.where(('simulation', key))}: must be one of {allowed}, got {getattr(run, key)!r}"
             )
-    for key in ("dt_out", "rtol", "atol"):
+    for key in ("dt_out", "rtol", "atol", "dt", "max_steps"):
         value = getattr(run, key)
         if value is not None and not value > 0:
             raise SceneError(f"{reader.where(('simulation', key))}: must be positive, got {value:g}")
@@ -418,6 +423,12 @@ class _Reader:
         if given and (isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value)):
             raise SceneError(f"{self.where(keys)}: expected a finite number, got {value!r}")
         return float(value) if given else value
+
+    def integer(self, table: dict, keys: tuple, default: Any = ...) -> int:
+        value, given = self._value(table, keys, default, "an integer")
+        if given and type(value) is not int:
+            raise SceneError(f"{self.where(keys)}: expected an integer, got {value!r}")
+        return value
 
     def boolean(self, table: dict, keys: tuple, default: Any = ...) -> bool:
         value, given = self._value(table, keys, default, "true or false")
