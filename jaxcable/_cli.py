@@ -20,6 +20,7 @@ import dataclasses
 import json
 import os
 import sys
+import tomllib
 import warnings
 from pathlib import Path
 
@@ -35,6 +36,7 @@ from ._stability import STABLE_GROWTH, fixed_step_growth
 from .examples import scene_names, scene_path
 from .io import RunSettings, Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
+from .io._moordyn import declared_time_step
 from .io._run import load_scene, run_scene
 
 OPTIMIZERS = {"lbfgs": lambda learning_rate: default_optimizer(), "adam": optax.adam}
@@ -53,7 +55,8 @@ def main(argv: list[str] | None = None) -> int:
     # the library itself never does.
     jax.config.update("jax_enable_x64", True)
     _use_compilation_cache()
-    _schedule_kernels_in_order()
+    if not (args.command == "run" and _declares_fixed_steps(args)):
+        _schedule_kernels_in_order()
     try:
         return args.handler(args)
     except SceneError as error:
@@ -75,9 +78,12 @@ def _schedule_kernels_in_order() -> None:
     between threads costs more than it gains: with this option a Dopri5 step of seed
     003's line took 30 µs instead of 52 at N = 20, and 68 instead of 118 at N = 100
     (2-core x86_64, quiet; `benchmarks/README.md`). A batched sweep's kernels are large
-    enough to gain from running together, so this suits `run`, not a sweep. XLA reads
-    its flags when its CPU backend starts, which is after this (nothing has run yet);
-    flags the caller set in `XLA_FLAGS` come first and win.
+    enough to gain from running together, so this suits `run`, not a sweep. Nor does it
+    suit fixed steps: the Low & Langley file's 107,000 midpoint steps took 3.4 s with
+    it and 2.7 s without (quiet, in one process each), so `run` leaves it off where the
+    input asks for fixed steps (`_declares_fixed_steps`). XLA reads its flags when its
+    CPU backend starts, which is after this (nothing has run yet); flags the caller set
+    in `XLA_FLAGS` come first and win.
     """
     flag = "--xla_cpu_enable_concurrency_optimized_scheduler"
     flags = os.environ.get("XLA_FLAGS", "")
@@ -164,13 +170,35 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _load(args) -> Scene:
+def _input_path(args) -> Path:
+    """The input file: a path, or a bundled example's by name."""
     path = Path(args.input)
     if not path.exists():
         if args.input in scene_names():
-            path = scene_path(args.input)
-        elif not path.suffix:
+            return scene_path(args.input)
+        if not path.suffix:
             raise SceneError(f"no file or bundled example named {args.input!r}; bundled: {', '.join(scene_names())}")
+    return path
+
+
+def _declares_fixed_steps(args) -> bool:
+    """Whether `run` is asked for fixed steps (`--dt`, a scene file's `dt`, a MoorDyn
+    file's `dtM`), read from the flags and the file's text before JAX starts; a file
+    that cannot be read says no here and fails later, when it is loaded."""
+    if args.adaptive or args.dt is not None:
+        return not args.adaptive
+    try:
+        path = _input_path(args)
+        if path.suffix.lower() == ".toml":
+            simulation = tomllib.loads(path.read_text(encoding="utf-8")).get("simulation")
+            return isinstance(simulation, dict) and "dt" in simulation
+        return declared_time_step(path) is not None
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, SceneError):
+        return False
+
+
+def _load(args) -> Scene:
+    path = _input_path(args)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the command prints the scene's notes itself
         scene = load_scene(path)
