@@ -889,6 +889,11 @@ def plot_work_precision(rows, path, record):
             axis.loglog([p[0] for p in pts], [p[1] for p in pts], marker, color=color, label=engine)
             for w, e, s in pts:
                 axis.annotate(s.split()[-1], (w, e), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        # Labels at 1, 2 and 5 times the decades, as plain numbers: matplotlib's minor
+        # labels of a short log axis overlap.
+        axis.xaxis.set_major_locator(matplotlib.ticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+        axis.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        axis.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         axis.set_xlabel("wall time after compilation (s)")
         axis.set_ylabel(f"{label} top-tension error / reference peak")
         axis.grid(True, which="both", alpha=0.3)

@@ -895,7 +895,11 @@ def plot(path: Path) -> None:
         for ax in (ax1, ax2):
             # w = 0 is drawn at 1e-8: label it as what it is.
             ax.set_xticks([1e-8, 1e-7, 1e-6, 1e-5, 1e-4, 1e-3], ["0 (sharp)", "1e-7", "1e-6", "1e-5", "1e-4", "1e-3"])
-            ax.minorticks_off()
+            ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+        # The step counts span less than a decade: label 1, 2 and 5 times each decade.
+        ax2.yaxis.set_major_locator(matplotlib.ticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+        ax2.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax2.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         fig.tight_layout()
         fig.savefig(path.parent / "stability_slack.png", dpi=120)
         plt.close(fig)
