@@ -3,7 +3,7 @@
     jaxcable run INPUT [--duration S] [--motion FILE] [--out FILE] [--dt-out S]
                        [--plot FILE.png] [--solver NAME] [--dt S | --adaptive]
                        [--rtol R] [--atol A] [--max-steps N] [--segments N]
-                       [--channels ...]
+                       [--channels ...] [--allow-ignored EI,waves,...]
     jaxcable info INPUT [--segments N] [--duration S]
     jaxcable calibrate RECORD.csv [RECORD.csv ...] --fit NAME=START [NAME=START ...]
                        [--optimizer lbfgs|adam] [--max-steps N] [--plot FILE.png]
@@ -36,7 +36,7 @@ from ._stability import STABLE_GROWTH, fixed_step_growth
 from .examples import scene_names, scene_path
 from .io import RunSettings, Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
-from .io._moordyn import declared_time_step
+from .io._moordyn import DROPPED_KINDS, declared_time_step
 from .io._run import load_scene, run_scene
 
 OPTIMIZERS = {"lbfgs": lambda learning_rate: default_optimizer(), "adam": optax.adam}
@@ -136,6 +136,12 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--max-steps", type=int, help="most solver steps before the run fails (default 1000000)")
     run.add_argument("--segments", type=int, help="divide every line into this many segments")
     run.add_argument("--channels", nargs="+", help="output channels, e.g. FairTen1 AnchTen1 L1N10PZ")
+    run.add_argument(
+        "--allow-ignored",
+        metavar="KINDS",
+        help="run a MoorDyn file without the physics it asks for and jaxcable leaves out, named by kind "
+        f"({', '.join(DROPPED_KINDS)}; comma-separated, e.g. EI,waves); without it such a file is refused",
+    )
     run.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
     run.set_defaults(handler=_run)
 
@@ -207,8 +213,34 @@ def _load(args) -> Scene:
     return scene
 
 
+def _allowed(args) -> set[str]:
+    """The kinds of left-out physics `--allow-ignored` names; `SceneError` for one that
+    is not a kind."""
+    kinds = {kind.strip() for kind in (args.allow_ignored or "").split(",") if kind.strip()}
+    unknown = sorted(kinds - set(DROPPED_KINDS))
+    if unknown:
+        raise SceneError(
+            f"--allow-ignored: unknown kind(s) {', '.join(unknown)}; the kinds: {', '.join(DROPPED_KINDS)}"
+        )
+    return kinds
+
+
+def _refuse_dropped(scene: Scene, allowed: set[str]) -> None:
+    """`SceneError` naming each option and line of the physics the file asks for and
+    jaxcable leaves out, unless `--allow-ignored` allows its kind."""
+    refused = [(kind, note) for kind, note in scene.dropped if kind not in allowed]
+    if refused:
+        kinds = ",".join(dict.fromkeys(kind for kind, _ in refused))
+        raise SceneError(
+            "the file asks for physics jaxcable leaves out, which would change the answer:\n  "
+            + "\n  ".join(note for _, note in refused)
+            + f"\nto run without it, add --allow-ignored {kinds}"
+        )
+
+
 def _run(args) -> int:
     scene = _load(args)
+    _refuse_dropped(scene, _allowed(args))
     duration = args.duration
     if args.motion is not None:
         coupled = scene.coupled_points
@@ -248,6 +280,8 @@ def _run(args) -> int:
         plot_run(run, args.plot, tuple(c for c in channels if not c.upper().endswith(("PX", "PY", "PZ"))))
         print(f"wrote {args.plot}")
     print(run.summary())
+    for _, note in scene.dropped:
+        print(f"left out (--allow-ignored): {note}")
     return 0
 
 

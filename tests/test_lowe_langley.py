@@ -21,9 +21,13 @@ AMPLITUDE, PERIOD, AFTER_RAMP = 10.0, 27.0, 80.0
 def statics():
     with pytest.warns(UserWarning) as caught:
         scene = jc.read_moordyn(DATA / "line.txt")
-    # What is left out is said: bending (EI) and the API's waves. The seabed is kept.
+    # What is left out is said: bending (EI). WaveKin = 1 (kinematics from a coupled
+    # program) leaves a standalone run in still water, MoorDyn's too: a note. The
+    # seabed is kept.
     said = " ".join(str(w.message) for w in caught)
-    assert "bending stiffness EI = 120800" in said and "WaveKin" in said and "kBot" not in said
+    assert "bending stiffness EI = 120800" in said and "WaveKin" not in said and "kBot" not in said
+    assert [kind for kind, _ in scene.dropped] == ["EI"]
+    assert any("WaveKin = 1: wave kinematics come from a coupled program" in note for note in scene.notes)
     return jc.run_scene(scene, duration=0)
 
 
@@ -55,11 +59,12 @@ def test_case_1_through_the_command_line(tmp_path, capsys):
     table = tmp_path / "case1.txt"
     np.savetxt(table, np.column_stack([t, x, 0 * t, -5.0 + 0 * t]))
     out = tmp_path / "case1.csv"
-    status = main(
-        ["run", str(DATA / "line.txt"), "--motion", str(table), "--out", str(out), "--dt-out", "0.05", "--no-progress"]
-    )
-    assert status == 0
-    assert "peak tension" in capsys.readouterr().out
+    argv = ["run", str(DATA / "line.txt"), "--motion", str(table), "--out", str(out), "--dt-out", "0.05"]
+    assert main([*argv, "--no-progress"]) == 2  # bending left out: refused unless allowed
+    assert "add --allow-ignored EI" in capsys.readouterr().err
+    assert main([*argv, "--no-progress", "--allow-ignored", "EI"]) == 0
+    printed = capsys.readouterr().out
+    assert "peak tension" in printed and "left out (--allow-ignored): " in printed
     columns = np.genfromtxt(out, delimiter=",", names=True)
     reference = np.loadtxt(DATA / "case1.csv", delimiter=",")
     simulated = np.interp(reference[:, 0], columns["Time"] - PERIOD, columns["FairTen1"] / 1e3)

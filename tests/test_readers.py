@@ -689,7 +689,7 @@ def test_moordyn_missing_file(tmp_path):
 
 
 def test_moordyn_lowe_and_langley_file():
-    with pytest.warns(UserWarning):  # bending and wave input left out
+    with pytest.warns(UserWarning):  # bending left out
         scene = jc.read_moordyn(LOWE_AND_LANGLEY)
     assert [p.kind for p in scene.points] == ["fixed", "coupled"]
     assert scene.points[0].position == (-100.0, 0.0, -55.0)
@@ -1381,3 +1381,37 @@ def test_the_command_line_knows_a_fixed_step_before_jax_starts(tmp_path):
     assert _declares_fixed_steps(parse(["run", str(adaptive), "--dt", "0.001"]))
     assert not _declares_fixed_steps(parse(["run", "seed003_line"]))  # a scene file without dt
     assert not _declares_fixed_steps(parse(["run", str(tmp_path / "missing.txt")]))
+
+
+@pytest.mark.parametrize(
+    "option, kind",
+    [
+        ("2  WaveKin", "waves"),
+        ("1  Currents", "currents"),
+        ("bathymetry.txt  SeafloorFile", "bathymetry"),
+        ("1.5  StatDynFricScale", "friction"),
+    ],
+)
+def test_moordyn_physics_left_out_is_listed_by_kind(tmp_path, option, kind):
+    options = (*OPTIONS, "0.5  FrictionCoefficient", option)
+    with pytest.warns(UserWarning, match="ignored"):
+        scene = jc.read_moordyn(write_moordyn(tmp_path, options=options))
+    ((dropped_kind, note),) = scene.dropped
+    assert dropped_kind == kind and note in scene.notes and option.split()[-1] in note
+
+
+def test_the_command_line_refuses_physics_left_out_unless_allowed(tmp_path, capsys):
+    """A file with bending stiffness (MoorDyn's EI) is refused, naming the line; with
+    --allow-ignored EI it runs, and the summary says what was left out."""
+    path = write_moordyn(tmp_path, types=("chain  0.1  20.0  1.0e9  -0.5  3.5e4  1.2  1.0  0.05  0.0",))
+    argv = ["run", str(path), "--duration", "0", "--no-progress"]
+    assert cli_main(argv) == 2
+    err = capsys.readouterr().err
+    assert f"line {line_of(path, '3.5e4')}: line type chain: bending stiffness EI = 35000" in err
+    assert err.rstrip().endswith("to run without it, add --allow-ignored EI")
+    assert cli_main([*argv, "--allow-ignored", "waves"]) == 2  # not the kind left out
+    capsys.readouterr()
+    assert cli_main([*argv, "--allow-ignored", "EI,waves"]) == 0
+    assert "left out (--allow-ignored): " in capsys.readouterr().out
+    assert cli_main([*argv, "--allow-ignored", "EI,bends"]) == 2
+    assert "--allow-ignored: unknown kind(s) bends" in capsys.readouterr().err

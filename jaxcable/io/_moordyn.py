@@ -125,6 +125,11 @@ _USED = {
 # MoorDyn's defaults (MoorDyn2.cpp): bottom stiffness and damping, friction damping.
 _KBOT, _CBOT, _FRICDAMP = 3.0e6, 3.0e5, 200.0
 _WAVES = {"wavekin", "dtwave", "currents", "unifycurrentgrid"}
+DROPPED_KINDS = ("EI", "waves", "currents", "bathymetry", "friction")
+"""What a MoorDyn file can ask for that jaxcable leaves out (`Scene.dropped`): bending
+stiffness, waves or currents from MoorDyn's input files, a bathymetry file, and
+friction's static-to-dynamic ratio. `jaxcable run` refuses such a file unless
+`--allow-ignored` names them."""
 
 
 def read_moordyn(path: str | Path) -> Scene:
@@ -148,6 +153,7 @@ def read_moordyn(path: str | Path) -> Scene:
     sections = _find_sections(lines)
     source = str(path)
     notes: list[str] = []
+    dropped: list[tuple[str, str]] = []
 
     for name, what in _UNSUPPORTED_SECTIONS.items():
         rows = _rows(lines, sections, name)
@@ -159,7 +165,7 @@ def read_moordyn(path: str | Path) -> Scene:
             aliases = " / ".join(dict(_SECTIONS)[required])
             raise SceneError(f"{source}: missing section {required} (a header line with '---' and {aliases})")
 
-    line_types = tuple(_line_type(source, n, row, notes) for n, row in _rows(lines, sections, "LINE TYPES"))
+    line_types = tuple(_line_type(source, n, row, dropped) for n, row in _rows(lines, sections, "LINE TYPES"))
     unique_names(line_types, "line type", source)
     points = tuple(_point(source, n, row, k) for k, (n, row) in enumerate(_rows(lines, sections, "POINTS")))
     type_names = [t.name for t in line_types]
@@ -170,14 +176,14 @@ def read_moordyn(path: str | Path) -> Scene:
         raise SceneError(f"{source}: section POINTS has no rows")
     if not mdlines:
         raise SceneError(f"{source}: section LINES has no rows")
-    options = _options(source, lines, sections, notes)
+    options = _options(source, lines, sections, notes, dropped)
     channels = tuple(_outputs(lines, sections))
 
     if any(p.kind == "coupled" for p in points):
         notes.append("coupled points are held fixed unless a motion table is given (jaxcable run --motion)")
     density = options.get("wtrdnsty", options.get("rho", 1025.0))
     gravity = options.get("g", options.get("gravity", 9.80665))
-    depth, seabed = _seabed(source, options, points, line_types, mdlines, density, gravity, notes)
+    depth, seabed = _seabed(source, options, points, line_types, mdlines, density, gravity, notes, dropped)
     water = Water(
         density=density,
         gravity=gravity,
@@ -186,10 +192,10 @@ def read_moordyn(path: str | Path) -> Scene:
         seabed=seabed,
     )
     run = RunSettings(dt_out=options.get("dtout") or None, mass_matrix="lumped", **_stepping(options, notes))
-    for note in notes:
-        if " ignored" in note:  # physics left out, as opposed to options not needed
-            warnings.warn(note, stacklevel=2)
-    return Scene(points, line_types, mdlines, water, run, channels, tuple(notes), source, _title(lines))
+    for _, note in dropped:
+        warnings.warn(note, stacklevel=2)
+    notes = [note for _, note in dropped] + notes
+    return Scene(points, line_types, mdlines, water, run, channels, tuple(notes), source, _title(lines), tuple(dropped))
 
 
 def declared_time_step(path: str | Path) -> float | None:
@@ -250,7 +256,7 @@ def _require(source: str, line: int, fields: list[str], columns: tuple[str, ...]
         )
 
 
-def _line_type(source: str, line: int, fields: list[str], notes: list[str]) -> LineTypeSpec:
+def _line_type(source: str, line: int, fields: list[str], dropped: list[tuple[str, str]]) -> LineTypeSpec:
     _require(source, line, fields, _LINE_TYPE_COLUMNS, "LINE TYPES")
     where = f"{source}, line {line}"
     name, diameter, mass, ea, ba, ei = fields[:6]
@@ -263,11 +269,16 @@ def _line_type(source: str, line: int, fields: list[str], notes: list[str]) -> L
                 "tables are not supported (give a constant)"
             )
     if not is_number(ei):
-        notes.append(f"{where}: line type {name}: bending stiffness table {ei!r} ignored (jaxcable has no bending)")
+        dropped.append(
+            ("EI", f"{where}: line type {name}: bending stiffness table {ei!r} ignored (jaxcable has no bending)")
+        )
     elif float(ei) != 0:
-        notes.append(
-            f"{where}: line type {name}: bending stiffness EI = {float(ei):g} N·m² ignored "
-            "(jaxcable models cables without bending)"
+        dropped.append(
+            (
+                "EI",
+                f"{where}: line type {name}: bending stiffness EI = {float(ei):g} N·m² ignored "
+                "(jaxcable models cables without bending)",
+            )
         )
     values = {c: _number(source, line, c, t) for c, t in zip(_LINE_TYPE_COLUMNS[6:], fields[6:10])}
     for k, token in enumerate(fields[10:]):
@@ -367,9 +378,12 @@ def _line(source: str, line: int, fields: list[str], index: int, n_points: int, 
     return LineSpec(str(index + 1), values["LineType"], ends[0], ends[1], length, int(values["NumSegs"]), where)
 
 
-def _options(source: str, lines: list[str], sections: dict[str, int], notes: list[str]) -> dict[str, float]:
+def _options(
+    source: str, lines: list[str], sections: dict[str, int], notes: list[str], dropped: list[tuple[str, str]]
+) -> dict[str, float]:
     """Numeric options jaxcable uses, by lower-case name, with `where` (the line of each,
-    by the same name prefixed with `@`); the rest become notes."""
+    by the same name prefixed with `@`); the rest become notes, or `dropped` where they
+    ask for physics jaxcable leaves out."""
     options = {}
     for line, fields in _rows(lines, sections, "OPTIONS"):
         if len(fields) < 2:
@@ -391,13 +405,33 @@ def _options(source: str, lines: list[str], sections: dict[str, int], notes: lis
             if not (number >= 0 if _USED[key] != "positive" else number > 0):
                 raise SceneError(f"{where}: option {name} must be {_USED[key]}, got {value}")
         elif key == "seafloorfile":
-            notes.append(
-                f"{where}: option {name} = {value} ignored (a bathymetry file; jaxcable's seabed is flat at WtrDpth)"
+            dropped.append(
+                (
+                    "bathymetry",
+                    f"{where}: option {name} = {value} ignored (a bathymetry file; jaxcable's seabed is flat "
+                    "at WtrDpth)",
+                )
             )
         elif key in _WAVES:
             if is_number(value) and float(value) == 0:
                 continue
-            notes.append(f"{where}: option {name} = {value} ignored (MoorDyn's wave and current input; still water)")
+            if key == "wavekin" and is_number(value) and float(value) == 1:
+                # Kinematics a coupled program hands MoorDyn: a standalone run has none.
+                notes.append(
+                    f"{where}: option {name} = {value}: wave kinematics come from a coupled program, so a "
+                    "standalone run, MoorDyn's or jaxcable's, is in still water"
+                )
+            elif key in ("wavekin", "currents"):
+                kind = "waves" if key == "wavekin" else "currents"
+                dropped.append(
+                    (
+                        kind,
+                        f"{where}: option {name} = {value} ignored (MoorDyn's {kind} from its input files; "
+                        "still water)",
+                    )
+                )
+            else:
+                notes.append(f"{where}: option {name} = {value} not needed (it sets MoorDyn's wave and current input)")
         elif key in _NOT_APPLICABLE:
             notes.append(f"{where}: option {name} = {value} not needed (jaxcable solves statics directly)")
         elif key not in _COSMETIC:
@@ -425,7 +459,7 @@ def _stepping(options: dict, notes: list[str]) -> dict:
 
 
 def _seabed(
-    source, options, points, line_types, lines, density, gravity, notes
+    source, options, points, line_types, lines, density, gravity, notes, dropped
 ) -> tuple[float | None, SeabedSpec | None]:
     """The water depth and MoorDyn's seabed (module docstring)."""
     depth = options.get("wtrdpth", 0.0)
@@ -487,9 +521,12 @@ def _seabed(
                 f"buoyant, so friction_speed keeps jaxcable's default {friction_speed:g} m/s"
             )
     if scale != 1:
-        notes.append(
-            f"{where_s}: option StatDynFricScale = {scale:g} ignored (jaxcable's friction has one coefficient, "
-            "without a static-to-dynamic ratio)"
+        dropped.append(
+            (
+                "friction",
+                f"{where_s}: option StatDynFricScale = {scale:g} ignored (jaxcable's friction has one coefficient, "
+                "without a static-to-dynamic ratio)",
+            )
         )
     with located(where):
         seabed = SeabedSpec(stiffness, damping, friction, friction_speed, where)

@@ -316,6 +316,9 @@ class Scene:
     - `channels`: output channels requested by the file (MoorDyn names, such as
         `FairTen1` or `L1N3PZ`); empty for the default set.
     - `notes`: what the reader ignored or assumed, for the user to read.
+    - `dropped`: the physics the file asks for that jaxcable leaves out, as `(kind,
+        note)` with kind one of `jaxcable.io._moordyn.DROPPED_KINDS` (`"EI"`,
+        `"waves"`, ...); their notes are among `notes` too.
     - `source`: the file it came from.
     - `title`: a one-line description, for listings and figures.
     """
@@ -329,6 +332,7 @@ class Scene:
     notes: tuple[str, ...] = ()
     source: str = "<scene>"
     title: str = ""
+    dropped: tuple[tuple[str, str], ...] = ()
 
     def __post_init__(self):
         names = [t.name for t in self.line_types]
