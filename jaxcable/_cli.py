@@ -1,6 +1,7 @@
 """The `jaxcable` command line: run or describe a scene file or a MoorDyn input file.
 
-    jaxcable run INPUT [--duration S] [--motion FILE] [--out FILE] [--dt-out S]
+    jaxcable run INPUT [--duration S] [--motion FILE] [--motion-interpolation cubic|pchip|linear]
+                       [--out FILE] [--dt-out S]
                        [--plot FILE.png] [--solver NAME] [--segments N] [--channels ...]
     jaxcable info INPUT [--segments N] [--duration S]
     jaxcable calibrate RECORD.csv [RECORD.csv ...] --fit NAME=START [NAME=START ...]
@@ -28,11 +29,12 @@ import optax
 from ._advice import advise
 from ._calibrate import calibrate, calibration_solver, default_optimizer
 from ._config import SOLVERS
-from ._motion import Harmonic, Sampled
+from ._motion import INTERPOLATIONS, Harmonic, Sampled
 from .examples import scene_names, scene_path
 from .io import Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
-from .io._run import load_scene, run_scene
+from .io._output import check_output, check_writable
+from .io._run import DEFAULT_DT_OUT, check_size, load_scene, run_scene
 
 OPTIMIZERS = {"lbfgs": lambda learning_rate: default_optimizer(), "adam": optax.adam}
 """The `calibrate` command's optimizers by name, each made from `--learning-rate` (which
@@ -52,7 +54,10 @@ def main(argv: list[str] | None = None) -> int:
     _use_compilation_cache()
     _schedule_kernels_in_order()
     try:
-        return args.handler(args)
+        with warnings.catch_warnings():  # restores the display below when the command ends
+            warnings.showwarning = _show_warning
+            _check_flags(args)
+            return args.handler(args)
     except SceneError as error:
         print(f"jaxcable: error: {error}", file=sys.stderr)
         return 2
@@ -62,6 +67,13 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into `head` and the like: stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Print a warning as one line, `warning: ...`, as the command's notes are, without
+    the source line Python's display adds."""
+    del category, filename, lineno, file, line
+    print(f"warning: {message}", file=sys.stderr)
 
 
 def _schedule_kernels_in_order() -> None:
@@ -112,6 +124,13 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("input", help="scene (.toml), MoorDyn input file, or bundled example name")
     run.add_argument("--duration", type=float, help="simulated time (s); 0 solves statics only")
     run.add_argument("--motion", type=Path, help="table of time x y z for each coupled point, in order")
+    run.add_argument(
+        "--motion-interpolation",
+        choices=INTERPOLATIONS,
+        default="cubic",
+        help="between the motion table's rows: natural cubic spline (default; may overshoot a step), "
+        "pchip (monotone) or linear",
+    )
     run.add_argument("--out", type=Path, help="output file: .csv, .out (MoorDyn layout), .npz or .nc")
     run.add_argument("--dt-out", type=float, help="output interval (s); default: the file's dtOut, or 0.1 s")
     run.add_argument("--plot", type=Path, help="save tension histories and line shapes to this image")
@@ -167,6 +186,34 @@ def _load(args) -> Scene:
     return scene
 
 
+def _check_flags(args) -> None:
+    """Refuse bad flag values before any work: a number out of range, or an output or
+    plot file that could not be written at the end of a run."""
+    for flag, value, allow_zero in (("--duration", "duration", True), ("--dt-out", "dt_out", False)):
+        number = getattr(args, value, None)
+        if number is not None and not (np.isfinite(number) and (number >= 0 if allow_zero else number > 0)):
+            kind = "non-negative" if allow_zero else "positive"
+            raise SceneError(f"{flag} must be a {kind} number of seconds, got {number:g}")
+    for flag, value in (("--segments", "segments"), ("--max-steps", "max_steps")):
+        number = getattr(args, value, None)
+        if number is not None and number < 1:
+            raise SceneError(f"{flag} must be a positive integer, got {number}")
+    for flag, value in (("--learning-rate", "learning_rate"), ("--rtol", "rtol"), ("--atol", "atol")):
+        number = getattr(args, value, None)
+        if number is not None and not (np.isfinite(number) and number > 0):
+            raise SceneError(f"{flag} must be a positive number, got {number:g}")
+    out = getattr(args, "out", None)
+    if out is not None:
+        if args.command == "run":
+            check_output(out, "--out")
+        else:
+            check_writable(out, "--out")
+    if getattr(args, "plot", None) is not None:
+        from .plot import check_plot_path
+
+        check_plot_path(args.plot, "--plot")
+
+
 def _run(args) -> int:
     scene = _load(args)
     duration = args.duration
@@ -180,9 +227,20 @@ def _run(args) -> int:
         duration = times[-1] if duration is None else duration
         if duration > times[-1]:
             raise SceneError(f"--duration {duration:g} s runs past the motion table's last time, {times[-1]:g} s")
-        scene = scene.with_motion_table(times, positions, str(args.motion))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UserWarning)
+            scene = scene.with_motion_table(times, positions, f"--motion {args.motion}", args.motion_interpolation)
+        for warning in caught:  # a spline that overshoots the table
+            print(f"warning: --motion {args.motion}: {warning.message}", file=sys.stderr)
     for note in scene.notes:
         print(f"note: {note}", file=sys.stderr)
+    held = [scene.points[k].name for k in scene.coupled_points if scene.points[k].motion is None]
+    if held:
+        print(
+            f"note: coupled point(s) {', '.join(held)} have no motion and are held where they are; give a "
+            "motion table with --motion",
+            file=sys.stderr,
+        )
     print(f"{Path(scene.source).name}" + (f": {scene.title}" if scene.title else ""))
     channels = tuple(args.channels or ())
     for name in channels or default_channels(scene):
@@ -217,6 +275,9 @@ def _info(args) -> int:
     model = built.model
     water = scene.water
     duration = scene.run.duration if args.duration is None else args.duration
+    # The advice solves statics: refuse a model too large for memory first.
+    for warning in check_size(built, duration, scene.run.dt_out or DEFAULT_DT_OUT, scene.run.solver_config()):
+        print(f"warning: {warning}", file=sys.stderr)
     print(f"{scene.source}" + (f": {scene.title}" if scene.title else ""))
     depth = "unbounded" if water.depth is None else f"{water.depth:g} m"
     profile = water.current_profile
@@ -285,7 +346,7 @@ def _info(args) -> int:
     run = scene.run
     print(
         f"run: {duration:g} s, solver {run.solver} (rtol {run.rtol:g}, atol {run.atol:g}), output every "
-        f"{run.dt_out or 0.1:g} s"
+        f"{run.dt_out or DEFAULT_DT_OUT:g} s"
     )
     print("channels: " + " ".join(scene.channels or ["FairTen<k> AnchTen<k> for every line"]))
     print("ignored or assumed:" if scene.notes else "ignored or assumed: nothing")

@@ -421,11 +421,6 @@ def test_moordyn_file_with_nothing_left_out_reads_without_warnings(tmp_path):
     assert not any("WaveKin" in n or "disableOutTime" in n for n in scene.notes)
 
 
-def test_moordyn_coupled_points_note(tmp_path):
-    scene = jc.read_moordyn(write_moordyn(tmp_path))
-    assert any("coupled" in n and "motion" in n for n in scene.notes)
-
-
 def test_moordyn_empty_rod_and_body_sections_are_accepted(tmp_path):
     # Many MoorDyn files carry these sections with no rows.
     rod_types = ("TypeName Diam Mass/m Cd Ca CdEnd CaEnd", "(-) (m) (kg/m) (-) (-) (-) (-)")
