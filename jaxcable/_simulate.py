@@ -132,8 +132,9 @@ def simulate(
     **Raises:**
 
     `ValueError` naming the field and value for a bad input (a model's field edited
-    with `eqx.tree_at`, say, t1 ≤ t0, `ts` outside [t0, t1], a non-finite initial state,
-    or a support below the seabed), or a `solver` that is not a
+    with `eqx.tree_at`, say, a non-finite time, t1 ≤ t0, `ts` outside [t0, t1] or not
+    increasing, a non-finite initial state, a support below the seabed, or a model,
+    water or initial state of the wrong type), or a `solver` that is not a
     [`jaxcable.SolverConfig`][]; with a traced model or
     times (inside `jit`), `equinox.EquinoxRuntimeError` naming the field instead.
     With `throw=True`, an error carrying diffrax's message when the solve fails (too
@@ -143,7 +144,12 @@ def simulate(
     with a fixed step, which cannot reject, a state that goes non-finite fails the
     solve (`diffrax.RESULTS.nonfinite`).
     """
+    for name, value, kind in (("model", model, CableNetwork), ("env", env, Environment), ("initial", initial, State)):
+        if not isinstance(value, kind) and not (name == "initial" and value is None):
+            raise ValueError(f"simulate: {name} must be a jaxcable.{kind.__name__}, got {type(value).__name__}")
     t0, t1 = jnp.asarray(t0, dtype=float), jnp.asarray(t1, dtype=float)
+    # An infinite t1 would step until `max_steps`.
+    t0, t1 = checks.check((t0, t1), [checks.finite("simulate: t0", t0), checks.finite("simulate: t1", t1)])
     later = checks.Condition(
         "simulate: t1",
         ~(t1 > t0),
@@ -155,7 +161,14 @@ def simulate(
     ts = jnp.linspace(t0, t1, 201) if ts is None else jnp.asarray(ts, dtype=float)
     if ts.ndim != 1 or ts.size == 0:
         raise ValueError(f"simulate: ts must be a non-empty 1-D array, got shape {ts.shape}")
-    ts = checks.check(ts, [checks.Condition("simulate: ts", (ts < t0) | (ts > t1), ts, "must lie within [t0, t1]")])
+    ts = checks.check(
+        ts,
+        [
+            checks.finite("simulate: ts", ts),
+            checks.Condition("simulate: ts", (ts < t0) | (ts > t1), ts, "must lie within [t0, t1]"),
+            checks.increasing("simulate: ts", ts),
+        ],
+    )
     initial_positions = model.node_positions if initial is None else initial.positions
     initial_velocities = jnp.zeros_like(initial_positions) if initial is None else initial.velocities
     if initial_positions.shape != model.node_positions.shape:

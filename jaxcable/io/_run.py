@@ -257,11 +257,11 @@ def check_size(built: BuiltScene, duration: float, dt_out: float, solver: Solver
     counts = "/".join(str(line.segments) for line in built.scene.lines)
     if statics + outputs > available:
         raise SceneError(
-            f"{built.scene.source}: {segments:,} segments (lines of {counts}) need about "
+            f"{built.scene.source}: {segments:,} segments (lines of {counts}) over {duration:g} s need about "
             f"{(statics + outputs) / 2**30:,.1f} GiB ({statics / 2**30:,.1f} GiB for statics' dense matrices of "
-            f"{free:,} free nodes, {outputs / 2**30:,.1f} GiB for {times:,} output times), more than this "
-            f"machine's {available / 2**30:,.1f} GiB: use fewer segments (segments in the file, or --segments) "
-            "or a longer output interval"
+            f"{free:,} free nodes, {outputs / 2**30:,.1f} GiB for {times:,} output times every {dt_out:g} s), "
+            f"more than this machine's {available / 2**30:,.1f} GiB: use fewer segments (segments in the file, or "
+            "--segments), or fewer output times"
         )
     statics_seconds = STATICS_SECONDS_PER_CUBED_FREE_NODE * free**3
     parts = [f"statics some {statics_seconds / 3600:,.2g} h (dense matrices of {free:,} free nodes, O(F³))"]
@@ -289,17 +289,6 @@ def check_size(built: BuiltScene, duration: float, dt_out: float, solver: Solver
         + "; ".join(parts)
         + "; fewer segments cut both",
     )
-    _, magnitude, _ = stiffest_axial_mode(model, built.environment)
-    steps = duration * magnitude / STABLE_STEP
-    seconds = steps * (STEP_SECONDS + EVALUATIONS_PER_STEP * EVALUATION_SECONDS_PER_NODE * nodes)
-    if seconds > WARN_SECONDS:
-        out.append(
-            f"{segments:,} segments (lines of {counts}) over {duration:g} s: an explicit solver's stable step is "
-            f"{STABLE_STEP / magnitude:.3g} s at most (the stiffest axial mode, |λ| = {magnitude:.4g} 1/s), so about "
-            f"{steps:,.0f} steps of {nodes:,} nodes, some {seconds / 3600:,.1f} h on a 2-core CPU; fewer segments "
-            "shorten both the step count and each step"
-        )
-    return tuple(out)
 
 
 @contextmanager

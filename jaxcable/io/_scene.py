@@ -213,8 +213,11 @@ class LineTypeSpec:
     where: str = ""
 
     def damping_coefficient(self, segment_length: float) -> float:
-        """C_v (N·s) for segments of unstretched length `segment_length` (m)."""
-        ratio_part = self.axial_damping_ratio * segment_length * np.sqrt(self.axial_stiffness * self.mass_per_length)
+        """C_v (N·s) for segments of unstretched length `segment_length` (m); NaN for a
+        damping ratio on a negative stiffness or mass, which the line type then refuses
+        by name (numpy's square root would only warn)."""
+        product = self.axial_stiffness * self.mass_per_length
+        ratio_part = self.axial_damping_ratio * segment_length * (np.sqrt(product) if product >= 0 else np.nan)
         return self.axial_damping + ratio_part
 
     def line_type(self, segment_length: float) -> LineType:

@@ -482,7 +482,10 @@ class _Reader:
             self.keys(spec, keys, ("type", "file", "interpolation"))
             file = self.path.parent / self.string(spec, (*keys, "file"))
             interpolation = self.string(spec, (*keys, "interpolation"), "cubic")
-            times, positions = read_motion_file(file, 1)
+            try:
+                times, positions = read_motion_file(file, 1)
+            except SceneError as error:  # its own messages name the table's file and line, not this key
+                raise SceneError(f"{self.where((*keys, 'file'))}: {error}") from None
             with located(self.where((*keys, "interpolation") if "interpolation" in spec else keys)):
                 return Sampled(times, positions[:, 0, :] - tuple(position), interpolation)
         raise SceneError(f"{self.where((*keys, 'type'))}: unknown motion type {kind!r}; expected 'harmonic' or 'table'")
