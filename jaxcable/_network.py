@@ -564,14 +564,15 @@ def network_conditions(model: CableNetwork, env: Environment) -> list[checks.Con
         return out
     nodes = model.constrained_nodes
     heights = model.node_positions[nodes, 2]
-    bed = -env.depth
-    below = below_seabed(heights, env.depth)
+    depth = env.depth
+    bed = -depth
+    below = below_seabed(heights, depth)
 
     def detail() -> str:
         k = int(np.argmax(np.asarray(below)))
         return (
             f"CableNetwork.node_positions: constrained node {int(nodes[k])} is at z = {float(heights[k]):g} m, "
-            f"below the seabed at z = {float(bed):g} m (Environment.depth = {float(env.depth):g} m): raise it "
+            f"below the seabed at z = {float(bed):g} m (Environment.depth = {float(depth):g} m): raise it "
             "to the bed or deepen the water"
         )
 

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import diffrax
 import equinox as eqx
+import helpers
 import jax
 import numpy as np
 import pytest
@@ -33,38 +34,9 @@ SECONDS = 20.0  # what "within seconds" means here, with a loaded 2-core machine
 # --------------------------------------------------------------------------------------
 # Inputs, each one edit away from one that runs.
 
-SCENE = """\
-title = "bad input"
-
-[water]
-depth = 150.0
-
-[seabed]
-
-[simulation]
-duration = 10.0
-dt_out = 0.5
-
-[line_types.rope]
-mass_per_length = 3.0
-diameter = 0.02
-axial_stiffness = 3.0e7
-
-[points.anchor]
-type = "fixed"
-position = [0.0, 0.0, -150.0]
-
-[points.float]
-type = "coupled"
-position = [150.0, 0.0, 0.0]
-
-[[lines]]
-type = "rope"
-from = "anchor"
-to = "float"
-length = 220.0
-segments = 10
-"""
+# The readers' small scene, on a seabed: an anchor at z = −100 m in 150 m of water, a
+# rope of 190 m in 10 segments to a coupled float at (150, 0, 0).
+SCENE = helpers.SCENE + "\n[seabed]\n"
 
 MOORDYN = """\
 --------------------- MoorDyn Input File ------------------------
@@ -193,7 +165,7 @@ def test_cli_refuses_before_any_work(cli, args, message):
 # Scene files: (edit of SCENE, the error's words). Read, and for values that only
 # the engine can judge, built, as `jaxcable info` does.
 SCENE_CASES = [
-    (edited("depth = 150.0", "depth = 100.0"), r"fixed point anchor at z = -150 m is below the seabed at z = -100 m"),
+    (edited("depth = 150.0", "depth = 90.0"), r"fixed point anchor at z = -100 m is below the seabed at z = -90 m"),
     (
         edited("position = [150.0, 0.0, 0.0]", "position = [150.0, 0.0, -151.0]"),
         r"coupled point float at z = -151 m is below the seabed at z = -150 m \(\[water\] depth = 150 m\)",
@@ -411,6 +383,10 @@ API_CASES = {
     "breaking Airy wave (McCowan)": (lambda: jc.Airy(8.0, 12.0, 10.0), r"H/d = 0.8 against McCowan's 0.78"),
     "breaking Airy steepness": (lambda: jc.Airy.from_steepness(0.2, 8.0, 100.0), r"Miche's 0.142 tanh\(2πd/λ\)"),
     "Cnoidal past McCowan": (lambda: jc.Cnoidal(9.0, 20.0, 10.0), r"Cnoidal.height must be at most 0.78 times"),
+    "Cnoidal past Miche": (
+        lambda: jc.Cnoidal(6.0, 6.5, 10.0),
+        r"Cnoidal.height must be at most the breaking height 5.8\d+ m, got 6 m .* H/λ = 0.128 against Miche's",
+    ),
     "falling tension law": (
         lambda: small_line(jc.NonlinearElastic(3e7, -3e8)),
         r"quadratic_stiffness C_E1 = -3e\+08 N with C_E = 3e\+07 N makes the tension fall beyond ε = 0.05",
@@ -463,28 +439,24 @@ def test_api_refuses_at_construction_or_entry(make, message):
 
 
 @pytest.mark.unchecked  # jaxtyping's checker would refuse these first, by annotation
-@pytest.mark.parametrize(
-    "arguments, message",
-    [
-        (lambda m, e: (m, "water"), r"simulate: env must be a jaxcable.Environment, got str"),
-        (lambda m, e: (None, e), r"simulate: model must be a jaxcable.CableNetwork, got NoneType"),
-    ],
-)
-def test_simulate_names_an_argument_of_the_wrong_type(arguments, message):
-    with pytest.raises(ValueError, match=message):
-        jc.simulate(*arguments(*small_line()), 1.0)
+def test_simulate_names_an_argument_of_the_wrong_type():
+    model, env = small_line()
+    with pytest.raises(ValueError, match=r"simulate: env must be a jaxcable.Environment, got str"):
+        jc.simulate(model, "water", 1.0)  # pyright: ignore[reportArgumentType]
+    with pytest.raises(ValueError, match=r"simulate: model must be a jaxcable.CableNetwork, got NoneType"):
+        jc.simulate(None, env, 1.0)  # pyright: ignore[reportArgumentType]
 
 
 @pytest.mark.unchecked
 def test_solver_tolerance_that_is_not_a_number_is_named():
     with pytest.raises(ValueError, match=r"SolverConfig.rtol must be a number or an array of numbers, got 'tight'"):
-        jc.SolverConfig(rtol="tight")
+        jc.SolverConfig(rtol="tight")  # pyright: ignore[reportArgumentType]
 
 
 @pytest.mark.unchecked
 def test_simulate_names_an_initial_state_that_is_not_a_state():
     with pytest.raises(ValueError, match=r"simulate: initial must be a jaxcable.State, got ndarray"):
-        jc.simulate(*small_line(), 1.0, initial=np.zeros((5, 3)))
+        jc.simulate(*small_line(), 1.0, initial=np.zeros((5, 3)))  # pyright: ignore[reportArgumentType]
 
 
 def test_forward_mode_derivative_says_which_adjoint_to_pass():
@@ -521,13 +493,14 @@ def test_a_run_of_hours_is_warned_of_before_it_starts(tmp_path):
 
 def test_size_estimate_follows_its_stated_costs(tmp_path):
     # The warning's figures by hand: statics 204 s × (F/800)³, dynamics at the stable
-    # step 1.7/|λ| with |λ| = 2 √3 √(EA/m) / l (consistent mass), each step
+    # step 1.7/|λ| with |λ| = 2 √3 √(EA/m) / l (consistent mass; ζ = 0.2 leaves the
+    # mode underdamped, so damping does not change |λ|), each step
     # 13.5 µs + 6 × 144 ns per node.
     (tmp_path / "scene.toml").write_text(edited("duration = 10.0", "duration = 30.0"))
     built = jc.read_scene(tmp_path / "scene.toml").with_segments(2500).build()
     (warning,) = check_size(built, 30.0, 0.5, jc.SolverConfig())
     free, nodes = 2499, 2501
-    magnitude = 2 * np.sqrt(3) * np.sqrt(3.0e7 / 3.0) / (220.0 / 2500)
+    magnitude = 2 * np.sqrt(3) * np.sqrt(3.0e7 / 3.0) / (190.0 / 2500)
     steps = 30.0 * magnitude / 1.7
     hours = (204.0 * (free / 800) ** 3 + steps * (13.5e-6 + 6 * 144e-9 * nodes)) / 3600
     assert f"would take some {hours:,.2g} h" in warning and f"about {steps:,.0f} steps" in warning

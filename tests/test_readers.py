@@ -16,6 +16,7 @@ from pathlib import Path
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from helpers import SCENE
 
 import jaxcable as jc
 from jaxcable._cli import main as cli_main
@@ -671,39 +672,6 @@ def test_moordyn_lowe_and_langley_file():
 
 # --------------------------------------------------------------------------------------
 # TOML scenes
-
-SCENE = """\
-title = "reader test"
-
-[water]
-density = 1025.0
-depth = 150.0
-
-[simulation]
-duration = 10.0
-dt_out = 0.5
-
-[line_types.rope]
-mass_per_length = 3.0
-diameter = 0.02
-axial_stiffness = 3.0e7
-axial_damping_ratio = 0.2
-
-[points.anchor]
-type = "fixed"
-position = [0.0, 0.0, -100.0]
-
-[points.float]
-type = "coupled"
-position = [150.0, 0.0, 0.0]
-
-[[lines]]
-type = "rope"
-from = "anchor"
-to = "float"
-length = 190.0
-segments = 10
-"""
 
 
 def write_scene(tmp_path: Path, text: str, name: str = "scene.toml") -> Path:
