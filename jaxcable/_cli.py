@@ -395,7 +395,7 @@ def _calibrate(args) -> int:
     except ValueError as error:  # a malformed record, an unknown rig or coefficient
         raise SceneError(str(error)) from None
     except OSError as error:  # a record that is missing, or a folder
-        raise SceneError(f"cannot read record {error.filename}: {error.strerror}") from None
+        raise SceneError(f"cannot read {error.filename}: {error.strerror}") from None
     print(result.summary())
     if args.out is not None:
         summary = {

@@ -119,8 +119,9 @@ INTERPOLATIONS = ("cubic", "pchip", "linear")
 OVERSHOOT_FRACTION = 0.1
 """How far (as a fraction of a coordinate's range over the table) a cubic spline may
 stray outside the two samples of an interval before [`jaxcable.Sampled`][] warns. A
-smooth signal sampled at 8 points a period strays by at most 4 % of its range between
-samples; a step strays by far more (a 0 → 100 m step ran to −89 and +167 m)."""
+sine sampled at 8 points a period strays by up to 4.2 % of its range between samples
+(by SciPy's natural spline, over the sampling's phase); a step strays further (issue 23
+reports a table stepping 0 → 100 m whose spline ran to −89 and +167 m)."""
 
 
 class Sampled(AbstractMotion):

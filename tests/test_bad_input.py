@@ -140,8 +140,8 @@ CLI_CASES = [
     (["run", "nowhere.toml"], r"cannot read nowhere.toml: No such file or directory"),
     (["run", "seed003_line", "--motion", "."], r"cannot read motion file \.: Is a directory"),
     # Calibration: records and flags.
-    (["calibrate", "nowhere.csv", "--fit", "normal_drag=1.2"], r"cannot read record nowhere.csv: No such file"),
-    (["calibrate", ".", "--fit", "normal_drag=1.2"], r"cannot read record \.: Is a directory"),
+    (["calibrate", "nowhere.csv", "--fit", "normal_drag=1.2"], r"cannot read nowhere.csv: No such file"),
+    (["calibrate", ".", "--fit", "normal_drag=1.2"], r"cannot read \.: Is a directory"),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--out", "."], r"--out \.: is a folder"),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--out", "no/fit.json"], r"--out no/fit.json: the folder no"),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--plot", "fit.foo"], r"--plot fit.foo: unknown format"),
