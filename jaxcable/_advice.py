@@ -15,7 +15,7 @@ for each moving support (slack). The criteria, and where they come from:
   in water shallow enough for the long-wave approximation, λ > 8 d (Fenton 1999, "The
   cnoidal theory of water waves"), cnoidal theory does. A wave breaks beyond
   H/d = 0.78 (McCowan 1894) or H/λ = 0.142 tanh(2π d/λ) (Miche 1944): no regular
-  theory then.
+  theory then, and the waves refuse such heights when they are built.
 - **Fluid inertia.** The Keulegan–Carpenter number KC = u T / D (u the water's
   speed amplitude where the element is shallowest, T the period, D the diameter;
   (6V/π)^⅓ for a body) sets the balance in Morison's equation. In sinusoidal flow the
@@ -74,8 +74,6 @@ URSELL_LIMIT = 8 * np.pi**2 / 3
 # Cnoidal theory for waves longer than 8 depths (Fenton 1999).
 CNOIDAL_RELATIVE_DEPTH = 1 / 8
 DEEP_RELATIVE_DEPTH, SHALLOW_RELATIVE_DEPTH = 0.5, 0.05
-BREAKING_HEIGHT_RATIO = 0.78  # H/d, McCowan (1894)
-BREAKING_STEEPNESS = 0.142  # H/λ in deep water, Miche (1944): times tanh(2π d/λ)
 # Peak inertia over peak drag: below, inertia adds < 6 % to the peak force; above the
 # other, inertia dominates.
 DRAG_DOMINATES, INERTIA_DOMINATES = 0.5, 2.0
@@ -229,7 +227,7 @@ class WaveFit:
     - `ursell`: U = H λ²/d³; `relative_depth`: d/λ; `height_ratio`: H/d;
         `steepness`: H/λ.
     - `regime`: `"deep"` (d/λ > 0.5), `"intermediate"` or `"shallow"` (d/λ < 0.05).
-    - `fits`: `"airy"`, `"cnoidal"`, `"breaking"` (none: the wave breaks) or `"none"`
+    - `fits`: `"airy"`, `"cnoidal"` or `"none"`
         (between the theories jaxcable has).
     - `reason`: why, in words.
     """
@@ -408,14 +406,9 @@ def wave_fit(wave: AbstractWave, index: int = 0) -> WaveFit:
     regime = (
         "deep" if relative > DEEP_RELATIVE_DEPTH else "shallow" if relative < SHALLOW_RELATIVE_DEPTH else "intermediate"
     )
-    miche = BREAKING_STEEPNESS * np.tanh(2 * np.pi * relative)
-    if height / depth > BREAKING_HEIGHT_RATIO or height / length > miche:
-        fits = "breaking"
-        reason = (
-            f"H/d = {height / depth:.3g} against 0.78 (McCowan) and H/λ = {height / length:.3g} against "
-            f"0.142 tanh(2πd/λ) = {miche:.3g} (Miche): no regular wave theory holds"
-        )
-    elif ursell < URSELL_LIMIT:
+    # A breaking wave never gets here: the waves refuse heights past the breaking limit
+    # (`jaxcable._waves.breaking_height`).
+    if ursell < URSELL_LIMIT:
         fits = "airy"
         reason = (
             "U < 8π²/3 ≈ 26, where Stokes' second harmonic stays below a quarter of the first: linear or "

@@ -40,7 +40,7 @@ from jaxtyping import ArrayLike, Bool, Float
 from . import _checks as checks
 from ._config import SolverConfig
 from ._environment import Environment
-from ._network import CableNetwork
+from ._network import CableNetwork, network_conditions
 from ._simulate import SimulationResult, as_config, failure_message, for_model, result_of, terms_for
 from ._state import State
 
@@ -97,7 +97,13 @@ def simulate_in_blocks(
     if ts.ndim != 1 or ts.size < 2:
         raise ValueError(f"simulate_in_blocks: ts must be 1-D with at least 2 times, got shape {ts.shape}")
     checks.enforce([checks.finite("simulate_in_blocks: ts", ts), checks.increasing("simulate_in_blocks: ts", ts)])
-    checks.enforce(model.conditions() + env.conditions())
+    checks.enforce(
+        network_conditions(model, env)
+        + [
+            checks.finite("simulate_in_blocks: initial.positions", initial.positions),
+            checks.finite("simulate_in_blocks: initial.velocities", initial.velocities),
+        ]
+    )
     if fixed:
         substeps = substeps_per_interval(ts, float(np.asarray(config.dt0)))
         if substeps * (ts.size - 1) > config.max_steps:

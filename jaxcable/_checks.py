@@ -186,11 +186,14 @@ def first_violation(
 def float_array(name: str, value: RealLike, shape: tuple[int, ...] | None = None) -> Array:
     """`value` as a float array, checked finite and, if `shape` is given, broadcast to it.
 
-    Raises `ValueError` naming `name` if the value is not finite or cannot take `shape`,
-    and [`jaxcable.Float64Error`][] if JAX's float64 is off.
+    Raises `ValueError` naming `name` if the value is not numeric, not finite or cannot
+    take `shape`, and [`jaxcable.Float64Error`][] if JAX's float64 is off.
     """
     require_float64()
-    concrete = value if isinstance(value, jax.core.Tracer) else np.asarray(value, dtype=float)
+    try:
+        concrete = value if isinstance(value, jax.core.Tracer) else np.asarray(value, dtype=float)
+    except (TypeError, ValueError):  # a string, None, a ragged list: numpy's message names no field
+        raise ValueError(f"{name} must be a number or an array of numbers, got {value!r}") from None
     enforce([finite(name, concrete)])
     array = jnp.asarray(concrete, dtype=float)
     if shape is not None:

@@ -1,9 +1,9 @@
 """The `jaxcable` command line: run or describe a scene file or a MoorDyn input file.
 
-    jaxcable run INPUT [--duration S] [--motion FILE] [--out FILE] [--dt-out S]
-                       [--plot FILE.png] [--solver NAME] [--dt S | --adaptive]
-                       [--rtol R] [--atol A] [--max-steps N] [--segments N]
-                       [--channels ...] [--allow-ignored EI,waves,...]
+    jaxcable run INPUT [--duration S] [--motion FILE] [--motion-interpolation cubic|pchip|linear]
+                       [--out FILE] [--dt-out S] [--plot FILE.png] [--solver NAME]
+                       [--dt S | --adaptive] [--rtol R] [--atol A] [--max-steps N]
+                       [--segments N] [--channels ...] [--allow-ignored EI,waves,...]
     jaxcable info INPUT [--segments N] [--duration S]
     jaxcable calibrate RECORD.csv [RECORD.csv ...] --fit NAME=START [NAME=START ...]
                        [--optimizer lbfgs|adam] [--max-steps N] [--plot FILE.png]
@@ -31,13 +31,14 @@ import optax
 from ._advice import advise
 from ._calibrate import calibrate, calibration_solver, default_optimizer
 from ._config import SOLVERS
-from ._motion import Harmonic, Sampled
+from ._motion import INTERPOLATIONS, Harmonic, Sampled
 from ._stability import STABLE_GROWTH, fixed_step_growth
 from .examples import scene_names, scene_path
 from .io import RunSettings, Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
 from .io._moordyn import DROPPED_KINDS, declared_time_step
-from .io._run import load_scene, run_scene
+from .io._output import check_output, check_writable
+from .io._run import DEFAULT_DT_OUT, check_size, load_scene, run_scene
 
 OPTIMIZERS = {"lbfgs": lambda learning_rate: default_optimizer(), "adam": optax.adam}
 """The `calibrate` command's optimizers by name, each made from `--learning-rate` (which
@@ -58,7 +59,10 @@ def main(argv: list[str] | None = None) -> int:
     if not (args.command == "run" and _declares_fixed_steps(args)):
         _schedule_kernels_in_order()
     try:
-        return args.handler(args)
+        with warnings.catch_warnings():  # restores the display below when the command ends
+            warnings.showwarning = _show_warning
+            _check_flags(args)
+            return args.handler(args)
     except SceneError as error:
         print(f"jaxcable: error: {error}", file=sys.stderr)
         return 2
@@ -68,6 +72,13 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into `head` and the like: stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """Print a warning as one line, `warning: ...`, as the command's notes are, without
+    the source line Python's display adds."""
+    del category, filename, lineno, file, line
+    print(f"warning: {message}", file=sys.stderr)
 
 
 def _schedule_kernels_in_order() -> None:
@@ -121,6 +132,13 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("input", help="scene (.toml), MoorDyn input file, or bundled example name")
     run.add_argument("--duration", type=float, help="simulated time (s); 0 solves statics only")
     run.add_argument("--motion", type=Path, help="table of time x y z for each coupled point, in order")
+    run.add_argument(
+        "--motion-interpolation",
+        choices=INTERPOLATIONS,
+        default="cubic",
+        help="between the motion table's rows: natural cubic spline (default; may overshoot a step), "
+        "pchip (monotone) or linear",
+    )
     run.add_argument("--out", type=Path, help="output file: .csv, .out (MoorDyn layout), .npz or .nc")
     run.add_argument("--dt-out", type=float, help="output interval (s); default: the file's dtOut, or 0.1 s")
     run.add_argument("--plot", type=Path, help="save tension histories and line shapes to this image")
@@ -238,6 +256,34 @@ def _refuse_dropped(scene: Scene, allowed: set[str]) -> None:
         )
 
 
+def _check_flags(args) -> None:
+    """Refuse bad flag values before any work: a number out of range, or an output or
+    plot file that could not be written at the end of a run."""
+    for flag, value, allow_zero in (("--duration", "duration", True), ("--dt-out", "dt_out", False)):
+        number = getattr(args, value, None)
+        if number is not None and not (np.isfinite(number) and (number >= 0 if allow_zero else number > 0)):
+            kind = "non-negative" if allow_zero else "positive"
+            raise SceneError(f"{flag} must be a {kind} number of seconds, got {number:g}")
+    for flag, value in (("--segments", "segments"), ("--max-steps", "max_steps")):
+        number = getattr(args, value, None)
+        if number is not None and number < 1:
+            raise SceneError(f"{flag} must be a positive integer, got {number}")
+    for flag, value in (("--learning-rate", "learning_rate"), ("--rtol", "rtol"), ("--atol", "atol"), ("--dt", "dt")):
+        number = getattr(args, value, None)
+        if number is not None and not (np.isfinite(number) and number > 0):
+            raise SceneError(f"{flag} must be a positive number, got {number:g}")
+    out = getattr(args, "out", None)
+    if out is not None:
+        if args.command == "run":
+            check_output(out, "--out")
+        else:
+            check_writable(out, "--out")
+    if getattr(args, "plot", None) is not None:
+        from .plot import check_plot_path
+
+        check_plot_path(args.plot, "--plot")
+
+
 def _run(args) -> int:
     scene = _load(args)
     _refuse_dropped(scene, _allowed(args))
@@ -252,9 +298,20 @@ def _run(args) -> int:
         duration = times[-1] if duration is None else duration
         if duration > times[-1]:
             raise SceneError(f"--duration {duration:g} s runs past the motion table's last time, {times[-1]:g} s")
-        scene = scene.with_motion_table(times, positions, str(args.motion))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", UserWarning)
+            scene = scene.with_motion_table(times, positions, f"--motion {args.motion}", args.motion_interpolation)
+        for warning in caught:  # a spline that overshoots the table
+            print(f"warning: --motion {args.motion}: {warning.message}", file=sys.stderr)
     for note in scene.notes:
         print(f"note: {note}", file=sys.stderr)
+    held = [scene.points[k].name for k in scene.coupled_points if scene.points[k].motion is None]
+    if held:
+        print(
+            f"note: coupled point(s) {', '.join(held)} have no motion and are held where they are; give a "
+            "motion table with --motion",
+            file=sys.stderr,
+        )
     print(f"{Path(scene.source).name}" + (f": {scene.title}" if scene.title else ""))
     channels = tuple(args.channels or ())
     for name in channels or default_channels(scene):
@@ -287,13 +344,8 @@ def _run(args) -> int:
 
 def _run_settings(scene: Scene, args) -> RunSettings:
     """The scene's run settings with the command line's `--solver`, `--dt`,
-    `--adaptive`, `--rtol`, `--atol` and `--max-steps`; `SceneError` naming the flag
-    for a bad value or a contradiction."""
-    for flag, value in (("--dt", args.dt), ("--rtol", args.rtol), ("--atol", args.atol)):
-        if value is not None and not (np.isfinite(value) and value > 0):
-            raise SceneError(f"{flag} must be a positive number, got {value:g}")
-    if args.max_steps is not None and args.max_steps < 1:
-        raise SceneError(f"--max-steps must be a positive integer, got {args.max_steps}")
+    `--adaptive`, `--rtol`, `--atol` and `--max-steps` (their values checked by
+    `_check_flags`); `SceneError` naming the flags that contradict each other."""
     if args.dt is not None and args.adaptive:
         raise SceneError("--dt asks for fixed steps and --adaptive for adaptive ones: give one of them")
     changes: dict = {"solver": args.solver, "dt": args.dt, "rtol": args.rtol, "atol": args.atol}
@@ -317,6 +369,9 @@ def _info(args) -> int:
     model = built.model
     water = scene.water
     duration = scene.run.duration if args.duration is None else args.duration
+    # The advice solves statics: refuse a model too large for memory first.
+    for warning in check_size(built, duration, scene.run.dt_out or DEFAULT_DT_OUT, scene.run.solver_config()):
+        print(f"warning: {warning}", file=sys.stderr)
     print(f"{scene.source}" + (f": {scene.title}" if scene.title else ""))
     depth = "unbounded" if water.depth is None else f"{water.depth:g} m"
     profile = water.current_profile
@@ -386,8 +441,7 @@ def _info(args) -> int:
     print(
         f"run: {duration:g} s, solver {run.solver} "
         + (f"(fixed steps of {run.dt:g} s)" if run.dt is not None else f"(rtol {run.rtol:g}, atol {run.atol:g})")
-        + ", output every "
-        f"{run.dt_out or 0.1:g} s"
+        + f", output every {run.dt_out or DEFAULT_DT_OUT:g} s"
     )
     if run.dt is not None:
         solver = run.solver_config().solver
@@ -444,6 +498,8 @@ def _calibrate(args) -> int:
             )
     except ValueError as error:  # a malformed record, an unknown rig or coefficient
         raise SceneError(str(error)) from None
+    except OSError as error:  # a record that is missing, or a folder
+        raise SceneError(f"cannot read {error.filename}: {error.strerror}") from None
     print(result.summary())
     if args.out is not None:
         summary = {

@@ -29,10 +29,8 @@ from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
 from ._elliptic import ellipj, ellipk, ellipke
-from ._waves import AbstractWave, _check_wave, airy_wavenumber
+from ._waves import BREAKING_HEIGHT_RATIO, AbstractWave, _check_wave, airy_wavenumber
 
-# The breaking limit on H/d of a solitary wave (McCowan 1894), the usual design bound.
-BREAKING_RATIO = 0.78
 # Below this Ursell number the cnoidal wave differs from linear theory by a few per cent
 # (crest 0.524 H instead of H/2 at U = 5, seed 004 §7.4), less than the error of the
 # long-wave approximation it rests on, whose (k d)² = 4π² (H/d) / U is then of order 1:
@@ -195,9 +193,10 @@ class Cnoidal(AbstractWave):
     **Raises:**
 
     `ValueError` for a non-positive height, period, depth or gravity, for H/d above the
-    breaking limit 0.78, and for a period too short for any first-order cnoidal wave of
-    this H/d (T √(g/d) below the branch minimum, about 6.3 to 6.7). Warns (a
-    `UserWarning`) where U < 5. The checks need concrete values: built inside `jit`,
+    breaking limit 0.78 or H/λ above Miche's 0.142 tanh(2π d/λ)
+    ([`breaking_height`][jaxcable._waves.breaking_height]), and for a period too short
+    for any first-order cnoidal wave of this H/d (T √(g/d) below the branch minimum,
+    about 6.3 to 6.7). Warns (a `UserWarning`) where U < 5. The checks need concrete values: built inside `jit`,
     `vmap` or `grad` with no physical root, m and everything solved from it are NaN.
     """
 
@@ -217,7 +216,9 @@ class Cnoidal(AbstractWave):
         for name, value in fields.items():
             setattr(self, name, value)
         ratio = self.height / self.depth
-        checks.enforce([self._unbroken()])
+        # McCowan's half of the breaking limit, before the solve, which has no root past
+        # it; Miche's half needs the wavelength, and `conditions()` has both.
+        checks.enforce([self._below_mccowan()])
         period_number = self.period * jnp.sqrt(self.gravity / self.depth)
         airy_length = 2 * jnp.pi / airy_wavenumber(self.period, self.depth, self.gravity)
         # Airy's Ursell number is near the root; 1.6 H/d is right of the branch's
@@ -236,6 +237,7 @@ class Cnoidal(AbstractWave):
 
         checks.enforce([checks.Condition("Cnoidal.period", jnp.isnan(s), self.period, _NO_ROOT, too_short)])
         self.m, self.m1, self.K, self.E = _elliptic_parameter(s)
+        checks.enforce([self._unbroken()])
         ursell = checks.Condition(
             "Cnoidal",
             self.ursell < URSELL_MINIMUM,
@@ -248,15 +250,15 @@ class Cnoidal(AbstractWave):
         )
         checks.warn([ursell], stacklevel=4)  # the caller's line, past equinox's two construction frames
 
-    def _unbroken(self) -> checks.Condition:
+    def _below_mccowan(self) -> checks.Condition:
         ratio = self.height / self.depth
         return checks.Condition(
             "Cnoidal.height",
-            ratio > BREAKING_RATIO,
+            ratio > BREAKING_HEIGHT_RATIO,
             self.height,
-            f"must be at most {BREAKING_RATIO} times the depth (the breaking limit)",
+            f"must be at most {BREAKING_HEIGHT_RATIO} times the depth (the breaking limit)",
             lambda: (
-                f"Cnoidal.height must be at most {BREAKING_RATIO} times the depth (the breaking limit), "
+                f"Cnoidal.height must be at most {BREAKING_HEIGHT_RATIO} times the depth (the breaking limit), "
                 f"got {float(self.height)} m in {float(self.depth)} m of water (H/d = {float(ratio):.4g})"
             ),
         )
@@ -264,7 +266,6 @@ class Cnoidal(AbstractWave):
     def conditions(self) -> list[checks.Condition]:
         # A period with no first-order cnoidal wave leaves m NaN.
         return AbstractWave.conditions(self) + [
-            self._unbroken(),
             checks.Condition("Cnoidal.period", jnp.isnan(self.m), self.period, _NO_ROOT),
         ]
 
@@ -307,13 +308,13 @@ class Cnoidal(AbstractWave):
                 )
             return (
                 f"Cnoidal.steepness {float(steepness):.4g} at a period of {float(period)} s in "
-                f"{float(depth)} m of water gives a breaking wave (H/d > {BREAKING_RATIO})"
+                f"{float(depth)} m of water gives a breaking wave (H/d > {BREAKING_HEIGHT_RATIO})"
             )
 
         # Past the breaking height, T √(g/d) levels off towards 2/steepness as m → 1,
         # and may have no root at all: either way the wave would break. Traced, the
         # NaN height that no root leaves is caught by the wave's own conditions.
-        broken = jnp.isnan(s) | (height / depth > BREAKING_RATIO)
+        broken = jnp.isnan(s) | (height / depth > BREAKING_HEIGHT_RATIO)
         checks.enforce([checks.Condition("Cnoidal.steepness", broken, steepness, _NO_ROOT, problem)])
         return cls(height, period, depth, **kwargs)
 

@@ -17,6 +17,13 @@ from jaxtyping import Array, ArrayLike, Float
 from . import _checks as checks
 from ._picard import PicardTrapezoid
 
+SMALLEST_RTOL = 1e-13
+"""The tightest relative tolerance (–) a step-size controller may be given: about 450
+float64 epsilons (2.2e-16). A step's error estimate is a difference of two solutions,
+each carrying rounding of a few ε |y| from its stage sums, so a tighter tolerance
+cannot be met: the controller shrinks the step until it runs out of steps (an rtol of
+1e-300 ran on towards `max_steps` with no message)."""
+
 
 def default_solver() -> diffrax.AbstractSolver:
     """`diffrax.Dopri5()`: jaxcable's default, chosen from measurements.
@@ -91,7 +98,8 @@ class SolverConfig(eqx.Module):
     **Raises:**
 
     `ValueError` naming the field and the value for a solver, controller or adjoint
-    that is not diffrax's, a non-positive or non-finite `rtol`, `atol` or `dt0`, a
+    that is not diffrax's, a non-positive or non-finite `rtol`, `atol` or `dt0`, an
+    `rtol` below `SMALLEST_RTOL` (1e-13, which float64 cannot meet), a
     `max_steps` that is not a positive integer, or tolerances given together with a
     `stepsize_controller`.
     """
@@ -116,8 +124,20 @@ class SolverConfig(eqx.Module):
         self.solver = default_solver() if solver is None else solver
         _check_type("solver", self.solver, diffrax.AbstractSolver, "diffrax.Tsit5()")
         if stepsize_controller is None:
+            rtol = _positive("rtol", 1e-6 if rtol is None else rtol)
+            checks.enforce(
+                [
+                    checks.Condition(
+                        "SolverConfig.rtol",
+                        rtol < SMALLEST_RTOL,
+                        rtol,
+                        f"must be at least {SMALLEST_RTOL:g}, below which float64 rounding (ε = 2.2e-16) "
+                        "exceeds the error the controller allows and the step shrinks without end",
+                    )
+                ]
+            )
             self.stepsize_controller = diffrax.PIDController(
-                rtol=_positive("rtol", 1e-6 if rtol is None else rtol),
+                rtol=rtol,
                 atol=_positive("atol", 1e-6 if atol is None else atol),
             )
         else:

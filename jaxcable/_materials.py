@@ -21,7 +21,15 @@ import numpy as np
 from jax.custom_derivatives import SymbolicZero
 from jaxtyping import Array, ArrayLike, Float
 
+from . import _checks as checks
 from ._typing import RealLike
+
+CHECKED_STRAIN = 1.0
+"""The strain ε (–) up to which a tension law must rise: a segment stretched to twice
+its length. Steel wire ropes break at strains of about 0.01–0.02 and fibre ropes below
+about 0.3, so a cable reaches no further; a law sound to here is sound wherever a run
+can go, and a law that is not fails where a snap load or a mistaken length can take
+it (a C_E1 = −10 C_E law peaks at ε = 0.05 and is compressive from ε = 0.1)."""
 
 # Three-point Gauss–Legendre on [0, 1]. The smoothed elastic tension is a polynomial of
 # degree 5 inside the smoothing band, which three points integrate exactly.
@@ -76,6 +84,36 @@ class AbstractTensionLaw(eqx.Module):
     @abc.abstractmethod
     def damping(self) -> Float[Array, "*segments"]:
         """C_v (N·s), the coefficient of ε̇ in the tension."""
+
+    def rising(self, name: str) -> checks.Condition:
+        """The elastic tension rises with strain over `0 ≤ ε ≤ CHECKED_STRAIN`: its slope
+        `C_E + 2 C_E1 ε`, linear in ε, is non-negative at both ends. At ε = 0 that is
+        C_E ≥ 0, checked on its own; at the far end `C_E1 ≥ −C_E / (2 ε_max)`. A law
+        that fell would make a stretched segment soften and then push (a negative
+        tension), which a rope cannot. `name` prefixes the message ("LineType.tension_law")."""
+        c_e, c_e1 = self.axial_stiffness, self.quadratic_stiffness()
+        slope = c_e + 2 * c_e1 * CHECKED_STRAIN
+
+        def detail() -> str:
+            bad = np.broadcast_to(np.asarray(slope) < 0, np.broadcast_shapes(np.shape(c_e), np.shape(c_e1)))
+            index = tuple(np.argwhere(bad)[0])
+            stiff = float(np.broadcast_to(np.asarray(c_e), bad.shape)[index])
+            quadratic = float(np.broadcast_to(np.asarray(c_e1), bad.shape)[index])
+            where = f" at index {', '.join(map(str, index))}" if index else ""
+            return (
+                f"{name}.quadratic_stiffness C_E1 = {quadratic:g} N with C_E = {stiff:g} N{where} makes the "
+                f"tension fall beyond ε = {-stiff / (2 * quadratic):.3g} and turn negative beyond ε = "
+                f"{-stiff / quadratic:.3g}: a tension law must rise up to ε = {CHECKED_STRAIN:g}, so C_E1 must be "
+                f"at least −C_E/{2 * CHECKED_STRAIN:g} = {-stiff / (2 * CHECKED_STRAIN):g} N"
+            )
+
+        return checks.Condition(
+            f"{name}.quadratic_stiffness",
+            slope < 0,
+            c_e1,
+            f"must be at least −C_E/{2 * CHECKED_STRAIN:g}, so that the tension rises up to ε = {CHECKED_STRAIN:g}",
+            detail,
+        )
 
     def elastic_tension(self, strain: Float[ArrayLike, "*segments"]) -> Array:
         """The elastic part `(C_E ε + C_E1 ε²) H(ε)` (N)."""
@@ -195,7 +233,9 @@ class NonlinearElastic(AbstractTensionLaw):
     **Arguments:**
 
     - `axial_stiffness`: C_E (N).
-    - `quadratic_stiffness`: C_E1 (N); seed 003 uses 0.05–0.2 × C_E.
+    - `quadratic_stiffness`: C_E1 (N); seed 003 uses 0.05–0.2 × C_E. A negative C_E1
+        must keep the tension rising up to ε = 1 (`C_E1 ≥ −C_E/2`), which
+        [`jaxcable.LineType`][] checks.
     - `slack_width`: w (–), as for [`jaxcable.LinearElastic`][].
     """
 

@@ -12,6 +12,7 @@ import abc
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
@@ -113,25 +114,53 @@ class Harmonic(AbstractMotion):
         return ramp_factor(t, self.ramp) * self.amplitude * jnp.sin(omega * t + self.phase) * self.direction
 
 
-class Sampled(AbstractMotion):
-    """A displacement given as a time series, interpolated by a natural cubic spline.
+INTERPOLATIONS = ("cubic", "pchip", "linear")
 
-    The spline is C², so the velocity and acceleration that the equations need converge
-    with the sampling (the acceleration at second order away from the ends; the natural
-    end conditions set it to zero at the first and last sample). Outside the sampled
-    interval the end values are held.
+OVERSHOOT_FRACTION = 0.1
+"""How far (as a fraction of a coordinate's range over the table) a cubic spline may
+stray outside the two samples of an interval before [`jaxcable.Sampled`][] warns. A
+sine sampled at 8 points a period strays by up to 4.2 % of its range between samples
+(by SciPy's natural spline, over the sampling's phase); a step strays further (issue 23
+reports a table stepping 0 → 100 m whose spline ran to −89 and +167 m)."""
+
+
+class Sampled(AbstractMotion):
+    """A displacement given as a time series, interpolated between the samples.
+
+    - `"cubic"` (default): the natural cubic spline. It is C², so the velocity and
+        acceleration that the equations need converge with the sampling (the
+        acceleration at second order away from the ends; the natural end conditions
+        set it to zero at the first and last sample). Between samples it may stray
+        outside them: through a step it overshoots and rings, and it warns where it
+        strays by more than `OVERSHOOT_FRACTION` of a coordinate's range.
+    - `"pchip"`: the monotone piecewise cubic Hermite interpolant (Fritsch & Carlson
+        1980, as SciPy's `PchipInterpolator`): C¹, never outside the samples of an
+        interval, flat where the samples turn. Its acceleration jumps at the samples.
+    - `"linear"`: straight lines between samples; the velocity jumps at each sample
+        and the acceleration is zero between them.
+
+    Outside the sampled interval the end values are held.
 
     **Arguments:**
 
     - `times`: sample times (s), shape `(samples,)`, strictly increasing.
     - `displacements`: displacements (m), shape `(samples, 3)`.
+    - `interpolation`: `"cubic"`, `"pchip"` or `"linear"`.
+
+    **Raises:**
+
+    `ValueError` naming the field for non-finite values, mismatched shapes, fewer than
+    two samples, times that do not increase, or an unknown interpolation. Warns (a
+    `UserWarning`) where the cubic spline overshoots.
     """
 
     times: Float[Array, " samples"]
     displacements: Float[Array, "samples 3"]
-    curvatures: Float[Array, "samples 3"]
+    slopes: Float[Array, "samples 3"]
+    interpolation: str = eqx.field(static=True)
 
-    def __init__(self, times: RealLike, displacements: RealLike):
+    def __init__(self, times: RealLike, displacements: RealLike, interpolation: str = "cubic"):
+        self.interpolation = checks.option("Sampled.interpolation", interpolation, INTERPOLATIONS)
         times = checks.float_array("Sampled.times", times)
         displacements = checks.float_array("Sampled.displacements", displacements)
         if times.ndim != 1 or times.shape[0] < 2:
@@ -144,7 +173,14 @@ class Sampled(AbstractMotion):
         checks.enforce([checks.increasing("Sampled.times", times)])
         self.times = times
         self.displacements = displacements
-        self.curvatures = _natural_spline_curvatures(times, displacements)
+        if interpolation == "cubic":
+            self.slopes = _natural_spline_slopes(times, displacements)
+            if not checks.traced((times, displacements)):
+                checks.warn([self._overshoot()], stacklevel=3)  # the caller's line, past equinox's frames
+        elif interpolation == "pchip":
+            self.slopes = _monotone_slopes(times, displacements)
+        else:
+            self.slopes = jnp.zeros_like(displacements)  # unused: the pieces are straight
 
     def conditions(self):
         return [
@@ -154,30 +190,116 @@ class Sampled(AbstractMotion):
         ]
 
     def displacement(self, t):
-        ts, ys, ms = self.times, self.displacements, self.curvatures
+        ts, ys, ds = self.times, self.displacements, self.slopes
         # Not `clip`: its derivative is ½ where t equals an end sample, which would halve
         # the velocity at the last output time. `where` keeps the inside derivative there.
         t = jnp.where(t < ts[0], ts[0], jnp.where(t > ts[-1], ts[-1], t))
         k = jnp.clip(jnp.searchsorted(ts, t, side="right") - 1, 0, ts.shape[0] - 2)
         h = ts[k + 1] - ts[k]
-        a, b = (ts[k + 1] - t) / h, (t - ts[k]) / h
-        return a * ys[k] + b * ys[k + 1] + ((a**3 - a) * ms[k] + (b**3 - b) * ms[k + 1]) * h**2 / 6
+        s = (t - ts[k]) / h
+        if self.interpolation == "linear":
+            return (1 - s) * ys[k] + s * ys[k + 1]
+        # Cubic Hermite: the values and slopes at both ends of the interval.
+        return (
+            (1 + 2 * s) * (1 - s) ** 2 * ys[k]
+            + s * (1 - s) ** 2 * h * ds[k]
+            + s**2 * (3 - 2 * s) * ys[k + 1]
+            - s**2 * (1 - s) * h * ds[k + 1]
+        )
+
+    def _overshoot(self) -> checks.Condition:
+        """The cubic strays outside an interval's two samples by more than
+        `OVERSHOOT_FRACTION` of the coordinate's range over the table."""
+        lowest, highest, excess = _hermite_extremes(self.times, self.displacements, self.slopes)
+        ys = np.asarray(self.displacements)
+        span = ys.max(axis=0) - ys.min(axis=0)
+        bad = excess > OVERSHOOT_FRACTION * span
+
+        def detail() -> str:
+            k, axis = (int(i) for i in np.argwhere(bad)[0])
+            ts = np.asarray(self.times)
+            return (
+                f"Sampled: the cubic spline through the table strays from {lowest[k, axis]:.4g} to "
+                f"{highest[k, axis]:.4g} m in {'xyz'[axis]} between t = {ts[k]:g} and {ts[k + 1]:g} s, where the "
+                f"samples are {ys[k, axis]:g} and {ys[k + 1, axis]:g} m (the table spans {ys[:, axis].min():g} to "
+                f"{ys[:, axis].max():g} m): the motion and its accelerations there are the spline's, not the "
+                "table's; interpolation='pchip' (monotone) or 'linear' stays within the samples"
+            )
+
+        return checks.Condition("Sampled.displacements", bad, excess, "overshoots", detail)
 
 
-def _natural_spline_curvatures(times: Array, values: Array) -> Array:
-    """Second derivatives at the knots of the natural cubic spline through `values`
-    (shape `(samples, 3)`): the tridiagonal system of the C² conditions, with zero
-    curvature at both ends."""
-    if times.shape[0] < 3:
-        return jnp.zeros_like(values)
+def _natural_spline_slopes(times: Array, values: Array) -> Array:
+    """First derivatives at the knots of the natural cubic spline through `values`
+    (shape `(samples, 3)`): the curvatures M from the tridiagonal system of the C²
+    conditions, M = 0 at both ends; then, with δ_k the secant over interval k of
+    length h_k, y'_k = δ_k − h_k (2 M_k + M_{k+1}) / 6 at each interval's left end,
+    and at the last knot δ + h (M_{n−1} + 2 M_n) / 6 of the last interval."""
     h = jnp.diff(times)
-    slopes = jnp.diff(values, axis=0) / h[:, None]
-    rhs = 6 * jnp.diff(slopes, axis=0)
+    secants = jnp.diff(values, axis=0) / h[:, None]
+    if times.shape[0] < 3:
+        return jnp.concatenate([secants, secants])
+    rhs = 6 * jnp.diff(secants, axis=0)
     lower = jnp.concatenate([jnp.zeros(1), h[1:-1]])
     upper = jnp.concatenate([h[1:-1], jnp.zeros(1)])
     interior = jax.lax.linalg.tridiagonal_solve(lower, 2 * (h[:-1] + h[1:]), upper, rhs)
     zero = jnp.zeros((1, values.shape[1]))
-    return jnp.concatenate([zero, interior, zero])
+    m = jnp.concatenate([zero, interior, zero])
+    left = secants - h[:, None] * (2 * m[:-1] + m[1:]) / 6
+    last = secants[-1:] + h[-1] * (m[-2:-1] + 2 * m[-1:]) / 6
+    return jnp.concatenate([left, last])
+
+
+def _monotone_slopes(times: Array, values: Array) -> Array:
+    """Fritsch–Carlson slopes at the knots (SciPy's `PchipInterpolator`): zero where the
+    secants on either side differ in sign, their weighted harmonic mean otherwise; at
+    the ends the one-sided three-point estimate, kept to the sign of the end secant and
+    within three times it."""
+    h = jnp.diff(times)[:, None]
+    secants = jnp.diff(values, axis=0) / h
+    if times.shape[0] < 3:
+        return jnp.concatenate([secants, secants])
+    before, after = secants[:-1], secants[1:]
+    w1, w2 = 2 * h[1:] + h[:-1], h[1:] + 2 * h[:-1]
+    same = before * after > 0
+    # Double `where`: the harmonic mean is never formed from a zero secant.
+    safe_before, safe_after = jnp.where(same, before, 1.0), jnp.where(same, after, 1.0)
+    interior = jnp.where(same, (w1 + w2) / (w1 / safe_before + w2 / safe_after), 0.0)
+
+    def end(h0, h1, d0, d1):
+        d = ((2 * h0 + h1) * d0 - h0 * d1) / (h0 + h1)
+        d = jnp.where(jnp.sign(d) != jnp.sign(d0), 0.0, d)
+        return jnp.where((jnp.sign(d0) != jnp.sign(d1)) & (jnp.abs(d) > 3 * jnp.abs(d0)), 3 * d0, d)
+
+    first = end(h[0], h[1], secants[0], secants[1])
+    last = end(h[-1], h[-2], secants[-1], secants[-2])
+    return jnp.concatenate([first[None], interior, last[None]])
+
+
+def _hermite_extremes(times, values, slopes) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The lowest and highest values of the cubic Hermite pieces, shape `(samples − 1,
+    3)` each, and how far each piece strays outside its two samples: exact, from the
+    roots of the derivative, a quadratic in s = (t − t_k)/h."""
+    ts, ys, ds = np.asarray(times), np.asarray(values), np.asarray(slopes)
+    h = np.diff(ts)[:, None]
+    y0, y1, m0, m1 = ys[:-1], ys[1:], h * ds[:-1], h * ds[1:]
+    # p(s) = a s³ + b s² + c s + y0 on 0 ≤ s ≤ 1.
+    a, b, c = 2 * (y0 - y1) + m0 + m1, 3 * (y1 - y0) - 2 * m0 - m1, m0
+    discriminant = np.maximum(b * b - 3 * a * c, 0.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cubic = np.abs(a) > 1e-12 * (np.abs(b) + np.abs(c) + 1e-300)
+        roots = [
+            np.where(cubic, (-b + np.sqrt(discriminant)) / (3 * a), -c / (2 * b)),
+            np.where(cubic, (-b - np.sqrt(discriminant)) / (3 * a), -c / (2 * b)),
+        ]
+    candidates = [y0, y1]
+    for s in roots:
+        inside = np.isfinite(s) & (s > 0) & (s < 1)
+        s = np.where(inside, s, 0.0)
+        candidates.append(np.where(inside, ((a * s + b) * s + c) * s + y0, y0))
+    lowest, highest = np.min(candidates, axis=0), np.max(candidates, axis=0)
+    excess = np.maximum(np.minimum(y0, y1) - lowest, highest - np.maximum(y0, y1))
+    return lowest, highest, excess
 
 
 class Towing(AbstractMotion):

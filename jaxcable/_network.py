@@ -15,9 +15,10 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float, Int
+from jaxtyping import Array, ArrayLike, Float, Int
 
 from . import _checks as checks
+from ._environment import Environment
 from ._indexing import incidence
 from ._materials import AbstractTensionLaw
 from ._motion import AbstractMotion
@@ -44,6 +45,13 @@ class LineType(eqx.Module):
     - `normal_added_mass`: C_a (–), added mass per length `C_a ρ F` normal to the line.
         MoorDyn's `Ca`.
     - `tangential_added_mass`: C_aτ (–), the same along the line. MoorDyn's `CaAx`.
+
+    **Raises:**
+
+    `ValueError` naming the field and value for a non-finite or non-positive mass,
+    diameter, area or axial stiffness, a negative drag, added mass, damping or slack
+    width, or a tension law that does not rise with strain up to ε = 1
+    ([`jaxcable.AbstractTensionLaw.rising`][]).
     """
 
     mass_per_length: Float[Array, "*segments"]
@@ -95,6 +103,7 @@ class LineType(eqx.Module):
             checks.finite("LineType.tension_law.axial_stiffness", law.axial_stiffness),
             checks.sign("LineType.tension_law.axial_stiffness", law.axial_stiffness),
             checks.finite("LineType.tension_law.quadratic_stiffness", law.quadratic_stiffness()),
+            law.rising("LineType.tension_law"),
             checks.finite("LineType.tension_law.damping", law.damping()),
             checks.sign("LineType.tension_law.damping", law.damping(), allow_zero=True),
             checks.finite("LineType.tension_law.slack_width", law.slack_width),
@@ -419,7 +428,7 @@ class CableNetwork(eqx.Module):
         if not branches:
             raise ValueError("branches must not be empty")
         positions = [np.asarray(junctions)]
-        edges, lengths, lines = [], [], []
+        edges, lengths = [], []
         next_node = junctions.shape[0]
         for b, branch in enumerate(branches):
             if not (isinstance(branch.segments, int) and branch.segments >= 1):
@@ -436,12 +445,11 @@ class CableNetwork(eqx.Module):
             next_node += n - 1
             edges += list(zip(chain[:-1], chain[1:]))
             lengths.append(np.full(n, branch.length / n))
-            lines += [branch.line] * n
         return cls(
             node_positions=np.concatenate(positions),
             segment_nodes=np.asarray(edges),
             segment_length=np.concatenate(lengths),
-            line=_stack_lines(lines),
+            line=_stack_lines(branches),
             constraints=constraints,
             bodies=bodies,
             **options,
@@ -508,15 +516,24 @@ def _broadcast_leaves(name: str, module: eqx.Module, size: int):
     return jax.tree.unflatten(treedef, out)
 
 
-def _stack_lines(lines: Sequence[LineType]) -> LineType:
-    kinds = {type(line.tension_law) for line in lines}
+def _stack_lines(branches: Sequence[Branch]) -> LineType:
+    """The branches' line types, one entry per segment, branch by branch.
+
+    One `concatenate` of a broadcast per branch, not a `stack` of a copy per segment:
+    stacking compiled a program with one operand per segment, which took 19 s at
+    10,000 segments and grew as their square."""
+    kinds = {type(branch.line.tension_law) for branch in branches}
     if len(kinds) > 1:
         names = sorted(k.__name__ for k in kinds)
         raise ValueError(
             f"all branches must share one class of tension law, got {names}; express them all "
             "as KelvinVoigt (with zero coefficients where a term is absent)"
         )
-    return jax.tree.map(lambda *xs: jnp.stack([jnp.asarray(x, dtype=float) for x in xs]), *lines)
+    counts = [branch.segments for branch in branches]
+    return jax.tree.map(
+        lambda *xs: jnp.concatenate([jnp.broadcast_to(jnp.asarray(x, dtype=float), (n,)) for x, n in zip(xs, counts)]),
+        *(branch.line for branch in branches),
+    )
 
 
 def _scatter_bodies(bodies: Mapping[int, Body], n_nodes: int) -> Body:
@@ -526,6 +543,48 @@ def _scatter_bodies(bodies: Mapping[int, Body], n_nodes: int) -> Body:
     nodes = jnp.asarray(sorted(bodies), dtype=jnp.int32)
     stacked = jax.tree.map(lambda *xs: jnp.stack(xs), *[bodies[k] for k in sorted(bodies)])
     return jax.tree.map(lambda x: jnp.zeros((n_nodes, *x.shape[1:])).at[nodes].set(x), stacked)
+
+
+def below_seabed(heights: Float[ArrayLike, "*points"], depth: Float[ArrayLike, ""]) -> Array:
+    """Which `heights` z (m) are below a seabed at z = −`depth` (m), beyond rounding (one
+    part in 1e9 of the depth), so that a point written at the depth sits on the bed."""
+    return jnp.asarray(heights) < -jnp.asarray(depth) * (1 + 1e-9)
+
+
+def network_conditions(model: CableNetwork, env: Environment) -> list[checks.Condition]:
+    """What `model` and `env` require, each of its own fields and together: every
+    constrained node (anchor, fairlead) at or above the seabed, where there is one.
+
+    A support below the bed drags the nodes next to it into the bed's penalty spring,
+    whose force k δ A grows with the depth δ below it: an anchor 100 m under a 3e6 Pa/m
+    bed gave 8 MN (see `below_seabed`).
+    """
+    out = model.conditions() + env.conditions()
+    if env.seabed is None or env.depth is None:
+        return out
+    nodes = model.constrained_nodes
+    heights = model.node_positions[nodes, 2]
+    depth = env.depth
+    bed = -depth
+    below = below_seabed(heights, depth)
+
+    def detail() -> str:
+        k = int(np.argmax(np.asarray(below)))
+        return (
+            f"CableNetwork.node_positions: constrained node {int(nodes[k])} is at z = {float(heights[k]):g} m, "
+            f"below the seabed at z = {float(bed):g} m (Environment.depth = {float(depth):g} m): raise it "
+            "to the bed or deepen the water"
+        )
+
+    return out + [
+        checks.Condition(
+            "CableNetwork.node_positions (a constrained node's z)",
+            below,
+            heights,
+            "must be at or above the seabed",
+            detail,
+        )
+    ]
 
 
 def check_held(model: CableNetwork) -> None:

@@ -13,7 +13,7 @@ from . import _lagrangian as lag
 from ._config import SolverConfig
 from ._environment import Environment
 from ._jacobian import with_network_jacobian
-from ._network import CableNetwork
+from ._network import CableNetwork, network_conditions
 from ._state import State
 from ._typing import RealLike, RealScalarLike
 
@@ -132,15 +132,24 @@ def simulate(
     **Raises:**
 
     `ValueError` naming the field and value for a bad input (a model's field edited
-    with `eqx.tree_at`, say, t1 ≤ t0, or `ts` outside [t0, t1]), or a `solver` that is not a
+    with `eqx.tree_at`, say, a non-finite time, t1 ≤ t0, `ts` outside [t0, t1] or not
+    increasing, a non-finite initial state, a support below the seabed, or a model,
+    water or initial state of the wrong type), or a `solver` that is not a
     [`jaxcable.SolverConfig`][]; with a traced model or
     times (inside `jit`), `equinox.EquinoxRuntimeError` naming the field instead.
     With `throw=True`, an error carrying diffrax's message when the solve fails (too
-    many steps, step size collapse). Non-finite states are rejected steps, not output;
+    many steps, step size collapse). `TypeError` saying what to pass for
+    forward-mode differentiation (`jax.jacfwd`) without `diffrax.ForwardMode()`.
+    Non-finite states are rejected steps, not output;
     with a fixed step, which cannot reject, a state that goes non-finite fails the
     solve (`diffrax.RESULTS.nonfinite`).
     """
+    for name, value, kind in (("model", model, CableNetwork), ("env", env, Environment), ("initial", initial, State)):
+        if not isinstance(value, kind) and not (name == "initial" and value is None):
+            raise ValueError(f"simulate: {name} must be a jaxcable.{kind.__name__}, got {type(value).__name__}")
     t0, t1 = jnp.asarray(t0, dtype=float), jnp.asarray(t1, dtype=float)
+    # An infinite t1 would step until `max_steps`.
+    t0, t1 = checks.check((t0, t1), [checks.finite("simulate: t0", t0), checks.finite("simulate: t1", t1)])
     later = checks.Condition(
         "simulate: t1",
         ~(t1 > t0),
@@ -152,7 +161,14 @@ def simulate(
     ts = jnp.linspace(t0, t1, 201) if ts is None else jnp.asarray(ts, dtype=float)
     if ts.ndim != 1 or ts.size == 0:
         raise ValueError(f"simulate: ts must be a non-empty 1-D array, got shape {ts.shape}")
-    ts = checks.check(ts, [checks.Condition("simulate: ts", (ts < t0) | (ts > t1), ts, "must lie within [t0, t1]")])
+    ts = checks.check(
+        ts,
+        [
+            checks.finite("simulate: ts", ts),
+            checks.Condition("simulate: ts", (ts < t0) | (ts > t1), ts, "must lie within [t0, t1]"),
+            checks.increasing("simulate: ts", ts),
+        ],
+    )
     initial_positions = model.node_positions if initial is None else initial.positions
     initial_velocities = jnp.zeros_like(initial_positions) if initial is None else initial.velocities
     if initial_positions.shape != model.node_positions.shape:
@@ -162,23 +178,46 @@ def simulate(
     # Constructors checked concrete inputs; a model built or edited (`eqx.tree_at`)
     # with other values, or traced, is checked here, so that a bad value is named
     # rather than turning into NaNs mid-solve.
-    initial_positions = checks.check(initial_positions, model.conditions() + env.conditions())
+    initial_positions = checks.check(
+        initial_positions,
+        network_conditions(model, env)
+        + [
+            # A NaN start with `throw=False` would otherwise run on to `max_steps`, every
+            # step rejected.
+            checks.finite("simulate: initial.positions", initial_positions),
+            checks.finite("simulate: initial.velocities", initial_velocities),
+        ],
+    )
     start = (initial_positions, initial_velocities)
     # Called eagerly, the solve is compiled without error checks, which are raised here
     # after it returns (`checks.raise_if`): a program with them could not be kept in
     # JAX's persistent cache. Under the caller's `jit` they go inside, as they must.
     inside = throw and checks.traced((model, env, start, t0, t1, ts))
-    result = _simulate(
-        model,
-        env,
-        start,
-        t0,
-        t1,
-        ts,
-        for_model(as_config("simulate", solver), model),
-        diffrax.TqdmProgressMeter() if progress else diffrax.NoProgressMeter(),
-        inside,
-    )
+    config = for_model(as_config("simulate", solver), model)
+    try:
+        result = _simulate(
+            model,
+            env,
+            start,
+            t0,
+            t1,
+            ts,
+            config,
+            diffrax.TqdmProgressMeter() if progress else diffrax.NoProgressMeter(),
+            inside,
+        )
+    except TypeError as error:
+        # The default adjoint is a custom VJP, which JAX cannot push tangents through.
+        # It is not chosen for the caller: a tangent (`jax.jvp`) and a linearisation
+        # for `jax.grad` are told apart only by JAX's private tracer classes, and
+        # `ForwardMode` would break `jax.grad`.
+        if "forward-mode autodiff" not in str(error) or isinstance(config.adjoint, diffrax.ForwardMode):
+            raise
+        raise TypeError(
+            "simulate: forward-mode differentiation (jax.jacfwd, jax.jvp) needs "
+            "solver=SolverConfig(adjoint=diffrax.ForwardMode()); the default adjoint, "
+            f"{type(config.adjoint).__name__}, supports reverse mode (jax.grad, jax.jacrev) only"
+        ) from None
     if throw and not inside:
         checks.raise_if(None, result.result != diffrax.RESULTS.successful, failure_message(result.result))
     return result

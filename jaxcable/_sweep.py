@@ -43,7 +43,7 @@ from jaxtyping import Array, Bool, Float
 from . import _checks as checks
 from ._config import SolverConfig
 from ._environment import Environment
-from ._network import CableNetwork
+from ._network import CableNetwork, network_conditions
 from ._simulate import IMEX_SOLVERS, SimulationResult, _simulate, as_config, for_model, result_of, vector_field
 from ._state import State
 from ._statics import StaticSolution, solve_statics
@@ -693,11 +693,11 @@ def _invalid_cases(batched, unbatched, reference) -> dict[int, str]:
     water), evaluated per case under `vmap` on the batched leaves, which are concrete
     here; the first case's concrete build gives their names and order.
     """
-    conditions = reference[0].conditions() + reference[1].conditions()
+    conditions = network_conditions(*reference)
 
     def one(case):
         model, env = eqx.combine(case, unbatched)
-        return checks.violations(model.conditions() + env.conditions())
+        return checks.violations(network_conditions(model, env))
 
     broken, first = jax.tree.map(np.asarray, jax.vmap(one)(batched))
     invalid = {}

@@ -21,6 +21,24 @@ from jaxtyping import Array, Float
 from . import _checks as checks
 from ._typing import RealLike, RealScalarLike
 
+BREAKING_HEIGHT_RATIO = 0.78
+"""H/d, McCowan's (1894) limit: the highest solitary wave, the shallow-water bound."""
+BREAKING_STEEPNESS = 0.142
+"""H/λ in deep water, Miche's (1944) limit, which is `0.142 tanh(2π d/λ)` at depth d."""
+
+
+def breaking_height(wavelength: RealLike, depth: RealLike) -> Array:
+    """The height (m) past which a regular wave of `wavelength` λ (m) in water of `depth`
+    d (m) breaks: the lesser of Miche's `0.142 λ tanh(2π d/λ)` and McCowan's `0.78 d`.
+
+    Miche's limit holds for periodic waves at any depth; in shallow water it tends to
+    0.89 d, and McCowan's solitary-wave bound is the lower there. No regular wave
+    theory (Airy, cnoidal, Stokes) describes a wave past it: it has broken.
+    """
+    wavelength, depth = jnp.asarray(wavelength), jnp.asarray(depth)
+    miche = BREAKING_STEEPNESS * wavelength * jnp.tanh(2 * jnp.pi * depth / wavelength)
+    return jnp.minimum(miche, BREAKING_HEIGHT_RATIO * depth)
+
 
 def seed003_amplitude(period: RealScalarLike = 5.6, gravity: RealScalarLike = 9.81) -> Array:
     """Seed 003's wave amplitude law, `A = 0.085 (g T² / 2π)^0.75` (m).
@@ -68,7 +86,26 @@ class AbstractWave(eqx.Module):
         name = type(self).__name__
         fields = ("height", "period", "depth", "gravity", "heading", "phase")
         out = [checks.finite(f"{name}.{field}", getattr(self, field)) for field in fields]
-        return out + [checks.sign(f"{name}.{field}", getattr(self, field)) for field in fields[:4]]
+        return out + [checks.sign(f"{name}.{field}", getattr(self, field)) for field in fields[:4]] + [self._unbroken()]
+
+    def _unbroken(self) -> checks.Condition:
+        """The height is at most [`breaking_height`][jaxcable._waves.breaking_height]."""
+        name = type(self).__name__
+        limit = breaking_height(self.wavelength, self.depth)
+
+        def detail() -> str:
+            length, depth, height = float(self.wavelength), float(self.depth), float(self.height)
+            miche = BREAKING_STEEPNESS * np.tanh(2 * np.pi * depth / length)
+            return (
+                f"{name}.height must be at most the breaking height {float(limit):.4g} m, got {height:g} m "
+                f"(T = {float(self.period):g} s, λ = {length:.4g} m, d = {depth:g} m): H/λ = {height / length:.3g} "
+                f"against Miche's 0.142 tanh(2πd/λ) = {miche:.3g}, and H/d = {height / depth:.3g} against "
+                f"McCowan's {BREAKING_HEIGHT_RATIO}; no regular wave of this height and period exists"
+            )
+
+        return checks.Condition(
+            f"{name}.height", self.height > limit, self.height, "must be at most the breaking height", detail
+        )
 
     @property
     @abc.abstractmethod
@@ -170,7 +207,9 @@ class Airy(AbstractWave):
 
     **Raises:**
 
-    `ValueError` for a non-positive height, period, depth or gravity.
+    `ValueError` for a non-positive height, period, depth or gravity, or a height past
+    the breaking limit ([`breaking_height`][jaxcable._waves.breaking_height]: Miche's
+    H/λ ≤ 0.142 tanh(2π d/λ), McCowan's H/d ≤ 0.78).
     """
 
     height: Float[Array, ""]
@@ -190,6 +229,7 @@ class Airy(AbstractWave):
             raise ValueError(f"Airy.wheeler must be True or False, got {wheeler!r}")
         self.wheeler = wheeler
         self.wavenumber = airy_wavenumber(self.period, self.depth, self.gravity)
+        checks.enforce([self._unbroken()])
 
     @classmethod
     def from_steepness(cls, steepness, period, depth, **kwargs) -> "Airy":

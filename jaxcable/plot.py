@@ -22,6 +22,25 @@ def _pyplot():
     return plt
 
 
+def check_plot_path(path: str | Path, what: str = "plot") -> Path:
+    """`path`, once it is known that matplotlib can write a figure there in the format
+    its suffix names: before a run, so that `--plot x.foo` fails at once.
+
+    **Raises:**
+
+    [`jaxcable.io.SceneError`][] naming `what` and the path for a format matplotlib does
+    not write, or a folder that does not exist (`jaxcable.io.check_writable`);
+    `ImportError` without matplotlib.
+    """
+    from .io._output import check_writable
+
+    _pyplot()  # matplotlib present, with its Agg backend
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    formats = FigureCanvasBase.get_supported_filetypes()
+    return check_writable(path, what, tuple(f".{suffix}" for suffix in sorted(formats)))
+
+
 def plot_run(run: "SceneRun", path: str | Path, channels: tuple[str, ...] = (), snapshots: int = 6):
     """Save a two-panel figure of `run` to `path` (any format matplotlib writes).
 

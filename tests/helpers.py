@@ -9,6 +9,8 @@
   numpy, independent of jaxcable's Lagrangian.
 - `chain_nodes`: the node order of a single branch built by `from_branches`.
 - `compilations`: the compilations of one program, counted from JAX's compile log.
+- `SCENE`: a small scene file (an anchored line to a coupled float) that the readers'
+    and the bad-input tests edit one key at a time.
 """
 
 import contextlib
@@ -198,3 +200,37 @@ def compilations(program: str):
             yield compiled
     finally:
         logging.getLogger("jax").removeHandler(handler)
+
+
+SCENE = """\
+title = "reader test"
+
+[water]
+density = 1025.0
+depth = 150.0
+
+[simulation]
+duration = 10.0
+dt_out = 0.5
+
+[line_types.rope]
+mass_per_length = 3.0
+diameter = 0.02
+axial_stiffness = 3.0e7
+axial_damping_ratio = 0.2
+
+[points.anchor]
+type = "fixed"
+position = [0.0, 0.0, -100.0]
+
+[points.float]
+type = "coupled"
+position = [150.0, 0.0, 0.0]
+
+[[lines]]
+type = "rope"
+from = "anchor"
+to = "float"
+length = 190.0
+segments = 10
+"""

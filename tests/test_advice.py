@@ -149,7 +149,6 @@ def linear_wavelength(period: float, depth: float, g: float = 9.81) -> float:
         (2.0, 8.0, 30.0, "airy"),  # intermediate depth, U ≈ 0.8
         (3.0, 14.0, 10.0, "cnoidal"),  # shallow and long: U ≈ 57, λ ≈ 13.7 d
         (5.5, 8.0, 10.0, "none"),  # U ≈ 28 > 26 but λ ≈ 7 d
-        (8.0, 12.0, 10.0, "breaking"),  # H/d = 0.8 > 0.78
     ],
 )
 def test_wave_fit_from_the_ursell_number(height, period, depth, fits):

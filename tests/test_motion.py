@@ -1,7 +1,10 @@
 """Prescribed motions against closed-form kinematics."""
 
+import warnings
+
 import numpy as np
 import pytest
+from scipy.interpolate import CubicSpline, PchipInterpolator
 
 import jaxcable as jc
 
@@ -113,3 +116,63 @@ def test_towing_rejects_bad_input():
         jc.Towing([0.0, 1.0, 2.0], [1.0, 1.0])
     with pytest.raises(ValueError, match="Towing.speeds must be finite, got nan"):
         jc.Towing([0.0, 1.0], [1.0, float("nan")])
+
+
+# --------------------------------------------------------------------------------------
+# Interpolating a table: the natural spline, the monotone (PCHIP) one and straight lines,
+# against SciPy's independent implementations and closed forms.
+
+STEP_TIMES = np.array([0.0, 1.0, 2.0, 3.0, 4.0, 5.0])
+STEP = np.array([0.0, 0.0, 0.0, 100.0, 100.0, 100.0])  # m, along x
+
+
+def along_x(values):
+    return np.stack([values, np.zeros_like(values), np.zeros_like(values)], axis=1)
+
+
+def test_cubic_is_scipys_natural_spline_and_warns_where_it_overshoots_a_step():
+    spline = CubicSpline(STEP_TIMES, STEP, bc_type="natural")
+    with pytest.warns(UserWarning, match="strays") as caught:
+        motion = jc.Sampled(STEP_TIMES, along_x(STEP))
+    t = np.linspace(0.0, 5.0, 251)
+    got = np.array([np.asarray(motion.kinematics(s)[0])[0] for s in t])
+    np.testing.assert_allclose(got, spline(t), atol=1e-12)
+    # The warning's undershoot is the spline's own least value between t = 1 and 2 s,
+    # at the root of its derivative there.
+    roots = [r for r in spline.derivative().roots() if 1.0 < r < 2.0]
+    (message,) = [str(w.message) for w in caught]
+    assert f"strays from {float(spline(roots[0])):.4g} to 0 m in x between t = 1 and 2 s" in message
+    assert "interpolation='pchip'" in message
+
+
+def test_pchip_through_a_step_is_the_smoothstep_and_stays_within_the_samples():
+    # Flat on either side, so the Fritsch–Carlson slopes at t = 2 and 3 s are zero and
+    # the rising piece is the cubic Hermite with zero end slopes: 100 (3s² − 2s³).
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no overshoot warning
+        motion = jc.Sampled(STEP_TIMES, along_x(STEP), interpolation="pchip")
+    for t in np.linspace(0.0, 5.0, 41):
+        r, v, a = (float(np.asarray(k)[0]) for k in motion.kinematics(t))
+        s = t - 2.0
+        if 0.0 <= s < 1.0:  # a sample starts the piece on its right (the acceleration jumps there)
+            expected = (100 * (3 * s**2 - 2 * s**3), 100 * (6 * s - 6 * s**2), 100 * (6 - 12 * s))
+        else:
+            expected = (0.0 if t <= 2.0 else 100.0, 0.0, 0.0)
+        np.testing.assert_allclose((r, v, a), expected, atol=1e-10)
+
+
+def test_pchip_is_scipys_on_uneven_samples():
+    times = np.array([0.0, 0.7, 1.5, 3.2, 4.0, 4.1])
+    values = np.array([[1.0, 1.0, 0.0], [-2.0, 4.0, 0.5], [5.0, 25.0, 0.5], [4.5, 20.0, 2.0], [9.0, 81.0, 2.0],
+                       [9.5, 80.0, 1.0]])  # fmt: skip
+    motion = jc.Sampled(times, values, interpolation="pchip")
+    t = np.linspace(0.0, 4.1, 203)
+    got = np.array([np.asarray(motion.displacement(s)) for s in t])
+    np.testing.assert_allclose(got, PchipInterpolator(times, values, axis=0)(t), atol=1e-12)
+
+
+def test_linear_is_straight_between_samples():
+    motion = jc.Sampled([0.0, 2.0, 3.0], along_x(np.array([0.0, 4.0, 1.0])), interpolation="linear")
+    for t, position, speed in ((0.5, 1.0, 2.0), (1.5, 3.0, 2.0), (2.5, 2.5, -3.0), (7.0, 1.0, 0.0)):
+        r, v, a = (float(np.asarray(k)[0]) for k in motion.kinematics(t))
+        np.testing.assert_allclose((r, v, a), (position, speed, 0.0), atol=1e-12)

@@ -17,6 +17,7 @@ import diffrax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from helpers import SCENE
 
 import jaxcable as jc
 from jaxcable._cli import main as cli_main
@@ -455,11 +456,6 @@ def test_moordyn_non_positive_dtm_is_located(tmp_path):
         jc.read_moordyn(write_moordyn(tmp_path, options=(*OPTIONS, "0  dtM")))
 
 
-def test_moordyn_coupled_points_note(tmp_path):
-    scene = jc.read_moordyn(write_moordyn(tmp_path))
-    assert any("coupled" in n and "motion" in n for n in scene.notes)
-
-
 def test_moordyn_empty_rod_and_body_sections_are_accepted(tmp_path):
     # Many MoorDyn files carry these sections with no rows.
     rod_types = ("TypeName Diam Mass/m Cd Ca CdEnd CaEnd", "(-) (m) (kg/m) (-) (-) (-) (-)")
@@ -710,39 +706,6 @@ def test_moordyn_lowe_and_langley_file():
 
 # --------------------------------------------------------------------------------------
 # TOML scenes
-
-SCENE = """\
-title = "reader test"
-
-[water]
-density = 1025.0
-depth = 150.0
-
-[simulation]
-duration = 10.0
-dt_out = 0.5
-
-[line_types.rope]
-mass_per_length = 3.0
-diameter = 0.02
-axial_stiffness = 3.0e7
-axial_damping_ratio = 0.2
-
-[points.anchor]
-type = "fixed"
-position = [0.0, 0.0, -100.0]
-
-[points.float]
-type = "coupled"
-position = [150.0, 0.0, 0.0]
-
-[[lines]]
-type = "rope"
-from = "anchor"
-to = "float"
-length = 190.0
-segments = 10
-"""
 
 
 def write_scene(tmp_path: Path, text: str, name: str = "scene.toml") -> Path:

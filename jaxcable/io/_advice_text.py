@@ -15,14 +15,13 @@ def advice_lines(advice: Advice) -> list[str]:
         fits = {
             "airy": "Airy fits",
             "cnoidal": "cnoidal fits",
-            "breaking": "the wave breaks",
             "none": "neither theory fits well",
         }[fit.fits]
         text.append(
             f"wave {fit.index + 1} ({fit.theory}, H = {fit.height:.3g} m, T = {fit.period:.3g} s): "
             f"λ = {fit.wavelength:.4g} m, d/λ = {fit.relative_depth:.3g} ({fit.regime} water), "
             f"U = Hλ²/d³ = {fit.ursell:.3g}, H/d = {fit.height_ratio:.3g}: {fits}"
-            + ("" if fit.fits in ("breaking", "none") else f", {uses}")
+            + ("" if fit.fits == "none" else f", {uses}")
             + f" — {fit.reason}"
         )
     for check in advice.inertia:

@@ -179,8 +179,6 @@ def read_moordyn(path: str | Path) -> Scene:
     options = _options(source, lines, sections, notes, dropped)
     channels = tuple(_outputs(lines, sections))
 
-    if any(p.kind == "coupled" for p in points):
-        notes.append("coupled points are held fixed unless a motion table is given (jaxcable run --motion)")
     density = options.get("wtrdnsty", options.get("rho", 1025.0))
     gravity = options.get("g", options.get("gravity", 9.80665))
     depth, seabed = _seabed(source, options, points, line_types, mdlines, density, gravity, notes, dropped)

@@ -7,6 +7,7 @@ reactions, the channels) with units in the attributes.
 """
 
 import json
+import os
 from pathlib import Path
 
 import numpy as np
@@ -19,19 +20,62 @@ TABLE_SUFFIXES = (".csv", ".out", ".txt")
 ARCHIVE_SUFFIXES = (".npz", ".nc")
 
 
+def check_writable(path: str | Path, what: str, suffixes: tuple[str, ...] | None = None) -> Path:
+    """`path`, once it is known that a file can be written there: before a run, so that
+    a typo costs nothing.
+
+    **Arguments:**
+
+    - `path`: the file to write.
+    - `what`: how messages name it (`"--out"`, `"output file"`).
+    - `suffixes`: the formats allowed, lower-case with the dot; any if `None`.
+
+    **Raises:**
+
+    [`jaxcable.io.SceneError`][] naming `what` and the path for an unknown suffix, a
+    path that is a folder, or a folder that does not exist or cannot be written in.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise SceneError(f"{what} {path}: is a folder; give a file name in it")
+    suffix = path.suffix.lower()
+    if suffixes is not None and suffix not in suffixes:
+        raise SceneError(f"{what} {path}: unknown format {suffix or '(no suffix)'!r}; use one of {suffixes}")
+    folder = path.parent
+    if not folder.is_dir():
+        raise SceneError(f"{what} {path}: the folder {folder} does not exist")
+    if not os.access(folder, os.W_OK) or (path.exists() and not os.access(path, os.W_OK)):
+        raise SceneError(f"{what} {path}: cannot write there (permission denied)")
+    return path
+
+
+def check_output(path: str | Path, what: str = "output file") -> Path:
+    """[`check_writable`][jaxcable.io._output.check_writable] for `write`'s formats, and
+    scipy present for `.nc`."""
+    path = check_writable(path, what, TABLE_SUFFIXES + ARCHIVE_SUFFIXES)
+    if path.suffix.lower() == ".nc":
+        _netcdf_file(path)
+    return path
+
+
+def _netcdf_file(path: Path):
+    try:
+        from scipy.io import netcdf_file
+    except ImportError:
+        raise SceneError(f"writing {path.name} (NetCDF) needs scipy: pip install scipy, or write .npz") from None
+    return netcdf_file
+
+
 def write(path: str | Path, run: SceneRun, names: tuple[str, ...] = ()) -> Path:
     """Write `run` to `path`; the suffix picks the format (see the module docstring).
 
     **Raises:**
 
-    [`jaxcable.io.SceneError`][] for an unknown suffix, or `.nc` without scipy.
+    [`jaxcable.io.SceneError`][] for an unknown suffix, a folder that does not exist,
+    a path that is a folder, or `.nc` without scipy (`check_output`).
     """
-    path = Path(path)
+    path = check_output(path)
     suffix = path.suffix.lower()
-    if suffix not in TABLE_SUFFIXES + ARCHIVE_SUFFIXES:
-        raise SceneError(
-            f"output file {path}: unknown format {suffix!r}; use one of {TABLE_SUFFIXES + ARCHIVE_SUFFIXES}"
-        )
     # + 0.0 turns the −0.0 of a slack segment (negative strain times a zero switch) into 0.
     values = {name: series + 0.0 for name, series in run.channels(names).items()}
     if suffix == ".csv":
@@ -85,10 +129,7 @@ def _archive_variables(run: SceneRun, values: dict[str, np.ndarray]) -> dict:
 
 
 def _write_netcdf(path: Path, run: SceneRun, variables: dict) -> None:
-    try:
-        from scipy.io import netcdf_file
-    except ImportError:
-        raise SceneError(f"writing {path.name} (NetCDF) needs scipy: pip install scipy, or write .npz") from None
+    netcdf_file = _netcdf_file(path)
     sizes = {}
     for data, dims, _, _ in variables.values():
         sizes.update(zip(dims, np.shape(data)))

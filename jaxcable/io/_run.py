@@ -1,6 +1,8 @@
 """Running a scene: statics, then dynamics, with the results as numpy arrays."""
 
+import os
 import time
+import warnings
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -9,6 +11,7 @@ from pathlib import Path
 import diffrax
 import numpy as np
 
+from .._advice import STABLE_STEP, stiffest_axial_mode
 from .._blocks import simulate_in_blocks, substeps_per_interval
 from .._config import SolverConfig
 from .._motion import Sampled
@@ -21,6 +24,20 @@ from ._scene import BuiltScene, Scene, SceneError
 from ._scene_file import read_scene
 
 DEFAULT_DT_OUT = 0.1  # s
+
+# What a run costs, for the estimate that `check_size` gives before any work. An
+# explicit Dopri5 step is six force evaluations of 144 ns per node and 13.5 µs of
+# diffrax's bookkeeping (`benchmarks/README.md`, a single run on a 2-core x86_64).
+STEP_SECONDS, EVALUATION_SECONDS_PER_NODE, EVALUATIONS_PER_STEP = 13.5e-6, 144e-9, 6
+# Statics (BFGS, then Levenberg–Marquardt) works with dense (3F)² float64 matrices of
+# the F free nodes (BFGS's inverse Hessian, the least-squares Jacobian, its
+# factorisation, XLA's temporaries) and factorises them, O(F³) a step. On seed 003's
+# line, a 2-core x86_64 (`solve_statics` from the built scene, compilation included):
+# 800 segments took 204 s and peaked 0.5 GB above the 400-segment run (25 s, 0.85 GB),
+# and 2,000 segments held 3.85 GB, about 11 such matrices, and ran past 5 minutes.
+STATICS_MATRICES = 11
+STATICS_SECONDS_PER_CUBED_FREE_NODE = 204.0 / 800**3
+WARN_SECONDS = 3600.0  # a run estimated to take longer than this is warned of
 
 
 def load_scene(path: str | Path) -> Scene:
@@ -130,13 +147,15 @@ def run_scene(
 
     **Raises:**
 
-    [`jaxcable.io.SceneError`][] for a bad duration or interval, or an unknown solver
-    name in the scene;
+    [`jaxcable.io.SceneError`][] for a bad duration or interval, an unknown solver
+    name in the scene, or a run too large for memory (`check_size`, which also warns
+    of one that would take hours);
     `RuntimeError` if statics or the integration fails.
     """
     settings = scene.run
     duration = settings.duration if duration is None else duration
-    dt_out = dt_out or settings.dt_out or DEFAULT_DT_OUT
+    if dt_out is None:  # not `or`: an interval of 0 is an error, not the default
+        dt_out = settings.dt_out if settings.dt_out is not None else DEFAULT_DT_OUT
     if not (np.isfinite(duration) and duration >= 0):
         raise SceneError(f"duration must be a non-negative number of seconds, got {duration}")
     if not (np.isfinite(dt_out) and dt_out > 0):
@@ -157,6 +176,8 @@ def run_scene(
                 )
     built = scene.build()
     model, env = built.model, built.environment
+    for warning in check_size(built, duration, dt_out, solver):
+        warnings.warn(warning, stacklevel=2)
 
     start = time.perf_counter()
     # The run starts from still water (the current only): the waves' drag and inertia
@@ -246,6 +267,72 @@ def describe_stepping(solver: SolverConfig) -> str:
         rtol, atol = (float(np.asarray(x)) for x in (controller.rtol, controller.atol))
         return f"{method}, adaptive (rtol {rtol:g}, atol {atol:g})"
     return f"{method}, {type(controller).__name__}"
+
+
+def check_size(built: BuiltScene, duration: float, dt_out: float, solver: SolverConfig) -> tuple[str, ...]:
+    """Refuse a run that cannot fit in memory, and say when one would take hours: before
+    any work, so that `segments = 1000000` fails at once instead of hanging.
+
+    Memory: statics' dense matrices (`STATICS_MATRICES` of (3F)² float64 for F free
+    nodes) and the output (positions and velocities of every node, strain and tension
+    of every segment, at every output time, held twice: the solve's and the copy
+    returned). Time: statics, `STATICS_SECONDS_PER_CUBED_FREE_NODE × F³`; and for an
+    explicit solver the dynamics, at the stable step Δt = 1.7/|λ| of the stiffest
+    axial mode ([`jaxcable.advise`][]'s), each step costing
+    `STEP_SECONDS + EVALUATIONS_PER_STEP × EVALUATION_SECONDS_PER_NODE × nodes`. The
+    figures are measured on a 2-core CPU (see the constants): a guide to the order of
+    magnitude, not a promise.
+
+    **Returns:**
+
+    Warnings, in words, for a run estimated to take over `WARN_SECONDS`.
+
+    **Raises:**
+
+    [`jaxcable.io.SceneError`][] naming the segment count when the memory estimate
+    exceeds the machine's physical memory.
+    """
+    model = built.model
+    nodes, free, segments = model.n_nodes, int(model.free_nodes.size), model.n_segments
+    times = 1 if duration == 0 else int(np.floor(duration / dt_out)) + 2
+    statics = STATICS_MATRICES * (3 * free) ** 2 * 8
+    outputs = 2 * times * (6 * nodes + 2 * segments) * 8
+    available = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    counts = "/".join(str(line.segments) for line in built.scene.lines)
+    if statics + outputs > available:
+        raise SceneError(
+            f"{built.scene.source}: {segments:,} segments (lines of {counts}) over {duration:g} s need about "
+            f"{(statics + outputs) / 2**30:,.1f} GiB ({statics / 2**30:,.1f} GiB for statics' dense matrices of "
+            f"{free:,} free nodes, {outputs / 2**30:,.1f} GiB for {times:,} output times every {dt_out:g} s), "
+            f"more than this machine's {available / 2**30:,.1f} GiB: use fewer segments (segments in the file, or "
+            "--segments), or fewer output times"
+        )
+    statics_seconds = STATICS_SECONDS_PER_CUBED_FREE_NODE * free**3
+    parts = [f"statics some {statics_seconds / 3600:,.2g} h (dense matrices of {free:,} free nodes, O(F³))"]
+    seconds = statics_seconds
+    if duration > 0 and not isinstance(solver.solver, diffrax.AbstractImplicitSolver):
+        _, magnitude, _ = stiffest_axial_mode(model, built.environment)
+        steps = duration * magnitude / STABLE_STEP
+        dynamics_seconds = steps * (STEP_SECONDS + EVALUATIONS_PER_STEP * EVALUATION_SECONDS_PER_NODE * nodes)
+        seconds += dynamics_seconds
+        parts.append(
+            f"dynamics some {dynamics_seconds / 3600:,.2g} h ({duration:g} s at an explicit solver's stable step of "
+            f"at most {STABLE_STEP / magnitude:.3g} s, set by the stiffest axial mode, |λ| = {magnitude:.4g} 1/s: "
+            f"about {steps:,.0f} steps of {nodes:,} nodes"
+            + (
+                f", more than max_steps = {solver.max_steps:,}, so the solve would fail"
+                if steps > solver.max_steps
+                else ""
+            )
+            + ")"
+        )
+    if seconds <= WARN_SECONDS:
+        return ()
+    return (
+        f"{segments:,} segments (lines of {counts}) would take some {seconds / 3600:,.2g} h on a 2-core CPU: "
+        + "; ".join(parts)
+        + "; fewer segments cut both",
+    )
 
 
 @contextmanager

@@ -22,7 +22,7 @@ from .._config import SOLVERS, SolverConfig
 from .._environment import CurrentProfile, Environment, Seabed
 from .._materials import KelvinVoigt
 from .._motion import AbstractMotion, Fixed, Sampled
-from .._network import Body, Branch, CableNetwork, LineType
+from .._network import Body, Branch, CableNetwork, LineType, below_seabed
 from .._waves import AbstractWave, Airy
 
 POINT_KINDS = ("fixed", "coupled", "free")
@@ -214,8 +214,11 @@ class LineTypeSpec:
     where: str = ""
 
     def damping_coefficient(self, segment_length: float) -> float:
-        """C_v (N·s) for segments of unstretched length `segment_length` (m)."""
-        ratio_part = self.axial_damping_ratio * segment_length * np.sqrt(self.axial_stiffness * self.mass_per_length)
+        """C_v (N·s) for segments of unstretched length `segment_length` (m); NaN for a
+        damping ratio on a negative stiffness or mass, which the line type then refuses
+        by name (numpy's square root would only warn)."""
+        product = self.axial_stiffness * self.mass_per_length
+        ratio_part = self.axial_damping_ratio * segment_length * (np.sqrt(product) if product >= 0 else np.nan)
         return self.axial_damping + ratio_part
 
     def line_type(self, segment_length: float) -> LineType:
@@ -366,15 +369,19 @@ class Scene:
             raise SceneError(f"segments must be a positive integer, got {segments!r}")
         return self.replace(lines=tuple(dataclasses.replace(line, segments=segments) for line in self.lines))
 
-    def with_motion_table(self, times: np.ndarray, positions: np.ndarray, where: str = "motion table") -> "Scene":
+    def with_motion_table(
+        self, times: np.ndarray, positions: np.ndarray, where: str = "motion table", interpolation: str = "cubic"
+    ) -> "Scene":
         """A copy whose coupled points follow a table of absolute positions.
 
         **Arguments:**
 
         - `times`: (s), shape `(samples,)`, strictly increasing.
         - `positions`: (m), shape `(samples, coupled, 3)`, for the coupled points in
-            file order. Each is interpolated by a natural cubic spline
-            ([`jaxcable.Sampled`][]) about the point's position in the scene.
+            file order. Each is interpolated about the point's position in the scene
+            ([`jaxcable.Sampled`][]).
+        - `where`: the table's name in messages.
+        - `interpolation`: `"cubic"` (natural spline), `"pchip"` (monotone) or `"linear"`.
         """
         coupled = self.coupled_points
         if positions.shape[1:] != (len(coupled), 3):
@@ -384,7 +391,9 @@ class Scene:
         points = list(self.points)
         for column, k in enumerate(coupled):
             displacements = positions[:, column, :] - np.asarray(points[k].position)
-            points[k] = dataclasses.replace(points[k], motion=Sampled(times, displacements))
+            with located(f"{where}, point {points[k].name}"):
+                motion = Sampled(times, displacements, interpolation)
+            points[k] = dataclasses.replace(points[k], motion=motion)
         return self.replace(points=tuple(points))
 
     def build(self) -> "BuiltScene":
@@ -393,7 +402,7 @@ class Scene:
         **Raises:**
 
         [`jaxcable.io.SceneError`][] naming the item's place in the file when a value is
-        out of range.
+        out of range, or a fixed or coupled point is below the seabed.
         """
         for line in self.lines:
             if not line.length > 0:
@@ -416,6 +425,15 @@ class Scene:
         }
         bodies = {k: p.body for k, p in enumerate(self.points) if p.body is not None}
         environment = self.water.environment()
+        depth = self.water.depth
+        if self.water.seabed is not None and depth is not None:
+            for point in self.points:
+                if point.kind != "free" and below_seabed(np.asarray(point.position[2]), np.asarray(depth)):
+                    raise SceneError(
+                        f"{point.where}: {point.kind} point {point.name} at z = {point.position[2]:g} m is below the "
+                        f"seabed at z = {-depth:g} m ([water] depth = {depth:g} m); the bed's penalty spring would "
+                        "pull the line's nodes up out of it: raise the point to the bed or deepen the water"
+                    )
         with located(self.source):
             model = CableNetwork.from_branches(
                 junctions=np.array([p.position for p in self.points], dtype=float),

@@ -61,6 +61,8 @@ A scene file names its points and line types and lists its lines::
     motion = { type = "harmonic", amplitude = 1.57, period = 5.6, direction = [1, 0, 0] }
     # optional: phase (rad), ramp (s, switches the motion on smoothly)
     # or: motion = { type = "table", file = "fairlead.csv" }  (time x y z, absolute)
+    # optional: interpolation = "cubic" (natural spline, the default), "pchip" (monotone)
+    # or "linear"
 
     [points.buoy]                # a free point may carry a body:
     type = "free"                # mass, volume, drag_area, specific_drag,
@@ -178,6 +180,8 @@ def read_scene(path: str | Path) -> Scene:
         value = getattr(run, key)
         if value is not None and not value > 0:
             raise SceneError(f"{reader.where(('simulation', key))}: must be positive, got {value:g}")
+    with located(reader.where(("simulation",))):
+        run.solver_config()  # the solver's own checks on its tolerances, now, not when the run starts
     if not run.duration >= 0:
         raise SceneError(f"{reader.where(('simulation', 'duration'))}: must not be negative, got {run.duration:g}")
 
@@ -214,7 +218,10 @@ def read_scene(path: str | Path) -> Scene:
         if "motion" in table:
             if kind != "coupled":
                 raise SceneError(f"{reader.where((*keys, 'motion'))}: only a coupled point can have a motion")
-            motion = reader.motion(table, (*keys, "motion"), position)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", UserWarning)
+                motion = reader.motion(table, (*keys, "motion"), position)
+            notes += [f"{reader.where((*keys, 'motion'))}: {w.message}" for w in caught]  # a spline's overshoot
         points.append(PointSpec(name, kind, position, body, motion, reader.where(keys)))
     index = {p.name: k for k, p in enumerate(points)}
 
@@ -483,10 +490,15 @@ class _Reader:
                     ramp=self.number(spec, (*keys, "ramp"), 0.0),
                 )
         if kind == "table":
-            self.keys(spec, keys, ("type", "file"))
+            self.keys(spec, keys, ("type", "file", "interpolation"))
             file = self.path.parent / self.string(spec, (*keys, "file"))
-            times, positions = read_motion_file(file, 1)
-            return Sampled(times, positions[:, 0, :] - tuple(position))
+            interpolation = self.string(spec, (*keys, "interpolation"), "cubic")
+            try:
+                times, positions = read_motion_file(file, 1)
+            except SceneError as error:  # its own messages name the table's file and line, not this key
+                raise SceneError(f"{self.where((*keys, 'file'))}: {error}") from None
+            with located(self.where((*keys, "interpolation") if "interpolation" in spec else keys)):
+                return Sampled(times, positions[:, 0, :] - tuple(position), interpolation)
         raise SceneError(f"{self.where((*keys, 'type'))}: unknown motion type {kind!r}; expected 'harmonic' or 'table'")
 
 
