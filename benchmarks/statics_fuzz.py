@@ -1,0 +1,398 @@
+"""Statics on random legal scenes: does `solve_statics` find the equilibrium wherever
+one exists, and is what it returns an equilibrium?
+
+`scene(seed)` draws one scene: a single line between an anchor and a fairlead (slack or
+taut), a riser held up by a buoy, a line hanging from one point with a clump weight,
+or a Y of three lines meeting at a free junction (with a buoy or a clump, or neither);
+3–100 segments a line, EA 1e4–1e11 N, m 0.1–400 kg/m, a current of 0–2 m/s in any
+horizontal direction, sometimes a seabed (the line's anchor on it) and sometimes Airy
+waves ramped in from t = 0, which statics at t = 0 therefore does not see. Segment
+counts come from a short list, and every scene has a depth and a `NonlinearElastic`
+law (C_E1 = 0 for Hooke's), so that scenes share compiled programs.
+
+`check(built, solution)` judges a solution independently of jaxcable's equations: the
+force on every free node, summed with numpy from the positions (tension law, submerged
+weight, drag of the uniform current on straight segments and on bodies, the seabed's
+penalty spring), relative to the scene's force scale (the largest tension, wet weight
+of a segment or body, or drag); and, for a line hanging between two fixed ends
+in still water off the bed, the fairlead tension against Irvine's elastic catenary
+(`tests/helpers.ElasticCatenary`), which the polyline approaches at O(1/N²).
+
+    OPENBLAS_NUM_THREADS=1 python benchmarks/statics_fuzz.py --scenes 1000
+    python benchmarks/statics_fuzz.py --report
+
+The tests import `scene` and `check` (`tests/test_statics_fuzz.py`).
+"""
+
+import argparse
+import json
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+RESULTS = Path(__file__).resolve().parent / "results" / "statics_fuzz.json"
+TESTS = Path(__file__).resolve().parents[1] / "tests"
+
+KINDS = ("catenary", "taut", "riser", "hanging", "y")
+LINE_SEGMENTS = (3, 10, 40, 100)
+Y_SEGMENTS = (3, 12, 30)
+RHO, G = 1025.0, 9.81
+
+# A residual force above this share of the scene's force scale is not equilibrium. The
+# engine's own tolerance is 1e-6 of its scale; rounding adds EA ε per node.
+CHECK_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class FuzzScene:
+    """A drawn scene: the model and water, what was drawn (`kind`, `features`), and the
+    bodies as `{node: (mass, volume, drag_area)}` for the independent check."""
+
+    seed: int
+    kind: str
+    model: object
+    env: object
+    bodies: dict
+    features: dict
+
+
+def _log_uniform(rng, low, high):
+    return float(np.exp(rng.uniform(np.log(low), np.log(high))))
+
+
+def _line_type(rng, jc, kind):
+    """Mass, diameter and law: EA 1e4–1e11 N, m 0.1–400 kg/m, the displaced mass 10–150 %
+    of the line's (buoyant lines too), seed 003's quadratic term on a third of them."""
+    mass = _log_uniform(rng, 0.1, 400.0)
+    displaced = mass * rng.uniform(0.1, 1.5) if kind != "riser" else mass * rng.uniform(0.1, 0.9)
+    diameter = float(np.sqrt(4 * displaced / (RHO * np.pi)))
+    ea = _log_uniform(rng, 1e4, 1e11)
+    # One class of law for all (C_E1 = 0 is Hooke's), so that scenes share programs.
+    law = jc.NonlinearElastic(ea, rng.uniform(0.05, 0.2) * ea if rng.uniform() < 1 / 3 else 0.0)
+    normal, tangential = rng.uniform(0.8, 2.0), rng.uniform(0.0, 0.5)
+    line = jc.LineType(mass, diameter, law, normal_drag=normal, tangential_drag=tangential)
+    return line, mass, diameter, ea
+
+
+def _horizontal(rng):
+    angle = rng.uniform(0, 2 * np.pi)
+    return np.array([np.cos(angle), np.sin(angle), 0.0])
+
+
+def scene(seed: int) -> FuzzScene:
+    """Scene number `seed`, the same on every call."""
+    import jaxcable as jc
+
+    rng = np.random.default_rng(seed)
+    kind = KINDS[seed % len(KINDS)]
+    depth = _log_uniform(rng, 20.0, 1000.0)
+    speed = 0.0 if rng.uniform() < 0.25 else rng.uniform(0.0, 2.0)
+    current = speed * _horizontal(rng)
+    seabed = rng.uniform() < 0.4 and kind != "riser"
+    waves = rng.uniform() < 0.15
+    line, mass, diameter, ea = _line_type(rng, jc, kind)
+    anchor = np.array([0.0, 0.0, -depth])
+    bodies, constraints = {}, {}
+    fixed = jc.Fixed()
+
+    if kind in ("catenary", "taut"):
+        segments = int(rng.choice(LINE_SEGMENTS))
+        height = depth * rng.uniform(0.3, 1.0)
+        span = depth * rng.uniform(0.1, 3.0)
+        top = anchor + span * _horizontal(rng) + np.array([0.0, 0.0, height])
+        chord = float(np.linalg.norm(top - anchor))
+        # Slack: up to twice the chord; taut: pre-strained by up to T = 0.1 % of EA or
+        # what a strain of 2 % gives, whichever is less tight for a soft line.
+        length = chord * rng.uniform(1.001, 2.0) if kind == "catenary" else chord / (1 + _log_uniform(rng, 1e-5, 0.02))
+        junctions = np.stack([anchor, top])
+        branches = [jc.Branch(0, 1, line, length, segments)]
+        constraints = {0: fixed, 1: fixed}
+    elif kind == "riser":
+        segments = int(rng.choice(LINE_SEGMENTS))
+        length = depth * rng.uniform(0.2, 0.95)
+        top = anchor + np.array([0.0, 0.0, length])
+        wet_weight = (mass - RHO * np.pi * diameter**2 / 4) * G * length
+        lift = max(wet_weight, 0.0) + _log_uniform(rng, 10.0, 1e5)
+        volume = rng.uniform(0.5, 5.0)
+        buoy_mass = RHO * volume - lift / G
+        if buoy_mass <= 0:  # too much lift for that volume: a bigger buoy
+            volume = 2 * lift / (RHO * G)
+            buoy_mass = RHO * volume - lift / G
+        bodies = {1: (buoy_mass, volume, rng.uniform(0.1, 3.0))}
+        junctions = np.stack([anchor, top])
+        branches = [jc.Branch(0, 1, line, length, segments)]
+        constraints = {0: fixed}
+    elif kind == "hanging":
+        segments = int(rng.choice(LINE_SEGMENTS))
+        top = np.array([0.0, 0.0, -rng.uniform(0.0, 0.2) * depth])
+        length = (depth + top[2]) * rng.uniform(0.2, 1.3 if seabed else 0.95)
+        bottom = top - np.array([0.0, 0.0, length])
+        if rng.uniform() < 0.7:
+            clump = _log_uniform(rng, 1.0, 1e4)
+            bodies = {1: (clump, clump / rng.uniform(1500.0, 8000.0), rng.uniform(0.0, 2.0))}
+        junctions = np.stack([top, bottom])
+        branches = [jc.Branch(0, 1, line, length, segments)]
+        constraints = {0: fixed}
+    else:  # "y": three anchors around a free junction
+        segments = int(rng.choice(Y_SEGMENTS))
+        radius = depth * rng.uniform(0.3, 2.0)
+        junction = np.array([0.0, 0.0, -depth * rng.uniform(0.2, 0.8)])
+        supports = []
+        for k in range(3):
+            angle = 2 * np.pi * k / 3 + rng.uniform(-0.5, 0.5)
+            z = -depth if k < 2 or rng.uniform() < 0.5 else -rng.uniform(0.0, 0.3) * depth
+            supports.append([radius * np.cos(angle), radius * np.sin(angle), z])
+        junctions = np.vstack([supports, junction])
+        branches = []
+        for k in range(3):
+            chord = float(np.linalg.norm(junctions[k] - junction))
+            branches.append(jc.Branch(k, 3, line, chord * rng.uniform(0.95, 1.6), segments))
+        choice = rng.uniform()
+        if choice < 0.35:
+            volume = rng.uniform(0.1, 10.0)
+            bodies = {3: (RHO * volume * rng.uniform(0.05, 0.9), volume, rng.uniform(0.1, 3.0))}
+        elif choice < 0.7:
+            clump = _log_uniform(rng, 1.0, 1e4)
+            bodies = {3: (clump, clump / 7800.0, rng.uniform(0.0, 1.0))}
+        constraints = {0: fixed, 1: fixed, 2: fixed}
+
+    model = jc.CableNetwork.from_branches(
+        junctions,
+        branches,
+        constraints=constraints,
+        bodies={k: jc.Body(mass=m, volume=v, drag_area=a) for k, (m, v, a) in bodies.items()},
+        mass_matrix="lumped",
+    )
+    water = {"current": current, "depth": depth}
+    if seabed:
+        water["seabed"] = jc.Seabed(stiffness=_log_uniform(rng, 1e4, 1e7))
+    if waves:
+        height = min(0.1 * depth, rng.uniform(0.5, 8.0))
+        water["waves"] = jc.Airy(height=height, period=rng.uniform(5.0, 15.0), depth=depth)
+        water["wave_ramp"] = rng.uniform(5.0, 30.0)
+    env = jc.Environment(water_density=RHO, gravity=G, **water)
+    features = {
+        "segments": segments,
+        "EA": ea,
+        "mass_per_length": mass,
+        "current": speed,
+        "seabed": seabed,
+        "waves": waves,
+        "bodies": len(bodies),
+    }
+    return FuzzScene(seed, kind, model, env, bodies, features)
+
+
+def describe(fuzz: FuzzScene) -> str:
+    """One line: the scene's seed, kind and what was drawn."""
+    drawn = ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}" for k, v in fuzz.features.items())
+    return f"scene {fuzz.seed} ({fuzz.kind}): {drawn}"
+
+
+def _smoothstep(strain, width):
+    s = np.clip(strain / np.where(width > 0, width, 1.0), 0.0, 1.0)
+    return np.where(width > 0, s * s * (3 - 2 * s), (strain > 0).astype(float))
+
+
+def node_forces(fuzz: FuzzScene, positions: np.ndarray) -> tuple[np.ndarray, float]:
+    """The force (N) on every node at rest at `positions` (m), shape `(nodes, 3)`, and
+    the scene's force scale (N), with numpy, from the laws as the design notes state
+    them (not from jaxcable's code): the tension law along each segment, half of each
+    segment's submerged weight and of its drag on each end, each body's weight,
+    buoyancy and drag, and the seabed's spring `k δ A` on the nodes below it."""
+    model, env = fuzz.model, fuzz.env
+    line = model.line
+    ends = np.asarray(model.segment_nodes)
+    length = np.asarray(model.segment_length)
+    chord = positions[ends[:, 1]] - positions[ends[:, 0]]
+    stretched = np.linalg.norm(chord, axis=1)
+    tau = chord / stretched[:, None]
+    strain = stretched / length - 1
+    law = line.tension_law
+    ea, width = np.asarray(law.axial_stiffness), np.asarray(law.slack_width)
+    tension = strain * (ea + np.asarray(law.quadratic_stiffness()) * strain) * _smoothstep(strain, width)
+
+    u = np.asarray(env.current, dtype=float)
+    diameter = np.asarray(line.diameter)
+    c_n = 0.5 * RHO * np.asarray(line.normal_drag) * diameter
+    c_t = 0.5 * RHO * np.asarray(line.tangential_drag) * np.pi * diameter
+    u_t = (tau @ u)[:, None] * tau
+    u_n = u - u_t
+    drag = (c_n * np.linalg.norm(u_n, axis=1))[:, None] * u_n + (c_t * np.linalg.norm(u_t, axis=1))[:, None] * u_t
+    drag = drag * stretched[:, None]
+    weight = np.asarray(line.mass_per_length) * G * length
+    buoyancy = RHO * np.asarray(line.area) * G * length
+    per_end = 0.5 * drag
+    per_end[:, 2] += 0.5 * (buoyancy - weight)
+
+    force = np.zeros_like(positions)
+    np.add.at(force, ends[:, 0], tension[:, None] * tau + per_end)
+    np.add.at(force, ends[:, 1], -tension[:, None] * tau + per_end)
+    loads = [np.abs(tension), np.abs(weight - buoyancy), np.linalg.norm(drag, axis=1)]
+    for node, (mass, volume, drag_area) in fuzz.bodies.items():
+        body_drag = 0.5 * RHO * drag_area * np.linalg.norm(u) * u
+        force[node, 2] += (RHO * volume - mass) * G
+        force[node] += body_drag
+        loads.append(np.array([abs(mass - RHO * volume) * G, np.linalg.norm(body_drag)]))
+    if env.seabed is not None:
+        area = np.zeros(len(positions))
+        np.add.at(area, ends[:, 0], 0.5 * diameter * length)
+        np.add.at(area, ends[:, 1], 0.5 * diameter * length)
+        force[:, 2] += float(env.seabed.stiffness) * area * np.maximum(-float(env.depth) - positions[:, 2], 0.0)
+    return force, float(max(np.max(part) for part in loads))
+
+
+def check(fuzz: FuzzScene, solution) -> dict:
+    """The independent verdict on `solution` (a `StaticSolution`) for `fuzz`:
+    `relative_residual` (the largest force on a free node over the scene's force scale),
+    `equilibrium` (whether that is within `CHECK_TOLERANCE` plus rounding, `16 ε EA /
+    scale`), and, where the elastic catenary applies, `catenary_error` (the relative
+    fairlead tension error) and `catenary_bound` (`1/N²`, from the O(1/N²) convergence
+    of the polyline: 0.2 % at N = 10 on `tests/test_statics.py`'s line)."""
+    positions = np.asarray(solution.state.positions)
+    force, scale = node_forces(fuzz, positions)
+    free = np.asarray(fuzz.model.free_nodes)
+    residual = float(np.max(np.abs(force[free]))) / scale if free.size else 0.0
+    rounding = 16 * np.finfo(float).eps * float(np.max(np.asarray(fuzz.model.line.tension_law.axial_stiffness))) / scale
+    out = {
+        "relative_residual": residual,
+        "equilibrium": bool(np.isfinite(residual) and residual <= CHECK_TOLERANCE + rounding),
+    }
+    if fuzz.kind == "catenary" and not fuzz.features["current"] and not _touches(fuzz, positions):
+        out.update(_catenary(fuzz, solution))
+    return out
+
+
+def _touches(fuzz, positions):
+    return fuzz.env.seabed is not None and bool(np.any(positions[:, 2] < -float(fuzz.env.depth)))
+
+
+def _catenary(fuzz, solution) -> dict:
+    """The fairlead tension against the continuum elastic catenary through the same
+    ends (guessed from the solution's anchor reaction, solved by `fsolve`)."""
+    sys.path.insert(0, str(TESTS))
+    from helpers import ElasticCatenary
+
+    model = fuzz.model
+    positions = np.asarray(model.node_positions)
+    chord = positions[1] - positions[0]
+    span = float(np.hypot(chord[0], chord[1]))
+    law = model.line.tension_law
+    w = float((model.line.mass_per_length[0] - RHO * model.line.area[0]) * G)
+    reaction = np.asarray(solution.reactions)[0]  # the anchor's force on the line
+    heading = chord[:2] / span
+    guess = [float(reaction[:2] @ heading), float(reaction[2])]
+    length = float(np.sum(model.segment_length))
+    try:
+        exact = ElasticCatenary(
+            length,
+            w,
+            float(law.axial_stiffness[0]),
+            float(law.quadratic_stiffness()[0]),
+            span,
+            float(chord[2]),
+            guess,
+        )
+    except AssertionError:  # fsolve missed; no verdict rather than a wrong one
+        return {}
+    top = float(exact.tension(length))
+    error = abs(float(np.linalg.norm(np.asarray(solution.reactions)[1])) / top - 1)
+    n = fuzz.features["segments"]
+    return {"catenary_error": error, "catenary_bound": 1.0 / n**2}
+
+
+def run(seeds, max_steps=None, progress=False) -> list[dict]:
+    """Solve every scene in `seeds` with `solve_statics(..., throw=False)` and check it;
+    one record a scene (its features, the verdicts, the engine's result and steps,
+    the wall time of the call, compilations included)."""
+    import jax
+    import optimistix as optx
+
+    import jaxcable as jc
+
+    jax.config.update("jax_enable_x64", True)
+    records = []
+    for seed in seeds:
+        record = {"seed": seed}
+        try:
+            fuzz = scene(seed)
+        except ValueError as error:  # not a legal scene after all: a generator bug
+            records.append({**record, "error": f"scene: {error}"})
+            continue
+        record.update(kind=fuzz.kind, **fuzz.features)
+        start = time.perf_counter()
+        try:
+            options = {} if max_steps is None else {"max_steps": max_steps}
+            solution = jc.solve_statics(fuzz.model, fuzz.env, throw=False, **options)
+            jax.block_until_ready(solution)
+        except (ValueError, RuntimeError) as error:
+            record.update(error=str(error), seconds=time.perf_counter() - start)
+            records.append(record)
+            continue
+        record["seconds"] = time.perf_counter() - start
+        record["converged"] = bool(solution.result == optx.RESULTS.successful)
+        record["steps"] = int(solution.steps)
+        record["engine_residual"] = float(solution.residual)
+        record.update(check(fuzz, solution))
+        records.append(record)
+        if progress:
+            verdict = "ok" if record["equilibrium"] else "NOT IN EQUILIBRIUM"
+            print(f"{describe(fuzz)}: {verdict}, {record['steps']} steps, {record['seconds']:.2f} s", flush=True)
+    return records
+
+
+def summary(records: list[dict]) -> dict:
+    """Counts by kind; the share in equilibrium by the independent check; steps."""
+    solved = [r for r in records if "error" not in r]
+    ok = [r for r in solved if r["equilibrium"]]
+    by_kind = {}
+    for kind in KINDS:
+        mine = [r for r in records if r.get("kind") == kind]
+        by_kind[kind] = {"scenes": len(mine), "equilibrium": sum(r.get("equilibrium", False) for r in mine)}
+    catenary = [r for r in solved if "catenary_error" in r]
+    return {
+        "scenes": len(records),
+        "equilibrium": len(ok),
+        "share": len(ok) / max(len(records), 1),
+        "engine_says_converged": sum(r["converged"] for r in solved),
+        "engine_and_check_disagree": sum(r["converged"] != r["equilibrium"] for r in solved),
+        "errors": sum("error" in r for r in records),
+        "by_kind": by_kind,
+        "steps_median": float(np.median([r["steps"] for r in solved])) if solved else None,
+        "steps_max": int(max(r["steps"] for r in solved)) if solved else None,
+        "catenary_checked": len(catenary),
+        "catenary_within_bound": sum(r["catenary_error"] <= r["catenary_bound"] for r in catenary),
+        "catenary_error_times_n2_max": max((r["catenary_error"] * r["segments"] ** 2 for r in catenary), default=None),
+        "seconds_total": float(sum(r.get("seconds", 0.0) for r in records)),
+    }
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scenes", type=int, default=1000)
+    parser.add_argument("--first", type=int, default=0)
+    parser.add_argument("--max-steps", type=int, default=None)
+    parser.add_argument("--report", action="store_true")
+    parser.add_argument("--no-save", action="store_true")
+    args = parser.parse_args()
+    if args.report:
+        print(json.dumps({k: v for k, v in json.loads(RESULTS.read_text())[-1].items() if k != "records"}, indent=1))
+        return
+    records = run(range(args.first, args.first + args.scenes), args.max_steps, progress=True)
+    result = summary(records)
+    print(json.dumps(result, indent=1))
+    for r in records:
+        if not r.get("equilibrium", False):
+            print("FAILED", json.dumps(r))
+    if not args.no_save:
+        sys.path.insert(0, str(Path(__file__).parent))
+        from _results import append_session
+
+        append_session(RESULTS, **result, records=records)
+
+
+if __name__ == "__main__":
+    main()
