@@ -5,10 +5,11 @@ one exists, and is what it returns an equilibrium?
 taut), a riser held up by a buoy, a line hanging from one point with a clump weight,
 or a Y of three lines meeting at a free junction (with a buoy or a clump, or neither);
 3–100 segments a line, EA 1e4–1e11 N, m 0.1–400 kg/m, a current of 0–2 m/s in any
-horizontal direction, sometimes a seabed (the line's anchor on it) and sometimes Airy
-waves ramped in from t = 0, which statics at t = 0 therefore does not see. Segment
-counts come from a short list, and every scene has a depth and a `NonlinearElastic`
-law (C_E1 = 0 for Hooke's), so that scenes share compiled programs.
+horizontal direction, sometimes a seabed (the line's anchor on it), and Airy waves
+ramped in from t = 0, which statics at t = 0 therefore does not see. Segment counts
+come from a short list, and every scene has a seabed (out of reach where none was
+drawn), waves and a `NonlinearElastic` law (C_E1 = 0 for Hooke's), so that scenes of
+one topology share a compiled program.
 
 `check(built, solution)` judges a solution independently of jaxcable's equations: the
 force on every free node, summed with numpy from the positions (tension law, submerged
@@ -30,8 +31,12 @@ import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:  # imported where used, after the caller has enabled float64
+    import jaxcable as jc
 
 RESULTS = Path(__file__).resolve().parent / "results" / "statics_fuzz.json"
 TESTS = Path(__file__).resolve().parents[1] / "tests"
@@ -53,8 +58,8 @@ class FuzzScene:
 
     seed: int
     kind: str
-    model: object
-    env: object
+    model: "jc.CableNetwork"
+    env: "jc.Environment"
     bodies: dict
     features: dict
 
@@ -92,7 +97,6 @@ def scene(seed: int) -> FuzzScene:
     speed = 0.0 if rng.uniform() < 0.25 else rng.uniform(0.0, 2.0)
     current = speed * _horizontal(rng)
     seabed = rng.uniform() < 0.4 and kind != "riser"
-    waves = rng.uniform() < 0.15
     line, mass, diameter, ea = _line_type(rng, jc, kind)
     anchor = np.array([0.0, 0.0, -depth])
     bodies, constraints = {}, {}
@@ -166,21 +170,27 @@ def scene(seed: int) -> FuzzScene:
         bodies={k: jc.Body(mass=m, volume=v, drag_area=a) for k, (m, v, a) in bodies.items()},
         mass_matrix="lumped",
     )
-    water = {"current": current, "depth": depth}
-    if seabed:
-        water["seabed"] = jc.Seabed(stiffness=_log_uniform(rng, 1e4, 1e7))
-    if waves:
-        height = min(0.1 * depth, rng.uniform(0.5, 8.0))
-        water["waves"] = jc.Airy(height=height, period=rng.uniform(5.0, 15.0), depth=depth)
-        water["wave_ramp"] = rng.uniform(5.0, 30.0)
-    env = jc.Environment(water_density=RHO, gravity=G, **water)
+    # Every scene has a seabed and waves, so that all scenes of a topology share one
+    # compiled program (compiling took most of the run): a scene drawn without a
+    # seabed has it ten depths down, out of reach. The waves are ramped in from t = 0,
+    # so statics sees none of them.
+    bed = depth if seabed else 10 * depth
+    height = min(0.1 * depth, rng.uniform(0.5, 8.0))
+    env = jc.Environment(
+        water_density=RHO,
+        gravity=G,
+        current=current,
+        depth=bed,
+        seabed=jc.Seabed(stiffness=_log_uniform(rng, 1e4, 1e7)),
+        waves=jc.Airy(height=height, period=rng.uniform(5.0, 15.0), depth=bed),
+        wave_ramp=rng.uniform(5.0, 30.0),
+    )
     features = {
         "segments": segments,
         "EA": ea,
         "mass_per_length": mass,
         "current": speed,
         "seabed": seabed,
-        "waves": waves,
         "bodies": len(bodies),
     }
     return FuzzScene(seed, kind, model, env, bodies, features)
@@ -192,56 +202,23 @@ def describe(fuzz: FuzzScene) -> str:
     return f"scene {fuzz.seed} ({fuzz.kind}): {drawn}"
 
 
-def _smoothstep(strain, width):
-    s = np.clip(strain / np.where(width > 0, width, 1.0), 0.0, 1.0)
-    return np.where(width > 0, s * s * (3 - 2 * s), (strain > 0).astype(float))
-
-
 def node_forces(fuzz: FuzzScene, positions: np.ndarray) -> tuple[np.ndarray, float]:
-    """The force (N) on every node at rest at `positions` (m), shape `(nodes, 3)`, and
-    the scene's force scale (N), with numpy, from the laws as the design notes state
-    them (not from jaxcable's code): the tension law along each segment, half of each
-    segment's submerged weight and of its drag on each end, each body's weight,
-    buoyancy and drag, and the seabed's spring `k δ A` on the nodes below it."""
+    """The force (N) on every node at rest at `positions` (m), shape `(nodes, 3)`, by
+    `tests/helpers.hand_forces` (numpy, from the laws as the design notes state them,
+    not from jaxcable's code), and the scene's force scale (N): the largest tension,
+    wet weight of a segment or body, or drag on a node (the change in its force when
+    the current is switched off)."""
+    sys.path.insert(0, str(TESTS))
+    from helpers import hand_forces  # pyright: ignore[reportMissingImports]
+
     model, env = fuzz.model, fuzz.env
+    bodies = {k: {"mass": m, "volume": v, "drag_area": a} for k, (m, v, a) in fuzz.bodies.items()}
+    tension, force = hand_forces(model, env, positions, bodies, np.asarray(env.current))
+    _, still = hand_forces(model, env, positions, bodies)
     line = model.line
-    ends = np.asarray(model.segment_nodes)
-    length = np.asarray(model.segment_length)
-    chord = positions[ends[:, 1]] - positions[ends[:, 0]]
-    stretched = np.linalg.norm(chord, axis=1)
-    tau = chord / stretched[:, None]
-    strain = stretched / length - 1
-    law = line.tension_law
-    ea, width = np.asarray(law.axial_stiffness), np.asarray(law.slack_width)
-    tension = strain * (ea + np.asarray(law.quadratic_stiffness()) * strain) * _smoothstep(strain, width)
-
-    u = np.asarray(env.current, dtype=float)
-    diameter = np.asarray(line.diameter)
-    c_n = 0.5 * RHO * np.asarray(line.normal_drag) * diameter
-    c_t = 0.5 * RHO * np.asarray(line.tangential_drag) * np.pi * diameter
-    u_t = (tau @ u)[:, None] * tau
-    u_n = u - u_t
-    drag = (c_n * np.linalg.norm(u_n, axis=1))[:, None] * u_n + (c_t * np.linalg.norm(u_t, axis=1))[:, None] * u_t
-    drag = drag * stretched[:, None]
-    weight = np.asarray(line.mass_per_length) * G * length
-    buoyancy = RHO * np.asarray(line.area) * G * length
-    per_end = 0.5 * drag
-    per_end[:, 2] += 0.5 * (buoyancy - weight)
-
-    force = np.zeros_like(positions)
-    np.add.at(force, ends[:, 0], tension[:, None] * tau + per_end)
-    np.add.at(force, ends[:, 1], -tension[:, None] * tau + per_end)
-    loads = [np.abs(tension), np.abs(weight - buoyancy), np.linalg.norm(drag, axis=1)]
-    for node, (mass, volume, drag_area) in fuzz.bodies.items():
-        body_drag = 0.5 * RHO * drag_area * np.linalg.norm(u) * u
-        force[node, 2] += (RHO * volume - mass) * G
-        force[node] += body_drag
-        loads.append(np.array([abs(mass - RHO * volume) * G, np.linalg.norm(body_drag)]))
-    if env.seabed is not None:
-        area = np.zeros(len(positions))
-        np.add.at(area, ends[:, 0], 0.5 * diameter * length)
-        np.add.at(area, ends[:, 1], 0.5 * diameter * length)
-        force[:, 2] += float(env.seabed.stiffness) * area * np.maximum(-float(env.depth) - positions[:, 2], 0.0)
+    wet = np.abs(np.asarray(line.mass_per_length) - RHO * np.asarray(line.area)) * G * np.asarray(model.segment_length)
+    loads = [np.abs(tension), wet, np.linalg.norm(force - still, axis=1)]
+    loads += [np.array([abs(m - RHO * v) * G]) for m, v, _ in fuzz.bodies.values()]
     return force, float(max(np.max(part) for part in loads))
 
 
@@ -274,7 +251,7 @@ def _catenary(fuzz, solution) -> dict:
     """The fairlead tension against the continuum elastic catenary through the same
     ends (guessed from the solution's anchor reaction, solved by `fsolve`)."""
     sys.path.insert(0, str(TESTS))
-    from helpers import ElasticCatenary
+    from helpers import ElasticCatenary  # pyright: ignore[reportMissingImports]
 
     model = fuzz.model
     positions = np.asarray(model.node_positions)
@@ -312,6 +289,7 @@ def run(seeds, max_steps=None, progress=False) -> list[dict]:
     import optimistix as optx
 
     import jaxcable as jc
+    from jaxcable._statics import MAX_STEPS, failure_message
 
     jax.config.update("jax_enable_x64", True)
     records = []
@@ -337,9 +315,12 @@ def run(seeds, max_steps=None, progress=False) -> list[dict]:
         record["steps"] = int(solution.steps)
         record["engine_residual"] = float(solution.residual)
         record.update(check(fuzz, solution))
+        record["largest_strain"] = float(np.max(np.asarray(solution.strain)))
+        if not record["converged"]:
+            record["message"] = failure_message(solution, max_steps=max_steps or MAX_STEPS)
         records.append(record)
         if progress:
-            verdict = "ok" if record["equilibrium"] else "NOT IN EQUILIBRIUM"
+            verdict = "ok" if record["equilibrium"] else "NOT IN EQUILIBRIUM: " + record.get("message", "")
             print(f"{describe(fuzz)}: {verdict}, {record['steps']} steps, {record['seconds']:.2f} s", flush=True)
     return records
 
@@ -371,17 +352,25 @@ def summary(records: list[dict]) -> dict:
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
     parser.add_argument("--scenes", type=int, default=1000)
     parser.add_argument("--first", type=int, default=0)
     parser.add_argument("--max-steps", type=int, default=None)
     parser.add_argument("--report", action="store_true")
     parser.add_argument("--no-save", action="store_true")
+    parser.add_argument("--records", type=Path, help="write this run's records here instead of saving a session")
+    parser.add_argument("--merge", type=Path, nargs="+", help="save one session from these records files")
     args = parser.parse_args()
     if args.report:
         print(json.dumps({k: v for k, v in json.loads(RESULTS.read_text())[-1].items() if k != "records"}, indent=1))
         return
-    records = run(range(args.first, args.first + args.scenes), args.max_steps, progress=True)
+    if args.merge:
+        records = [r for path in args.merge for r in json.loads(path.read_text())]
+    else:
+        records = run(range(args.first, args.first + args.scenes), args.max_steps, progress=True)
+    if args.records:
+        args.records.write_text(json.dumps(records))
+        return
     result = summary(records)
     print(json.dumps(result, indent=1))
     for r in records:

@@ -180,6 +180,14 @@ def failure_message(
             f"{100 * float(solution.required_strain):.3g} % to reach from one to the other, more than the "
             f"{100 * MAX_REQUIRED_STRAIN:.0f} % allowed. Is a line's length or an end's position wrong?"
         )
+    stretch = float(jnp.max(solution.strain))
+    if not np.isfinite(stretch) or stretch > MAX_REQUIRED_STRAIN:
+        return (
+            f"solve_statics found no equilibrium: segments were stretched by up to {100 * stretch:.3g} % and "
+            "still stretching. Loads that grow as a line stretches (the drag on a soft line, which grows with "
+            "its length) can outgrow its stiffness, and then there is no equilibrium: check the line's EA "
+            "against its drag and weight."
+        )
     if result == optx.RESULTS.nonlinear_max_steps_reached:
         why = f"its {max_steps} steps (max_steps) ran out before the force fell to the tolerance"
     elif result == optx.RESULTS.nonfinite:
@@ -275,7 +283,7 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance) -> StaticSolu
     def solve(model, start, tolerance, steps, adjoint):
         return optx.root_find(
             lambda x, _: forces(model, x, tolerance),
-            _PseudoTransient(graph),
+            _PseudoTransient(graph=graph),
             start,
             has_aux=True,
             options={

@@ -448,8 +448,8 @@ def test_very_stiff_line_is_in_equilibrium_at_rounding():
     equilibrium; the earlier test (1e-6 of a segment's weight, 3 mN) refused it. The
     fairlead's force is Irvine's to the discretisation's O(1/N²)."""
     ea, n = 7.5e12, 20
-    # The sharp slack switch, as `hand_forces` has it: strains here are about 1e-8,
-    # inside the default smoothing band.
+    # The sharp slack switch: strains here are about 1e-8, inside the default
+    # smoothing band, which would make the law's stiffness there far below EA.
     line = jc.LineType(MASS, DIAMETER, jc.LinearElastic(ea, 0.0), normal_drag=0.0, tangential_drag=0.0)
     model = jc.CableNetwork.from_branches(
         np.stack([ANCHOR, FAIRLEAD]), [jc.Branch(0, 1, line, LENGTH, n)], constraints={0: jc.Fixed(), 1: jc.Fixed()}

@@ -47,7 +47,9 @@ def test_fuzz_scene_is_the_same_under_jit_and_vmap():
     traced = jax.jit(lambda m, e: jc.solve_statics(m, e))(fuzz.model, fuzz.env)
     np.testing.assert_allclose(traced.state.positions, eager.state.positions, rtol=1e-12, atol=1e-9)
 
-    stronger = eqx.tree_at(lambda e: e.current, fuzz.env, 1.1 * fuzz.env.current)
+    current = fuzz.env.current
+    assert not isinstance(current, jc.CurrentProfile)  # the fuzz draws uniform currents
+    stronger = eqx.tree_at(lambda e: e.current, fuzz.env, 1.1 * current)
     envs = jax.tree.map(lambda a, b: np.stack([a, b]), fuzz.env, stronger)
     batch = jax.vmap(lambda e: jc.solve_statics(fuzz.model, e, throw=False))(envs)
     np.testing.assert_allclose(batch.state.positions[0], eager.state.positions, rtol=1e-12, atol=1e-9)
