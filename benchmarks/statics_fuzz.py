@@ -281,10 +281,12 @@ def _catenary(fuzz, solution) -> dict:
     return {"catenary_error": error, "catenary_bound": 1.0 / n**2}
 
 
-def run(seeds, max_steps=None, progress=False) -> list[dict]:
+def run(seeds, max_steps=None, progress=False, save=None) -> list[dict]:
     """Solve every scene in `seeds` with `solve_statics(..., throw=False)` and check it;
     one record a scene (its features, the verdicts, the engine's result and steps,
-    the wall time of the call, compilations included)."""
+    the wall time of the call, compilations included). `save`: a path that the records
+    so far are written to (JSON) after each scene, so that a long run interrupted keeps
+    them."""
     import jax
     import optimistix as optx
 
@@ -319,6 +321,8 @@ def run(seeds, max_steps=None, progress=False) -> list[dict]:
         if not record["converged"]:
             record["message"] = failure_message(solution, max_steps=max_steps or MAX_STEPS)
         records.append(record)
+        if save is not None:
+            Path(save).write_text(json.dumps(records))
         if progress:
             verdict = "ok" if record["equilibrium"] else "NOT IN EQUILIBRIUM: " + record.get("message", "")
             print(f"{describe(fuzz)}: {verdict}, {record['steps']} steps, {record['seconds']:.2f} s", flush=True)
@@ -367,9 +371,8 @@ def main():
     if args.merge:
         records = [r for path in args.merge for r in json.loads(path.read_text())]
     else:
-        records = run(range(args.first, args.first + args.scenes), args.max_steps, progress=True)
+        records = run(range(args.first, args.first + args.scenes), args.max_steps, progress=True, save=args.records)
     if args.records:
-        args.records.write_text(json.dumps(records))
         return
     result = summary(records)
     print(json.dumps(result, indent=1))

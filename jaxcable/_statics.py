@@ -430,7 +430,7 @@ class _PseudoTransientState(eqx.Module):
     size: Float[Array, ""]
     step_size: Float[Array, ""]
     rejected: Int[Array, ""]
-    polished: Int[Array, ""]
+    previous: Float[Array, ""]
 
 
 class _PseudoTransient(optx.AbstractRootFinder):
@@ -470,7 +470,9 @@ class _PseudoTransient(optx.AbstractRootFinder):
         mass = options["mass"][:, None]
         speed = jnp.max(jnp.abs(force) / mass)
         step_size = jnp.where(speed > 0, 0.1 * options["shortest"] / jnp.where(speed > 0, speed, 1.0), 1.0)
-        return _PseudoTransientState(force, tolerance, jnp.max(jnp.abs(force)), step_size, jnp.array(0), jnp.array(0))
+        return _PseudoTransientState(
+            force, tolerance, jnp.max(jnp.abs(force)), step_size, jnp.array(0), jnp.array(jnp.inf)
+        )
 
     def step(self, fn, y, args, options, state, tags):
         mass = options["mass"][:, None]
@@ -505,17 +507,18 @@ class _PseudoTransient(optx.AbstractRootFinder):
             size=jnp.where(taken, size, state.size),
             step_size=state.step_size * jnp.where(finite, factor, self.shrink),
             rejected=jnp.where(taken, 0, state.rejected + 1),
-            polished=jnp.where(taken & (state.size <= state.tolerance), state.polished + 1, state.polished),
+            previous=jnp.where(taken, state.size, state.previous),
         )
         return jnp.where(taken, candidate, y), new, tolerance
 
     def terminate(self, fn, y, args, options, state, tags):
-        # Within the tolerance, one more step polishes: near the equilibrium the steps
-        # are Newton's, so it takes the force from the tolerance down to about rounding
-        # (equilibrium to 1e-10 of the weight where the tolerance allowed 1e-6 of the
-        # tension). A polishing step refused (rounding's noise) ends it as it is.
+        # Within the tolerance the steps go on while they still halve the force: near
+        # the equilibrium they are Newton's, so a few take it from the tolerance down
+        # to rounding (the supports then carry the weight to 1e-8 and better, where the
+        # tolerance allowed 1e-6 of the tension). A step that no longer halves it, or
+        # one refused (rounding's noise), ends the solve.
         within = state.size <= state.tolerance
-        done = within & ((state.polished >= 1) | (state.rejected >= 1))
+        done = within & ((state.size > 0.5 * state.previous) | (state.rejected >= 1))
         stalled = state.rejected >= self.give_up
         failed = stalled & ~done
         return done | stalled, optx.RESULTS.where(failed, optx.RESULTS.nonlinear_divergence, optx.RESULTS.successful)
