@@ -1,16 +1,17 @@
 """Static equilibrium under gravity, buoyancy and a steady current.
 
-The equilibrium is found by pseudo-transient continuation: implicit steps of the
+The equilibrium is found by pseudo-transient continuation: implicit Euler steps of the
 overdamped motion `D ẋ = Q_f(x)` (D each free node's mass with its displaced water),
-each one linearised step `(D/Δτ − ∂Q_f/∂x) δ = Q_f`, with the pseudo-time step Δτ
-growing as the force falls (switched evolution relaxation), so that the steps turn
-into Newton's near the equilibrium. Far from it the small steps follow the damped
-motion, which finds the rest position of a slack line in a current, a riser swinging
-up from a sagged guess or a chain lying down on the seabed where Newton's or
-Levenberg–Marquardt's steps on the force alone stalled (`benchmarks/statics_fuzz.py`).
-The term `D/Δτ` also keeps the linear systems regular where slack segments have no
-stiffness. Each system is solved along the network's graph by
-[`jaxcable.NetworkJacobian`][], O(N).
+each the linear step `(D/Δτ − ∂Q_f/∂x) δ = Q_f` and a few chord corrections with the
+same factors. The pseudo-time step Δτ grows where the linear model predicted the
+force well and shrinks where it did not (as a trust region), so that far from the
+equilibrium the steps follow the damped motion (a slack line settling in a current, a
+buoyant line floating up through slack) and near it they are Newton's. The term `D/Δτ`
+keeps the linear systems regular where slack segments have no stiffness; each is
+solved along the network's graph by [`jaxcable.NetworkJacobian`][], O(N). Stiff
+networks are first solved softened, then stiffened stage by stage (see
+`_equilibrium`). Levenberg–Marquardt on the forces, which this replaced, failed on
+46 % of a user's random legal scenes (issue 23; `benchmarks/statics_fuzz.py`).
 """
 
 import dataclasses
@@ -69,7 +70,7 @@ class StaticSolution(eqx.Module):
         `MAX_REQUIRED_STRAIN` (100 %) the solve counts as failed.
     - `result`: optimistix's result code; `result == optimistix.RESULTS.successful` on
         success.
-    - `steps`: pseudo-time steps taken.
+    - `steps`: pseudo-time steps taken, all stages together.
     """
 
     state: State
@@ -125,8 +126,8 @@ def solve_statics(
     - `model`, `env`: the network and the water.
     - `t`: the time (s) at which constrained nodes are placed.
     - `initial`: a starting guess; `model.node_positions` by default.
-    - `max_steps`: pseudo-time steps before giving up (static: a new value
-        recompiles).
+    - `max_steps`: pseudo-time steps before giving up, for each of the seven stages of
+        the stiffness continuation (static: a new value recompiles).
     - `force_tolerance`: the largest residual force on a free node that counts as
         equilibrium, relative to the scene's force scale (–).
     - `throw`: raise if no equilibrium is found; otherwise check `result`.
@@ -439,9 +440,11 @@ class _PseudoTransient(optx.AbstractRootFinder):
     `x`; `options["mass"]` holds the free nodes' pseudo-masses D (kg) and
     `options["shortest"]` the shortest segment (m).
 
-    A step solves `(D/Δτ − J) δ = Q_f`, J = ∂Q_f/∂x, and tries `x + δ`. Δτ is steered
-    as a trust region is, by how well the linear model predicted the force there,
-    `Q_f + J δ = D δ / Δτ`: its error, relative to the force before the step, below
+    A step solves `(D/Δτ − J) δ = Q_f`, J = ∂Q_f/∂x, makes `corrections` chord
+    corrections towards implicit Euler's end point x' with the same factors, and tries
+    x'. Δτ is steered as a trust region is, by how well the step's model predicted
+    the force there, `Q_f(x') = D (x' − x)/Δτ`: its error, relative to the force before
+    the step, below
     `good` lets Δτ grow by `grow`; above `poor` shrinks it by `shrink`; above `bad`
     (or a force that is not finite) refuses the step, unless the force still halved.
     A model error, not the force's change, is the test because the force need not
@@ -450,7 +453,8 @@ class _PseudoTransient(optx.AbstractRootFinder):
     two states with the force rising and falling in turn (seen on a light, stiff
     riser in a current): the model's error there is large and Δτ shrinks until the
     steps follow the damped motion across the switch. The first Δτ moves the fastest
-    node a tenth of the shortest segment.
+    node a tenth of the shortest segment. `give_up` steps refused in a row end the
+    solve as stalled.
     """
 
     graph: NetworkJacobian
