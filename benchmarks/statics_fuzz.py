@@ -21,6 +21,7 @@ in still water off the bed, the fairlead tension against Irvine's elastic catena
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/statics_fuzz.py --scenes 1000
     python benchmarks/statics_fuzz.py --report
+    JAX_COMPILATION_CACHE_DIR=$(mktemp -d) python benchmarks/statics_fuzz.py --timings
 
 The tests import `scene` and `check` (`tests/test_statics_fuzz.py`).
 """
@@ -355,18 +356,58 @@ def summary(records: list[dict]) -> dict:
     }
 
 
+def timings(repeats: int = 5) -> dict:
+    """`solve_statics` on the Low & Langley file and on seed 003's line: the first call
+    (tracing, compiling or loading from the persistent cache, solving) and the median of
+    `repeats` warm calls (s), with the steps and the force left (N). Run it in a fresh
+    process with an empty `JAX_COMPILATION_CACHE_DIR` to time compiling."""
+    import statistics
+
+    import jax
+
+    import jaxcable as jc
+    from jaxcable.examples import seed003_line
+
+    jax.config.update("jax_enable_x64", True)
+    built = jc.load_scene(TESTS / "data" / "lowe_and_langley_2006" / "line.txt").build()
+    out = {}
+    for name, (model, env) in {
+        "lowe_langley": (built.model, built.environment.without_waves()),
+        "seed003_line": seed003_line(),
+    }.items():
+        start = time.perf_counter()
+        solution = jax.block_until_ready(jc.solve_statics(model, env))
+        first = time.perf_counter() - start
+        warm = []
+        for _ in range(repeats):
+            start = time.perf_counter()
+            solution = jax.block_until_ready(jc.solve_statics(model, env))
+            warm.append(time.perf_counter() - start)
+        out[name] = {
+            "first_call_s": first,
+            "warm_median_s": statistics.median(warm),
+            "steps": int(solution.steps),
+            "residual_N": float(solution.residual),
+        }
+    return out
+
+
 def main():
     parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
     parser.add_argument("--scenes", type=int, default=1000)
     parser.add_argument("--first", type=int, default=0)
     parser.add_argument("--max-steps", type=int, default=None)
     parser.add_argument("--report", action="store_true")
+    parser.add_argument("--timings", action="store_true", help="time statics on the Low & Langley file and seed 003")
     parser.add_argument("--no-save", action="store_true")
     parser.add_argument("--records", type=Path, help="write this run's records here instead of saving a session")
     parser.add_argument("--merge", type=Path, nargs="+", help="save one session from these records files")
     args = parser.parse_args()
     if args.report:
         print(json.dumps({k: v for k, v in json.loads(RESULTS.read_text())[-1].items() if k != "records"}, indent=1))
+        return
+    if args.timings:
+        print(json.dumps(timings(), indent=1))
         return
     if args.merge:
         records = [r for path in args.merge for r in json.loads(path.read_text())]
