@@ -35,7 +35,7 @@ import jax.numpy as jnp
 import lineax as lx
 import numpy as np
 
-from ._network import CableNetwork
+from ._network import CableNetwork, Topology
 
 
 class NetworkJacobian(lx.AbstractLinearSolver):
@@ -58,6 +58,9 @@ class NetworkJacobian(lx.AbstractLinearSolver):
 
     - `model`: a [`jaxcable.CableNetwork`][] with `mass_matrix="lumped"`. Its topology
         is static, so this may be built inside `jit` or `vmap` (from a traced model).
+        Or a model's `topology`, to solve another operator that couples only nodes
+        sharing a segment, whatever the mass matrix: the free nodes' static force
+        Jacobian, as [`jaxcable.solve_statics`][] does.
 
     **Raises:**
 
@@ -71,8 +74,8 @@ class NetworkJacobian(lx.AbstractLinearSolver):
     order: tuple[int, ...] = eqx.field(static=True)
     group: int = eqx.field(static=True)
 
-    def __init__(self, model: CableNetwork):
-        if model.mass_matrix != "lumped":
+    def __init__(self, model: CableNetwork | Topology):
+        if isinstance(model, CableNetwork) and model.mass_matrix != "lumped":
             raise ValueError(
                 "NetworkJacobian needs CableNetwork.mass_matrix='lumped', got "
                 f"{model.mass_matrix!r}: a consistent mass matrix's inverse couples every node, "

@@ -412,7 +412,7 @@ class CableNetwork(eqx.Module):
         the straight chord when the branch is taut there; a branch longer than its chord
         starts on a catenary sagging downward, stretched by 0.1 % so that every segment
         carries tension. That makes a good initial guess for
-        [`jaxcable.solve_statics`][], which needs taut segments to get going.
+        [`jaxcable.solve_statics`][]: a stiff line starts close to its equilibrium.
 
         **Arguments:**
 

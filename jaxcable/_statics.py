@@ -1,17 +1,53 @@
-"""Static equilibrium under gravity, buoyancy and a steady current."""
+"""Static equilibrium under gravity, buoyancy and a steady current.
+
+The equilibrium is found by pseudo-transient continuation: implicit Euler steps of the
+overdamped motion `D ẋ = Q_f(x)` (D each free node's mass with its displaced water),
+each the linear step `(D/Δτ − ∂Q_f/∂x) δ = Q_f` and a few chord corrections with the
+same factors. The pseudo-time step Δτ grows where the linear model predicted the
+force well and shrinks where it did not (as a trust region), so that far from the
+equilibrium the steps follow the damped motion (a slack line settling in a current, a
+buoyant line floating up through slack) and near it they are Newton's. The term `D/Δτ`
+keeps the linear systems regular where slack segments have no stiffness; each is
+solved along the network's graph by [`jaxcable.NetworkJacobian`][], O(N). Stiff
+networks are first solved softened, then stiffened stage by stage (see
+`_equilibrium`). Levenberg–Marquardt on the forces, which this replaced, failed on
+46 % of a user's random legal scenes (issue 23; `benchmarks/statics_fuzz.py`).
+"""
+
+import dataclasses
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import lineax as lx
+import numpy as np
 import optimistix as optx
 from jaxtyping import Array, Float, Int
 
 from . import _checks as checks
 from . import _lagrangian as lag
 from ._environment import Environment
+from ._jacobian import NetworkJacobian
 from ._network import CableNetwork, check_held
 from ._state import State
 from ._typing import RealScalarLike
+
+# The largest mean strain that a chain of segments between two constrained nodes may
+# need to reach from one to the other. Above it the scene is taken to be a mistake (a
+# length in the wrong unit, a line between the wrong points), said before solving, and
+# not a load: 100 % is beyond any rope's breaking strain.
+MAX_REQUIRED_STRAIN = 1.0
+
+# `solve_statics`'s defaults, which a sweep's statics use.
+MAX_STEPS = 1000
+FORCE_TOLERANCE = 1e-6
+
+# Stiffness continuation (see `_equilibrium`): the softest network's typical strain,
+# the stages from it to the network itself, and the force tolerance of those stages,
+# relative to the scene's force scale (each only starts the next).
+SOFT_STRAIN = 0.01
+STAGES = 6
+STAGE_TOLERANCE = 1e-3
 
 
 class StaticSolution(eqx.Module):
@@ -24,11 +60,17 @@ class StaticSolution(eqx.Module):
     - `strain`: ε (–), shape `(segments,)`.
     - `tension`: T (N), shape `(segments,)`.
     - `reactions`: force (N) of each support on the network, shape `(constrained, 3)`.
-    - `residual`: the largest remaining force (N) on a free node.
+    - `residual`: the largest remaining force (N) on a free node (any component).
+    - `force_scale`: the scene's force scale (N) that `residual` is judged against: the
+        largest segment tension, wet weight of a segment or body, body's constant force,
+        or drag on a node at rest.
+    - `worst_node`: the node that `residual` is on.
+    - `required_strain`: the largest mean strain (–) that a chain of segments between
+        two constrained nodes needs to reach from one to the other; above
+        `MAX_REQUIRED_STRAIN` (100 %) the solve counts as failed.
     - `result`: optimistix's result code; `result == optimistix.RESULTS.successful` on
         success.
-    - `steps`: iterations of the solver that finished (Levenberg–Marquardt, or the
-        energy descent that goes first where there is a seabed).
+    - `steps`: pseudo-time steps taken, all stages together.
     """
 
     state: State
@@ -36,6 +78,9 @@ class StaticSolution(eqx.Module):
     tension: Float[Array, " segments"]
     reactions: Float[Array, "constrained 3"]
     residual: Float[Array, ""]
+    force_scale: Float[Array, ""]
+    worst_node: Int[Array, ""]
+    required_strain: Float[Array, ""]
     result: optx.RESULTS
     steps: Int[Array, ""]
 
@@ -46,45 +91,46 @@ def solve_statics(
     *,
     t: RealScalarLike = 0.0,
     initial: State | None = None,
-    rtol: float = 1e-10,
-    atol: float = 1e-10,
-    max_steps: int = 500,
-    force_tolerance: float = 1e-6,
+    max_steps: int = MAX_STEPS,
+    force_tolerance: float = FORCE_TOLERANCE,
     throw: bool = True,
 ) -> StaticSolution:
     """Find the static equilibrium of `model` in `env`, with constrained nodes at their
     positions at time `t` (s).
 
-    Solves `Q_f(x, 0) = 0` for the free node positions by Levenberg–Marquardt on the
-    force residual, scaled by the line's weight so that the tolerances are relative.
-    A current contributes steady drag. The elastic laws are tension-only, so the initial
-    positions matter: a slack guess has no stiffness to move it. Start from a shape
-    with every segment slightly stretched (as [`jaxcable.CableNetwork.from_branches`][]
-    makes for a straight taut line), or from a sagged guess.
+    Solves `Q_f(x, 0) = 0` for the free node positions: gravity, buoyancy, the tension
+    laws, a body's constant force, the seabed's spring and the steady drag of the
+    water's velocity at time `t` (the current; and the waves' at `t`, where they are
+    not ramped out: pass `env.without_waves()` for still water). The method is
+    pseudo-transient continuation, damped motion towards rest that turns into Newton's
+    method near it, with the network's structured Jacobian (see the module's notes).
+    It starts from `initial` or `model.node_positions` ([`jaxcable.CableNetwork.from_branches`][]
+    puts each branch on its catenary), but unlike a plain Newton or least-squares
+    solve it needs no taut start: slack segments only slow it.
 
-    If that solve leaves a large residual, the free nodes first descend the potential
-    energy by BFGS from the initial positions, current drag aside, and
-    Levenberg–Marquardt starts again from there. Energy descent always makes progress
-    where a hanging part must swing or straighten a long way, as below a weight or a
-    free end, which Levenberg–Marquardt on the forces was seen to stall on (MoorDyn's
-    `lifting.txt` and `hanging_lines.txt` examples). With a seabed that the starting
-    shape dips below, the descent goes first instead.
+    Equilibrium is a force on every free node no larger than `force_tolerance` times the
+    scene's force scale (the largest tension, wet weight of a segment or body, or
+    drag; `StaticSolution.force_scale`), plus rounding, 16 ε times the largest EA. So a
+    4 mN force left on a 50 kN line of EA 7.5e12 N is equilibrium, and so is a
+    near-massless line's nanonewtons.
 
-    These decisions are taken in the compiled solve (`jax.lax.cond` on the residual),
-    so the same path runs eagerly, under `jit` and under `vmap`. Under `vmap` a `cond`
-    runs both branches for every case; the fallback's objective is zero for a case that
-    does not need it, so its loops stop at once unless some case does need it.
+    The solve is one compiled program with no branches on values, so it takes the same
+    path eagerly, under `jit` and under `vmap` (where it steps until every case is
+    done). Derivatives are implicit (optimistix's `ImplicitAdjoint`, solved with the
+    same structured Jacobian), so `jax.grad` through it costs one linear solve;
+    where the equilibrium is not unique (a slack line lying on a frictionless bed) the
+    Jacobian is singular and so is the derivative.
 
     **Arguments:**
 
     - `model`, `env`: the network and the water.
     - `t`: the time (s) at which constrained nodes are placed.
     - `initial`: a starting guess; `model.node_positions` by default.
-    - `rtol`, `atol`: tolerances on the positions (m).
-    - `max_steps`: solver iterations before giving up.
+    - `max_steps`: pseudo-time steps before giving up, for each of the seven stages of
+        the stiffness continuation (static: a new value recompiles).
     - `force_tolerance`: the largest residual force on a free node that counts as
-        equilibrium, relative to the heaviest segment's weight.
-    - `throw`: raise if the solver fails; otherwise check `result`.
+        equilibrium, relative to the scene's force scale (–).
+    - `throw`: raise if no equilibrium is found; otherwise check `result`.
 
     **Returns:**
 
@@ -92,78 +138,201 @@ def solve_statics(
 
     **Raises:**
 
-    `ValueError` if a part of the network has no constrained node (the topology is
-    static, so under `jit` too), or naming the field and value of a bad input (a model
-    edited with `eqx.tree_at`, say; `equinox.EquinoxRuntimeError` naming the field
-    where the model is traced). With `throw=True`, `equinox.EquinoxRuntimeError` (a
-    `RuntimeError`) if no equilibrium is found, eagerly and under `jit` alike.
+    `ValueError`, before solving, if a part of the network has no constrained node, if
+    two nodes joined by a segment start at the same point (the tension's direction is
+    undefined: both ends of a line at one point, say), or if the segments between two
+    constrained nodes would have to stretch by more than `MAX_REQUIRED_STRAIN` (100 %)
+    on average to reach from one to the other (a line far shorter than the distance
+    between its ends). Those checks need concrete positions; under `jit` such a scene
+    fails to converge instead. `ValueError` naming the field and value of a bad input
+    (`equinox.EquinoxRuntimeError` naming the field where the model is traced). With
+    `throw=True`, `equinox.EquinoxRuntimeError` (a `RuntimeError`) if no equilibrium is
+    found, eagerly and under `jit` alike, saying why where the values are concrete.
     """
     check_held(model)
     start = model.node_positions if initial is None else initial.positions
     start = checks.check(start, model.conditions() + env.conditions())
-    solution = _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance)
+    _check_geometry(model, start, t)
+    solution = _equilibrium(model, env, start, t, max_steps, force_tolerance)
     if not throw:
         return solution
-    residual = checks.raise_if(
-        solution.residual,
-        solution.result != optx.RESULTS.successful,
-        f"solve_statics found no equilibrium: the largest force left on a free node is above "
-        f"force_tolerance ({force_tolerance}) times the heaviest segment's weight after "
-        f"max_steps ({max_steps}) iterations. Start from positions where every segment is "
-        "taut, or raise max_steps; with throw=False the solution's `residual` reports the force.",
-    )
+    failed = solution.result != optx.RESULTS.successful
+    if checks.traced(failed):
+        message = (
+            "solve_statics found no equilibrium: the largest force left on a free node is above "
+            f"force_tolerance ({force_tolerance}) times the scene's force scale after at most {max_steps} "
+            "steps (max_steps). Call it outside jit, or with throw=False and read the solution's residual, "
+            "worst_node and result, to see where."
+        )
+    else:
+        message = failure_message(solution, force_tolerance, max_steps) if bool(failed) else ""
+    residual = checks.raise_if(solution.residual, failed, message)
     return eqx.tree_at(lambda s: s.residual, solution, residual)
 
 
-@eqx.filter_jit
-def _equilibrium(model, env, start, t, rtol, atol, max_steps, force_tolerance) -> StaticSolution:
-    """The whole solve, compiled once per topology and option set, its fallbacks decided
-    by `jax.lax.cond` on traced residuals."""
-    if env.seabed is None:
-        descended = jnp.asarray(False)
-        found = _solve(model, env, start, t, rtol, atol, max_steps, True)
+def failure_message(
+    solution: StaticSolution, force_tolerance: float = FORCE_TOLERANCE, max_steps: int = MAX_STEPS
+) -> str:
+    """Why `solution` (concrete, one case) is not an equilibrium, and what to try."""
+    result = solution.result
+    if solution.required_strain > MAX_REQUIRED_STRAIN:
+        return (
+            "solve_statics: the segments between two constrained nodes must stretch "
+            f"{100 * float(solution.required_strain):.3g} % to reach from one to the other, more than the "
+            f"{100 * MAX_REQUIRED_STRAIN:.0f} % allowed. Is a line's length or an end's position wrong?"
+        )
+    stretch = float(jnp.max(solution.strain))
+    if not np.isfinite(stretch) or stretch > MAX_REQUIRED_STRAIN:
+        return (
+            f"solve_statics found no equilibrium: segments were stretched by up to {100 * stretch:.3g} % and "
+            "still stretching. Loads that grow as a line stretches (the drag on a soft line, which grows with "
+            "its length) can outgrow its stiffness, and then there is no equilibrium: check the line's EA "
+            "against its drag and weight."
+        )
+    if result == optx.RESULTS.nonlinear_max_steps_reached:
+        why = f"its {max_steps} steps (max_steps) ran out before the force fell to the tolerance"
+    elif result == optx.RESULTS.nonfinite:
+        why = "the forces became non-finite"
     else:
-        # Where the starting shape dips below the bed, the bed lifts it and its
-        # segments go slack, and contact kinks the forces: Levenberg–Marquardt crawled
-        # there (955 iterations for a 60-segment chain lying on the bottom, against 56
-        # for the same chain hanging free, measured). Energy descent minds neither, so
-        # it goes first, and often finishes the job.
-        descended = jnp.min(start[model.free_nodes, 2], initial=jnp.inf) < -env.depth
-        start, descent_steps = jax.lax.cond(
-            descended,
-            lambda x: _descend(model, env, x, t, 40 * max_steps, descended),
-            lambda x: (x, jnp.asarray(0, jnp.int32)),
-            start,
-        )
-        remaining, _ = _remaining(model, env, start, t)
-        done = descended & (remaining <= force_tolerance)
-        found = jax.lax.cond(
-            done,
-            lambda: (start, remaining, descent_steps),
-            lambda: _solve(model, env, start, t, rtol, atol, max_steps, ~done),
-        )
-    retry = (found[1] > force_tolerance) & ~descended
-
-    def again():
-        moved, _ = _descend(model, env, start, t, 10 * max_steps, retry)
-        second = _solve(model, env, moved, t, rtol, atol, max_steps, retry)
-        return jax.tree.map(lambda a, b: jnp.where(second[1] < found[1], a, b), second, found)
-
-    positions, remaining, steps = jax.lax.cond(retry, again, lambda: found)
-    # Levenberg–Marquardt stops when its steps vanish, which also happens on a slack
-    # guess with no stiffness at all; only a small force residual means equilibrium.
-    # Conversely a small residual is equilibrium even where contact's kinks kept its
-    # steps from vanishing.
-    result = optx.RESULTS.where(
-        remaining <= force_tolerance, optx.RESULTS.successful, optx.RESULTS.nonlinear_divergence
+        why = "its steps stalled: every larger pseudo-time step raised the force"
+    node = int(solution.worst_node)
+    position = np.asarray(solution.state.positions)[node]
+    return (
+        f"solve_statics found no equilibrium: {why}. The largest force left is "
+        f"{float(solution.residual):.4g} N, on node {node} at {np.array2string(position, precision=4)} m, "
+        f"against force_tolerance ({force_tolerance}) times the scene's force scale "
+        f"({float(solution.force_scale):.4g} N). Check that this part of the network can rest "
+        "(a line that must carry its load nearly straight, a buoy that cannot lift its line), or start from "
+        "a shape closer to the equilibrium (initial=); from Python, max_steps allows more steps."
     )
-    return _solution(model, env, t, positions, remaining, _force_scale(model, env), result, steps)
+
+
+def _check_geometry(model: CableNetwork, start, t) -> None:
+    """Refuse, naming the nodes, a start whose segments have zero length, or two
+    constrained nodes farther apart than `1 + MAX_REQUIRED_STRAIN` times the shortest
+    unstretched chain of segments between them. Concrete values only."""
+    if checks.traced((start, model.segment_length, model.motions, t)):
+        return
+    positions = np.asarray(start, dtype=float).copy()
+    constrained = np.asarray(model.constrained_nodes)
+    positions[constrained] = np.asarray(lag.constrained_motion(model, t)[0])
+    ends = np.asarray(model.segment_nodes)
+    length = np.asarray(model.segment_length)
+    chord = np.linalg.norm(positions[ends[:, 1]] - positions[ends[:, 0]], axis=1)
+    zero = np.flatnonzero(chord <= 1e-12 * length)
+    if zero.size:
+        s = int(zero[0])
+        i, j = ends[s]
+        raise ValueError(
+            f"solve_statics: segment {s} joins nodes {i} and {j}, which start at the same point "
+            f"{positions[i].tolist()} m, so the direction of its tension is undefined. Both ends of a line at "
+            "one point? Give the line ends apart, or an initial shape with its nodes apart"
+        )
+    needed, pair, distance, chain = (np.asarray(x) for x in _required_strain(model, t))
+    if needed > MAX_REQUIRED_STRAIN:
+        i, j = constrained[pair]
+        raise ValueError(
+            f"solve_statics: constrained nodes {i} and {j} are {distance:.6g} m apart, but the shortest chain of "
+            f"segments between them is {chain:.6g} m long unstretched: it must stretch {100 * needed:.3g} % to "
+            f"reach, more than the {100 * MAX_REQUIRED_STRAIN:.0f} % allowed. Is a line's length or an end's "
+            "position wrong?"
+        )
 
 
 @eqx.filter_jit
-def _solution(model, env, t, positions, remaining, scale, result, steps) -> StaticSolution:
-    """The solution's outputs, compiled whole: run op by op, its gradients and scatters
-    took 20–30 s on a first call, measured."""
+def _required_strain(model: CableNetwork, t):
+    """The largest mean strain (–) that a chain of segments between two constrained
+    nodes needs to reach from one to the other at time `t`: their distance over the
+    shortest such chain's unstretched length, less 1; −1 where no two are joined.
+    Also that pair (indices into `constrained_nodes`, shape `(2,)`), their distance
+    (m) and the chain's length (m). Traceable, so that a sweep's case is judged too."""
+    constrained = model.constrained_nodes
+    ends = model.segment_nodes
+    length = jnp.broadcast_to(model.segment_length, (model.n_segments,))
+    count = constrained.size
+    # Bellman–Ford from every constrained node at once: a chain of n segments settles
+    # in n rounds, and no chain is longer than the network has nodes.
+    start = jnp.full((count, model.n_nodes), jnp.inf).at[np.arange(count), constrained].set(0.0)
+
+    def relax(_, reach):
+        reach = reach.at[:, ends[:, 1]].min(reach[:, ends[:, 0]] + length)
+        return reach.at[:, ends[:, 0]].min(reach[:, ends[:, 1]] + length)
+
+    chain = jax.lax.fori_loop(0, model.n_nodes, relax, start)[:, constrained]
+    held, _, _ = lag.constrained_motion(model, t)
+    distance = jnp.linalg.norm(held[:, None, :] - held[None, :, :], axis=-1)
+    joined = jnp.isfinite(chain) & ~np.eye(count, dtype=bool)
+    strain = jnp.where(joined, distance / jnp.where(joined, chain, 1.0) - 1.0, -1.0)
+    worst = jnp.argmax(strain)  # `check_held` has made sure of a constrained node
+    return jnp.max(strain), jnp.stack(jnp.divmod(worst, count)), jnp.ravel(distance)[worst], jnp.ravel(chain)[worst]
+
+
+@eqx.filter_jit
+def _equilibrium(model, env, start, t, max_steps, force_tolerance) -> StaticSolution:
+    """The whole solve, compiled once per topology and option set."""
+    free = model.free_nodes
+    zeros_free = jnp.zeros((free.shape[0], 3))
+
+    def forces(model, free_positions, relative):
+        """The free nodes' forces (N) and, as the auxiliary output, the tolerance (N)."""
+        positions, _ = lag.full_state(model, t, free_positions, zeros_free)
+        tolerance = relative * _force_scale(model, env, t, positions) + _rounding(model)
+        return _free_forces(model, env, t, free_positions), jax.lax.stop_gradient(tolerance)
+
+    graph = NetworkJacobian(model.topology)
+
+    def solve(model, start, tolerance, steps, adjoint):
+        return optx.root_find(
+            lambda x, _: forces(model, x, tolerance),
+            _PseudoTransient(graph=graph),
+            start,
+            has_aux=True,
+            options={
+                "mass": jax.lax.stop_gradient(_pseudo_mass(model, env)[free]),
+                "shortest": jax.lax.stop_gradient(jnp.min(model.segment_length)),
+            },
+            max_steps=steps,
+            adjoint=adjoint,
+            throw=False,
+        )
+
+    # Continuation in stiffness: first the network with its stiffnesses scaled down so
+    # that its strains are about `SOFT_STRAIN`, then stiffer by equal factors, each
+    # stage from the last one's equilibrium, and last the network itself. A stiff
+    # segment turned by a small step stretches by its square, so the linear model that
+    # a step trusts holds only for tiny turns: a light riser of EA 3.8e9 N in a 1.6 m/s
+    # current, which must swing tens of metres from its vertical guess, crept 0.1 m a
+    # step and ran out of 1,000 steps; softened, it swings in a few. Derivatives flow
+    # through the last stage only (its implicit adjoint); the others just move the start.
+    fixed = jax.lax.stop_gradient((model, env, t))
+    softest = jnp.clip(_load_sum(*fixed, start) / (SOFT_STRAIN * jnp.max(_stiffness(model))), 1e-300, 1.0)
+
+    def stage(x, k):
+        soft = _scaled_stiffness(fixed[0], softest ** ((STAGES - k) / STAGES))
+        found = solve(soft, x, STAGE_TOLERANCE, max_steps, optx.RecursiveCheckpointAdjoint())
+        return found.value, found.stats["num_steps"]
+
+    softened, stage_steps = jax.lax.scan(stage, jax.lax.stop_gradient(start[free]), jnp.arange(STAGES))
+    solution = solve(model, softened, force_tolerance, max_steps, optx.ImplicitAdjoint(linear_solver=graph))
+    positions, _ = lag.full_state(model, t, solution.value, zeros_free)
+    left = jnp.max(jnp.abs(_free_forces(model, env, t, solution.value)), axis=1, initial=0.0)
+    remaining = jnp.max(left, initial=0.0)
+    scale = _force_scale(model, env, t, positions)
+    # Judged here, not by the solver's code alone: a step limit that ends on a force
+    # within the tolerance is still an equilibrium.
+    within = remaining <= force_tolerance * scale + _rounding(model)
+    # Under `jit` and `vmap` the geometry that `solve_statics` refuses eagerly (a line
+    # far too short for its ends) may still reach an "equilibrium" at absurd tension:
+    # failed here, so that a sweep reports the case.
+    needed = _required_strain(model, t)[0]
+    result = optx.RESULTS.where(
+        within & (needed <= MAX_REQUIRED_STRAIN),
+        optx.RESULTS.successful,
+        optx.RESULTS.where(
+            solution.result == optx.RESULTS.successful, optx.RESULTS.nonlinear_divergence, solution.result
+        ),
+    )
+    worst = jnp.asarray(free)[jnp.argmax(left)] if free.size else jnp.asarray(0)
     velocities = jnp.zeros_like(positions)
     _, _, strain = lag.segment_geometry(model, positions)
     return StaticSolution(
@@ -171,15 +340,13 @@ def _solution(model, env, t, positions, remaining, scale, result, steps) -> Stat
         strain=strain,
         tension=lag.tension(model, positions, velocities),
         reactions=lag.reactions(model, env, t, positions, velocities, jnp.zeros_like(positions)),
-        residual=remaining * scale,
+        residual=remaining,
+        force_scale=scale,
+        worst_node=jnp.asarray(worst, jnp.int32),
+        required_strain=needed,
         result=result,
-        steps=steps,
+        steps=jnp.asarray(solution.stats["num_steps"] + jnp.sum(stage_steps), jnp.int32),
     )
-
-
-def _force_scale(model, env):
-    """The heaviest segment's dry weight (N), which residual forces are relative to."""
-    return jnp.maximum(jnp.max(model.line.mass_per_length * env.gravity * model.segment_length), 1e-12)
 
 
 def _free_forces(model, env, t, free_positions):
@@ -188,72 +355,177 @@ def _free_forces(model, env, t, free_positions):
     return lag.generalised_forces(model, env, t, positions, velocities)[model.free_nodes]
 
 
-@eqx.filter_jit
-def _remaining(model, env, positions, t):
-    """The largest force on a free node at `positions`, relative to the scale, and the
-    scale (N)."""
-    scale = _force_scale(model, env)
-    return jnp.max(jnp.abs(_free_forces(model, env, t, positions[model.free_nodes])), initial=0.0) / scale, scale
+def _force_scale(model, env, t, positions):
+    """The scene's force scale (N) at `positions`: the largest segment tension, wet
+    weight of a segment or a body (weight less buoyancy, either sign), body's constant
+    force, or drag (with the waves' inertia at `t`) on a node at rest. Wet, not dry:
+    a near-neutral line's weight and buoyancy cancel, and what is left, not either,
+    is what its tensions carry."""
+    line, body = model.line, model.body
+    g, rho = env.gravity, env.water_density
+    velocities = jnp.zeros_like(positions)
+    loads = [
+        jnp.abs(lag.tension(model, positions, velocities)),
+        jnp.abs(line.mass_per_length - rho * line.area) * g * model.segment_length,
+        jnp.abs(body.mass - rho * body.volume) * g,
+        jnp.linalg.norm(body.force, axis=-1),
+        jnp.linalg.norm(lag.nonconservative_forces(model, env, t, positions, velocities), axis=-1),
+    ]
+    return jnp.max(jnp.stack([jnp.max(jnp.broadcast_to(x, jnp.shape(x) or (1,))) for x in loads]))
 
 
-# Compiled on its own so that `_equilibrium`'s second call (the retry) reuses the first
-# call's trace: tracing Levenberg–Marquardt and its Jacobian took 1.1 s of the 3.5 s
-# that tracing and lowering `_equilibrium` took on the Low & Langley file, every run,
-# whether or not the compiled program then came from the persistent cache (measured,
-# quiet). The compiled program computes the same numbers.
-@eqx.filter_jit
-def _solve(model, env, start, t, rtol, atol, max_steps, active):
-    """The Levenberg–Marquardt solve.
+def _stiffness(model):
+    """Each segment's C_E (N), the stiffness that continuation scales."""
+    return jnp.broadcast_to(model.line.tension_law.axial_stiffness, (model.n_segments,))
 
-    Returns the node positions, the largest residual force on a free node relative to
-    the heaviest segment's dry weight, and the iterations taken. Where `active` is
-    false (a case of a `vmap` that runs this branch only because another case needs
-    it) the problem is `x − start = 0` instead, solved where it starts, so the loop
-    stops at once. Not a zero residual: its Jacobian would be singular, and the
-    implicit derivative's linear solve, which runs for every case under `vmap`,
-    would raise.
+
+def _scaled_stiffness(model, factor):
+    """`model` with its tension law's stiffness coefficients (C_E, C_E1, and C_v, which
+    does nothing at rest) times `factor`; the slack switch's width unchanged."""
+    law = model.line.tension_law
+    names = [f.name for f in dataclasses.fields(law) if f.name != "slack_width"]
+    return eqx.tree_at(
+        lambda m: [getattr(m.line.tension_law, n) for n in names],
+        model,
+        [factor * getattr(law, n) for n in names],
+    )
+
+
+def _load_sum(model, env, t, positions):
+    """The loads (N) that a network's tensions must carry, summed: every segment's
+    weight and displaced weight, the bodies' weights, buoyancy and constant forces, and
+    the drag on every node at rest. The softened network's tensions are about this."""
+    line, body = model.line, model.body
+    g, rho = env.gravity, env.water_density
+    zeros = jnp.zeros_like(positions)
+    drag = jnp.linalg.norm(lag.nonconservative_forces(model, env, t, positions, zeros), axis=-1)
+    return (
+        jnp.sum(
+            jnp.broadcast_to((line.mass_per_length + rho * line.area) * g, (model.n_segments,)) * model.segment_length
+        )
+        + jnp.sum((body.mass + rho * body.volume) * g + jnp.linalg.norm(body.force, axis=-1))
+        + jnp.sum(drag)
+    )
+
+
+def _rounding(model):
+    """The force (N) that rounding alone leaves on a node: a tension EA ε is known to
+    about EA times float64's ε, and a node sums a few of them."""
+    return 16 * jnp.finfo(float).eps * jnp.max(model.line.tension_law.axial_stiffness)
+
+
+def _pseudo_mass(model, env):
+    """Each node's mass with its displaced water (kg), shape `(nodes,)`: the damped
+    motion's inertia, which sets how far a node moves in a small pseudo-time step."""
+    line, body = model.line, model.body
+    per_segment = 0.5 * (line.mass_per_length + env.water_density * line.area) * model.segment_length
+    segments = jnp.broadcast_to(per_segment, (model.n_segments,))
+    ends = model.segment_nodes
+    nodes = jnp.zeros(model.n_nodes).at[ends[:, 0]].add(segments).at[ends[:, 1]].add(segments)
+    return nodes + body.mass + env.water_density * body.volume
+
+
+class _PseudoTransientState(eqx.Module):
+    force: Float[Array, "free 3"]
+    tolerance: Float[Array, ""]
+    size: Float[Array, ""]
+    step_size: Float[Array, ""]
+    rejected: Int[Array, ""]
+    previous: Float[Array, ""]
+
+
+class _PseudoTransient(optx.AbstractRootFinder):
+    """Pseudo-transient continuation as an optimistix root finder for the free nodes'
+    forces `fn(x) = Q_f(x)` (N), whose auxiliary output is the force tolerance (N) at
+    `x`; `options["mass"]` holds the free nodes' pseudo-masses D (kg) and
+    `options["shortest"]` the shortest segment (m).
+
+    A step solves `(D/Δτ − J) δ = Q_f`, J = ∂Q_f/∂x, makes `corrections` chord
+    corrections towards implicit Euler's end point x' with the same factors, and tries
+    x'. Δτ is steered as a trust region is, by how well the step's model predicted
+    the force there, `Q_f(x') = D (x' − x)/Δτ`: its error, relative to the force before
+    the step, below
+    `good` lets Δτ grow by `grow`; above `poor` shrinks it by `shrink`; above `bad`
+    (or a force that is not finite) refuses the step, unless the force still halved.
+    A model error, not the force's change, is the test because the force need not
+    fall along the way (a slack line falls freely at its weight), and because where a
+    segment switches between slack and taut, Newton-like steps can cycle between the
+    two states with the force rising and falling in turn (seen on a light, stiff
+    riser in a current): the model's error there is large and Δτ shrinks until the
+    steps follow the damped motion across the switch. The first Δτ moves the fastest
+    node a tenth of the shortest segment. `give_up` steps refused in a row end the
+    solve as stalled.
     """
-    zeros_free = jnp.zeros((model.free_nodes.shape[0], 3))
-    scale = _force_scale(model, env)
-    x0 = start[model.free_nodes]
 
-    def residual(free_positions, _):
-        return _free_forces(model, env, t, free_positions) / scale
+    graph: NetworkJacobian
+    rtol: float = 0.0  # unused: convergence is the force tolerance
+    atol: float = 0.0
+    norm: object = optx.max_norm
+    good: float = 0.25
+    poor: float = 0.5
+    bad: float = 1.0
+    grow: float = 4.0
+    shrink: float = 0.25
+    give_up: int = 40
+    corrections: int = 4
 
-    def problem(free_positions, args):
-        return jnp.where(active, residual(free_positions, args), free_positions - x0)
+    def init(self, fn, y, args, options, f_struct, aux_struct, tags):
+        force, tolerance = fn(y, args)
+        mass = options["mass"][:, None]
+        speed = jnp.max(jnp.abs(force) / mass)
+        step_size = jnp.where(speed > 0, 0.1 * options["shortest"] / jnp.where(speed > 0, speed, 1.0), 1.0)
+        return _PseudoTransientState(
+            force, tolerance, jnp.max(jnp.abs(force)), step_size, jnp.array(0), jnp.array(jnp.inf)
+        )
 
-    solver = optx.LevenbergMarquardt(rtol=rtol, atol=atol)
-    solution = optx.least_squares(problem, solver, x0, max_steps=max_steps, throw=False)
-    positions, _ = lag.full_state(model, t, solution.value, zeros_free)
-    remaining = jnp.max(jnp.abs(residual(solution.value, None)), initial=0.0)
-    return positions, remaining, jnp.asarray(solution.stats["num_steps"], jnp.int32)
+    def step(self, fn, y, args, options, state, tags):
+        mass = options["mass"][:, None]
+        _, linear = jax.linearize(lambda x: fn(x, args)[0], y)
+        operator = lx.FunctionLinearOperator(
+            lambda v: mass * v / state.step_size - linear(v), jax.eval_shape(lambda: y)
+        )
+        factored = self.graph.init(operator, {})
 
+        def implicit_residual(x):
+            """Implicit Euler's `Q_f(x) − D (x − y)/Δτ`, zero at the step's end."""
+            return fn(x, args)[0] - mass * (x - y) / state.step_size
 
-def _descend(model, env, start, t, max_steps, active):
-    """Node positions after descending the potential energy Π (BFGS) from `start`, and
-    the steps taken.
+        def correct(_, x):
+            return x + lx.linear_solve(operator, implicit_residual(x), self.graph, state=factored, throw=False).value
 
-    Only a starting point for `_solve`, so it stops at `max_steps` without complaint.
-    Π is scaled by the heaviest segment's dry weight times the network's length, so
-    that the tolerances are relative. Where `active` is false, the objective is
-    `½ |x − start|²` instead, whose minimum is the start, so the loop stops at once
-    (and, as in `_solve`, its implicit derivative stays well posed).
-    """
-    free = model.free_nodes
-    zeros_free = jnp.zeros((free.shape[0], 3))
-    weight = jnp.max(model.line.mass_per_length * env.gravity * model.segment_length)
-    scale = jnp.maximum(weight * jnp.sum(model.segment_length), 1e-12)
-    x0 = start[free]
+        # The linear step, then chord corrections with the same factors: a stiff
+        # segment turned by δ stretches by δ²/2L, which the linear step cannot see
+        # and the corrections take back along the segment, where the factors are
+        # accurate. Without them a line of EA 7.5e12 N was linear only for forces
+        # below millinewtons, and crept.
+        candidate = jax.lax.fori_loop(0, self.corrections + 1, correct, y)
+        force, tolerance = fn(candidate, args)
+        size = jnp.max(jnp.abs(force))
+        error = jnp.max(jnp.abs(force - mass * (candidate - y) / state.step_size)) / state.size
+        finite = jnp.isfinite(size) & jnp.isfinite(error)
+        taken = finite & ((error <= self.bad) | (size <= 0.5 * state.size))
+        factor = jnp.where(error <= self.good, self.grow, jnp.where(error <= self.poor, 1.0, self.shrink))
+        new = _PseudoTransientState(
+            force=jnp.where(taken, force, state.force),
+            tolerance=jnp.where(taken, tolerance, state.tolerance),
+            size=jnp.where(taken, size, state.size),
+            step_size=state.step_size * jnp.where(finite, factor, self.shrink),
+            rejected=jnp.where(taken, 0, state.rejected + 1),
+            previous=jnp.where(taken, state.size, state.previous),
+        )
+        return jnp.where(taken, candidate, y), new, tolerance
 
-    def energy(free_positions, _):
-        positions, _ = lag.full_state(model, t, free_positions, zeros_free)
-        return lag.potential_energy(model, env, positions) / scale
+    def terminate(self, fn, y, args, options, state, tags):
+        # Within the tolerance the steps go on while they still halve the force: near
+        # the equilibrium they are Newton's, so a few take it from the tolerance down
+        # to rounding (the supports then carry the weight to 1e-8 and better, where the
+        # tolerance allowed 1e-6 of the tension). A step that no longer halves it, or
+        # one refused (rounding's noise), ends the solve.
+        within = state.size <= state.tolerance
+        done = within & ((state.size > 0.5 * state.previous) | (state.rejected >= 1))
+        stalled = state.rejected >= self.give_up
+        failed = stalled & ~done
+        return done | stalled, optx.RESULTS.where(failed, optx.RESULTS.nonlinear_divergence, optx.RESULTS.successful)
 
-    def objective(free_positions, args):
-        return jnp.where(active, energy(free_positions, args), 0.5 * jnp.sum((free_positions - x0) ** 2))
-
-    solver = optx.BFGS(rtol=1e-10, atol=1e-10)
-    solution = optx.minimise(objective, solver, x0, max_steps=max_steps, throw=False)
-    positions, _ = lag.full_state(model, t, solution.value, zeros_free)
-    return positions, jnp.asarray(solution.stats["num_steps"], jnp.int32)
+    def postprocess(self, fn, y, aux, args, options, state, tags, result):
+        return y, aux, {}

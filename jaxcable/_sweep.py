@@ -46,7 +46,7 @@ from ._environment import Environment
 from ._network import CableNetwork, network_conditions
 from ._simulate import IMEX_SOLVERS, SimulationResult, _simulate, as_config, for_model, result_of, vector_field
 from ._state import State
-from ._statics import StaticSolution, solve_statics
+from ._statics import StaticSolution, failure_message, solve_statics
 from ._typing import RealLike
 
 INITIAL_STATES = ("statics", "rest")
@@ -533,11 +533,7 @@ def _status(simulation: SimulationResult, statics: StaticSolution | None, invali
         if statics is not None:
             static_result = jax.tree.map(lambda x: np.asarray(x[i]), statics.result)  # noqa: B023 (called within this iteration)
             if static_result != optx.RESULTS.successful:
-                lines.append(
-                    f"statics failed: {optx.RESULTS[static_result]} The largest force left on a free "
-                    f"node is {statics.residual[i]:.4g} N after {statics.steps[i]} iterations. Start from taut "
-                    "shapes, or pass a State from solve_statics."
-                )
+                lines.append("statics failed: " + failure_message(jax.tree.map(lambda x: x[i], statics)))  # noqa: B023
                 continue
         case_result = jax.tree.map(lambda x: np.asarray(x[i]), result)  # noqa: B023 (called within this iteration)
         if case_result == diffrax.RESULTS.successful:

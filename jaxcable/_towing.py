@@ -303,9 +303,8 @@ class HorizontalTow(AbstractTowingRig):
         # Steady tow is equilibrium in the frame of the tow point, where the water flows
         # past at the tow speed.
         towed = Environment(self.water_density, self.gravity, current=-speeds[0] * direction)
-        # Levenberg–Marquardt crawls where the restoring forces are weak (a light cable
-        # streaming nearly along the flow took 936 iterations from a close guess), and
-        # its iterations are cheap next to the run: allow plenty.
+        # Statics' steps are cheap next to the run: allow plenty, since a light cable
+        # streaming nearly along the flow has weak restoring forces.
         steady = solve_statics(model, towed, t=times[0], max_steps=5000, throw=False)
         initial = State(steady.state.positions, jnp.broadcast_to(speeds[0] * direction, model.node_positions.shape))
         result = _run(model, Environment(self.water_density, self.gravity), times, initial, solver)

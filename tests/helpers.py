@@ -33,16 +33,20 @@ def wet_fraction(body: dict, z):
 
 
 def hand_forces(model, env, positions, bodies: dict, flow=(0.0, 0.0, 0.0)):
-    """`(tension, force)`: Hooke's-law tension (N) of every segment at `positions` (m),
-    and the force (N) on every node at rest there in a uniform current `flow` (m/s).
+    """`(tension, force)`: the tension (N) of every segment at `positions` (m), and the
+    force (N) on every node at rest there in a uniform current `flow` (m/s).
 
+    The tension law is the design notes' `(C_E ε + C_E1 ε²) H(ε)`, H the smoothstep
+    `3s² − 2s³` of `s = ε / w` over the law's `slack_width` w (a step where w = 0).
     On each node: the tensions along the segments that meet there; half of each such
     segment's submerged weight, and half of its drag, `C_n |u_n| u_n + C_τ |u_τ| u_τ`
     per stretched length, uniform along the straight segment; for each node in
     `bodies` (node → a body's `mass`, `volume`, `drag_area` and optional `height`, as
     `Body` takes them) its weight, the buoyancy and drag of its wet part. At
     equilibrium the force vanishes on every free node; on a constrained node it is
-    minus the support's reaction.
+    minus the support's reaction. With a seabed, each node below it is pushed up by
+    `k δ A`, δ its depth below the bed and A half the projected area `d L` of each
+    segment that meets there (MoorDyn's `kBot`).
     """
     rho, g = float(env.water_density), float(env.gravity)
     line = model.line
@@ -51,7 +55,12 @@ def hand_forces(model, env, positions, bodies: dict, flow=(0.0, 0.0, 0.0)):
     stretched = np.linalg.norm(chord, axis=1)
     tau = chord / stretched[:, None]
     length = np.asarray(model.segment_length)
-    tension = np.asarray(line.tension_law.axial_stiffness) * (stretched / length - 1)
+    law = line.tension_law
+    strain = stretched / length - 1
+    width = np.asarray(law.slack_width)
+    s = np.clip(strain / np.where(width > 0, width, 1.0), 0.0, 1.0)
+    switch = np.where(width > 0, s * s * (3 - 2 * s), (strain > 0).astype(float))
+    tension = strain * (np.asarray(law.axial_stiffness) + np.asarray(law.quadratic_stiffness()) * strain) * switch
 
     u = np.asarray(flow, dtype=float)
     diameter = np.asarray(line.diameter)
@@ -70,6 +79,11 @@ def hand_forces(model, env, positions, bodies: dict, flow=(0.0, 0.0, 0.0)):
         wet = wet_fraction(body, positions[node, 2])
         force[node, 2] -= (body["mass"] - rho * body["volume"] * wet) * g
         force[node] += 0.5 * rho * body["drag_area"] * wet * np.linalg.norm(u) * u
+    if env.seabed is not None:
+        area = np.zeros(len(positions))
+        np.add.at(area, ends[:, 0], 0.5 * diameter * length)
+        np.add.at(area, ends[:, 1], 0.5 * diameter * length)
+        force[:, 2] += float(env.seabed.stiffness) * area * np.maximum(-float(env.depth) - positions[:, 2], 0.0)
     return tension, force
 
 

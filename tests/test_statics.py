@@ -21,11 +21,13 @@ model shape; the failure tests call it eagerly and under `jit`, whose documented
 is the same `equinox.EquinoxRuntimeError` (a `RuntimeError`) both ways.
 """
 
+from pathlib import Path
+
 import equinox as eqx
 import numpy as np
 import optimistix as optx
 import pytest
-from helpers import Irvine, chain_nodes, rigid_top_tension
+from helpers import Irvine, chain_nodes, hand_forces, rigid_top_tension
 
 import jaxcable as jc
 
@@ -361,10 +363,10 @@ def slack_guess(model, n):
     return jc.State(positions, np.zeros_like(positions))
 
 
-def test_slack_guess_recovers_by_energy_descent():
-    """From a slack guess Levenberg–Marquardt has no stiffness to move with; the energy
-    descent it falls back on lets the line sag, and the equilibrium is the one found
-    from the taut guess."""
+def test_slack_guess_recovers():
+    """From a slack guess no segment has stiffness to move with; the damped motion of
+    the pseudo-time steps lets the line sag, and the equilibrium is the one found from
+    the taut guess."""
     n = 10
     model = catenary_model(n)
     env = jc.Environment(water_density=RHO, gravity=G)
@@ -374,8 +376,8 @@ def test_slack_guess_recovers_by_energy_descent():
 
 
 def test_slack_guess_recovers_under_jit():
-    """The fallback is decided in the compiled solve, so `jit` of `solve_statics` with
-    the model as an argument takes it too, and finds the eager equilibrium."""
+    """`jit` of `solve_statics` with the model as an argument takes the same steps, and
+    finds the eager equilibrium."""
     n = 10
     model = catenary_model(n)
     env = jc.Environment(water_density=RHO, gravity=G)
@@ -391,15 +393,19 @@ def test_slack_guess_recovers_under_jit():
 
 
 def test_failed_statics_raises_the_same_error_eagerly_and_under_jit():
-    """Too few iterations for either attempt: solve_statics raises the same error
-    eagerly and under `jit`, and with throw=False reports the force left instead."""
+    """Too few steps: solve_statics raises eagerly and under `jit`, naming the step
+    limit (eagerly also the node and force left), and with throw=False reports the
+    force left instead."""
     n = 10
     model = catenary_model(n)
     env = jc.Environment(water_density=RHO, gravity=G)
     guess = slack_guess(model, n)
-    with pytest.raises(eqx.EquinoxRuntimeError, match="solve_statics found no equilibrium.*max_steps \\(2\\)"):
+    with pytest.raises(
+        eqx.EquinoxRuntimeError,
+        match=r"solve_statics found no equilibrium: its 2 steps \(max_steps\) ran out.* on node",
+    ):
         jc.solve_statics(model, env, initial=guess, max_steps=2)
-    with pytest.raises(eqx.EquinoxRuntimeError, match="solve_statics found no equilibrium.*max_steps \\(2\\)"):
+    with pytest.raises(eqx.EquinoxRuntimeError, match=r"found no equilibrium.*at most 2 steps \(max_steps\)"):
         eqx.filter_jit(lambda m: jc.solve_statics(m, env, initial=guess, max_steps=2))(model)
     quiet = jc.solve_statics(model, env, initial=guess, max_steps=2, throw=False)
     assert quiet.result != optx.RESULTS.successful
@@ -421,3 +427,93 @@ def test_bad_value_in_a_traced_model_is_named():
         jc.solve_statics(bad, env)
     with pytest.raises(eqx.EquinoxRuntimeError, match="LineType.tension_law.axial_stiffness must be positive"):
         eqx.filter_jit(lambda m: jc.solve_statics(m, env))(bad)
+
+
+# ---------------------------------------------------------------------------------------
+# 6. Equilibrium judged against the scene's forces, and geometry refused before solving.
+# ---------------------------------------------------------------------------------------
+
+
+def free_node_residual(model, env, static, flow=(0.0, 0.0, 0.0)):
+    """The largest force (N) on a free node by `helpers.hand_forces`, and the largest
+    tension (N)."""
+    tension, force = hand_forces(model, env, np.asarray(static.state.positions), {}, flow)
+    return float(np.max(np.abs(force[np.asarray(model.free_nodes)]))), float(np.max(tension))
+
+
+def test_very_stiff_line_is_in_equilibrium_at_rounding():
+    """EA = 7.5e12 N on a line of about 50 kN: a tension is known only to about EA times
+    float64's ε (1.7e-3 N) per segment, so forces of millinewtons are all that rounding
+    leaves. Judged against the tension, not the 2.9 kN weight of a segment, that is
+    equilibrium; the earlier test (1e-6 of a segment's weight, 3 mN) refused it. The
+    fairlead's force is Irvine's to the discretisation's O(1/N²)."""
+    ea, n = 7.5e12, 20
+    # The sharp slack switch: strains here are about 1e-8, inside the default
+    # smoothing band, which would make the law's stiffness there far below EA.
+    line = jc.LineType(MASS, DIAMETER, jc.LinearElastic(ea, 0.0), normal_drag=0.0, tangential_drag=0.0)
+    model = jc.CableNetwork.from_branches(
+        np.stack([ANCHOR, FAIRLEAD]), [jc.Branch(0, 1, line, LENGTH, n)], constraints={0: jc.Fixed(), 1: jc.Fixed()}
+    )
+    static = jc.solve_statics(model, RHO_ENV)
+    residual, tension = free_node_residual(model, RHO_ENV, static)
+    assert 3e4 < tension < 1e5
+    assert residual < 1e-6 * tension + 16 * np.finfo(float).eps * ea
+    exact = Irvine(SPAN, HEIGHT, LENGTH, W, ea)
+    assert abs(np.linalg.norm(np.asarray(static.reactions)[1]) / np.hypot(exact.H, exact.V) - 1) < 5e-3
+
+
+def test_near_massless_line_is_in_equilibrium():
+    """A line of 1 g/m, nearly neutrally buoyant (its wet weight 1e-5 N/m) between two
+    anchors: its tensions are millinewtons, and the equilibrium is judged against those,
+    not against its dry weight or buoyancy (0.2 N a segment each), which cancel. The
+    solved nodes balance by the hand-written force balance, and the fairlead's force is
+    Irvine's."""
+    mass, diameter, ea, n = 1e-3, 1e-3, 1e5, 10
+    area = (mass - 1e-6) / RHO  # wet weight 1e-6 kg/m
+    line = jc.LineType(mass, diameter, jc.LinearElastic(ea, 0.0), area=area, normal_drag=0.0, tangential_drag=0.0)
+    model = jc.CableNetwork.from_branches(
+        np.stack([ANCHOR, FAIRLEAD]), [jc.Branch(0, 1, line, LENGTH, n)], constraints={0: jc.Fixed(), 1: jc.Fixed()}
+    )
+    static = jc.solve_statics(model, RHO_ENV)
+    residual, tension = free_node_residual(model, RHO_ENV, static)
+    w = (mass - RHO * area) * G
+    assert residual < 1e-6 * tension + 16 * np.finfo(float).eps * ea
+    assert tension < 1e-2
+    exact = Irvine(SPAN, HEIGHT, LENGTH, w, ea)
+    assert abs(np.linalg.norm(np.asarray(static.reactions)[1]) / np.hypot(exact.H, exact.V) - 1) < 2e-2
+
+
+def test_line_with_both_ends_at_one_point_is_refused():
+    line = jc.LineType(MASS, DIAMETER, jc.LinearElastic(EA))
+    model = jc.CableNetwork.from_branches(
+        np.stack([ANCHOR, ANCHOR]), [jc.Branch(0, 1, line, 50.0, 5)], constraints={0: jc.Fixed(), 1: jc.Fixed()}
+    )
+    with pytest.raises(ValueError, match=r"segment 0 joins nodes 0 and 2, which start at the same point"):
+        jc.solve_statics(model, RHO_ENV)
+
+
+def test_line_far_too_short_for_its_ends_is_refused():
+    """A 1e-6 m line between anchors 400 m apart would have to stretch 4e10 %: said
+    before solving, with the figures, rather than as a failure to converge."""
+    line = jc.LineType(MASS, DIAMETER, jc.LinearElastic(EA))
+    model = jc.CableNetwork.from_branches(
+        np.array([[0.0, 0.0, -100.0], [400.0, 0.0, -100.0]]),
+        [jc.Branch(0, 1, line, 1e-6, 4)],
+        constraints={0: jc.Fixed(), 1: jc.Fixed()},
+    )
+    with pytest.raises(ValueError, match=r"nodes 0 and 1 are 400 m apart.* 1e-06 m long.* stretch 4e\+10 %"):
+        jc.solve_statics(model, RHO_ENV)
+
+
+def test_scene_line_far_too_short_or_closed_is_refused(tmp_path):
+    """The Low & Langley file with its 170 m line shortened to 1 mm (its ends 112 m
+    apart), or with both ends at one point: the scene names the line and the cause."""
+    text = (Path(__file__).parent / "data" / "lowe_and_langley_2006" / "line.txt").read_text()
+    short = tmp_path / "short.txt"
+    short.write_text(text.replace("1        2         170", "1        2         0.001"))
+    with pytest.raises(jc.io.SceneError, match=r"line 1 must stretch 1.12e\+07 % to reach from point 1 to point 2"):
+        jc.load_scene(short).build()
+    closed = tmp_path / "closed.txt"
+    closed.write_text(text.replace("2     Coupled   0       0       -5", "2     Coupled   -100    0       -55"))
+    with pytest.raises(jc.io.SceneError, match=r"both ends of line 1 are at \[-100.0, 0.0, -55.0\]"):
+        jc.load_scene(closed).build()

@@ -143,8 +143,8 @@ def steady_tow(
     branches of `model` by default; [`start_tow`][] makes a better one.
     """
     towed = eqx.tree_at(lambda e: (e.current, e.waves), env, (jnp.array([-speed, 0.0, 0.0]), ()))
-    # The drag bends the branches far from their straight first guess, and
-    # Levenberg–Marquardt then needs more than its default 500 iterations.
+    # The drag bends the branches far from their straight first guess: allow more
+    # steps than the default.
     statics = solve_statics(model, towed, t=t, initial=initial, max_steps=3000)
     positions = statics.state.positions
     velocities = jnp.zeros_like(positions).at[:, 0].set(speed)

@@ -23,6 +23,7 @@ from .._environment import CurrentProfile, Environment, Seabed
 from .._materials import KelvinVoigt
 from .._motion import AbstractMotion, Fixed, Sampled
 from .._network import Body, Branch, CableNetwork, LineType, below_seabed
+from .._statics import MAX_REQUIRED_STRAIN
 from .._waves import AbstractWave, Airy
 
 POINT_KINDS = ("fixed", "coupled", "free")
@@ -409,6 +410,7 @@ class Scene:
                 raise SceneError(f"{line.where}: length must be positive, got {line.length}")
             if not (isinstance(line.segments, int) and line.segments >= 1):
                 raise SceneError(f"{line.where}: segments must be a positive integer, got {line.segments!r}")
+            _check_reach(line, self.points[line.start], self.points[line.end])
         types = {t.name: t for t in self.line_types}
         branches = [
             Branch(
@@ -453,6 +455,25 @@ class Scene:
             next_node += n - 1
             next_segment += n
         return BuiltScene(self, model, environment, tuple(line_nodes), tuple(line_segments))
+
+
+def _check_reach(line: LineSpec, start: PointSpec, end: PointSpec) -> None:
+    """Refuse a line whose ends sit at one point (its start shape has no direction),
+    or whose held ends are farther apart than it can reach without stretching more
+    than `MAX_REQUIRED_STRAIN`: a length or a position in the wrong unit, most likely,
+    which statics would otherwise report only as a failure to converge."""
+    chord = float(np.linalg.norm(np.subtract(end.position, start.position)))
+    if chord == 0.0:
+        raise SceneError(
+            f"{line.where}: both ends of line {line.name} are at {list(start.position)} (points {start.name} and "
+            f"{end.name}); give them distinct positions"
+        )
+    if start.kind != "free" and end.kind != "free" and chord > (1 + MAX_REQUIRED_STRAIN) * line.length:
+        raise SceneError(
+            f"{line.where}: line {line.name} must stretch {100 * (chord / line.length - 1):.3g} % to reach from point "
+            f"{start.name} to point {end.name}: its length is {line.length:g} m and they are {chord:g} m apart "
+            f"(at most {100 * MAX_REQUIRED_STRAIN:.0f} % is taken as meant)"
+        )
 
 
 @dataclass(frozen=True)
