@@ -95,12 +95,12 @@ FIXED = jc.SolverConfig(diffrax.Midpoint(), dt0=1e-3, stepsize_controller=diffra
 def test_fixed_steps_are_one_simulate_call_with_the_same_steps(driven_line):
     """Every output time ends a step of 1 ms, as in one `simulate` call with the same
     constant step: the same arithmetic, so the same answers but for rounding (the step
-    times are summed differently), which the snapping line grows to 1e-9 m by 5 s."""
+    times are summed differently), which the snapping line grows to 1e-7 m by 5.7 s."""
     model, env, static = driven_line
     whole = jc.simulate(model, env, TS[-1], ts=TS, initial=static.state, solver=FIXED)
     blocks = _blocks.simulate_in_blocks(model, env, TS, static.state, FIXED)
-    np.testing.assert_allclose(blocks.positions, whole.positions, rtol=0, atol=1e-7)
-    np.testing.assert_allclose(blocks.tension, whole.tension, rtol=0, atol=1e-5 * np.max(whole.tension))
+    np.testing.assert_allclose(blocks.positions, whole.positions, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(blocks.tension, whole.tension, rtol=0, atol=1e-4 * np.max(whole.tension))
     assert blocks.stats == {"num_steps": 6000, "num_accepted_steps": 6000, "num_rejected_steps": 0}
     assert int(whole.stats["num_steps"]) == 6000
 
