@@ -91,6 +91,7 @@ def _horizontal(rng):
 def scene(seed: int) -> FuzzScene:
     """Scene number `seed`, the same on every call."""
     import jaxcable as jc
+    from jaxcable._waves import breaking_height
 
     rng = np.random.default_rng(seed)
     kind = KINDS[seed % len(KINDS)]
@@ -177,13 +178,18 @@ def scene(seed: int) -> FuzzScene:
     # so statics sees none of them.
     bed = depth if seabed else 10 * depth
     height = min(0.1 * depth, rng.uniform(0.5, 8.0))
+    stiffness = _log_uniform(rng, 1e4, 1e7)
+    period = rng.uniform(5.0, 15.0)
+    # A legal wave: below 90 % of its breaking height (Miche's, at this period).
+    wavelength = 2 * np.pi / float(jc.airy_wavenumber(period, bed, G))
+    height = min(height, 0.9 * float(breaking_height(wavelength, bed)))
     env = jc.Environment(
         water_density=RHO,
         gravity=G,
         current=current,
         depth=bed,
-        seabed=jc.Seabed(stiffness=_log_uniform(rng, 1e4, 1e7)),
-        waves=jc.Airy(height=height, period=rng.uniform(5.0, 15.0), depth=bed),
+        seabed=jc.Seabed(stiffness=stiffness),
+        waves=jc.Airy(height=height, period=period, depth=bed),
         wave_ramp=rng.uniform(5.0, 30.0),
     )
     features = {
