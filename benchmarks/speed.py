@@ -45,6 +45,13 @@ Rows (`--only` takes these names):
   in-memory caches cleared first and its persistent cache off (as it is for this whole
   process: only the `ll` processes use one).
 
+Threads. The rows that time one run at a time (`compile`, `ll`, `seed003`) run as
+`jaxcable run` does, with XLA's CPU backend on one kernel thread (`PJRT_NPROC=1`; see
+`jaxcable._cli._one_kernel_thread`): when other rows are asked for too, they run in a
+child process of this script. The batched rows (`field`, `sweep`) keep the backend's
+default thread pool, which the sweep's chunks run on. A `PJRT_NPROC` set by the caller
+applies to every row.
+
 `--quick` is a smoke run, NOT the target measurement: one repeat, N = 20 only over 10 s,
 a 16-case 4 s sweep, one process pair.
 
@@ -57,6 +64,7 @@ Results are appended to benchmarks/results/speed.json.
 """
 
 import argparse
+import json
 import os
 import shutil
 import statistics
@@ -71,6 +79,7 @@ import numpy as np
 BENCHMARKS = Path(__file__).resolve().parent
 RESULTS = BENCHMARKS / "results" / "speed.json"
 ROWS = ("compile", "field", "ll", "seed003", "sweep")
+SINGLE_RUN_ROWS = ("compile", "ll", "seed003")  # timed on one kernel thread, as `jaxcable run` runs
 OUTPUT_DT = 0.05  # s: 20 Hz, moordyn_side_by_side's output interval
 
 
@@ -759,6 +768,7 @@ def report(path: Path) -> None:
 
 def main(argv=None) -> None:
     args = parse(argv)
+    args.argv = sys.argv[1:] if argv is None else list(argv)
     if args.report:
         report(args.out)
         return
@@ -796,6 +806,11 @@ def main(argv=None) -> None:
 
 def run_rows(args) -> list[dict]:
     rows, pair = [], None
+    single = [r for r in args.only if r in SINGLE_RUN_ROWS]
+    if single and len(single) < len(args.only) and "PJRT_NPROC" not in os.environ:
+        rows = single_run_rows(args.argv, single)
+        pair = next((r["sweep_pair"] for r in rows if r.get("sweep_pair")), None)
+        args.only = [r for r in args.only if r not in single]
     if "compile" in args.only:
         rows += rows_compile(args)
     if "field" in args.only:
@@ -810,6 +825,22 @@ def run_rows(args) -> list[dict]:
     if "sweep" in args.only:
         rows += rows_sweep(args, pair)
     return rows
+
+
+def single_run_rows(given: list[str], only: list[str]) -> list[dict]:
+    """`only`'s rows measured by this script in a child process on one kernel thread
+    (`PJRT_NPROC=1`, read when XLA's CPU backend starts, so it cannot change in this
+    process), with the other settings `given` on this run's command line."""
+    argv, skip = [], False
+    for arg in given:
+        skip = arg in ("--only", "--out") or (skip and not arg.startswith("--"))
+        if not skip:
+            argv.append(arg)
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "rows.json"
+        command = [sys.executable, __file__, *argv, "--only", *only, "--out", str(out)]
+        subprocess.run(command, check=True, env={**os.environ, "PJRT_NPROC": "1"})
+        return json.loads(out.read_text())[-1]["rows"]
 
 
 if __name__ == "__main__":

@@ -20,7 +20,6 @@ import dataclasses
 import json
 import os
 import sys
-import tomllib
 import warnings
 from pathlib import Path
 
@@ -36,7 +35,7 @@ from ._stability import STABLE_GROWTH, fixed_step_growth
 from .examples import scene_names, scene_path
 from .io import RunSettings, Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
-from .io._moordyn import DROPPED_KINDS, declared_time_step
+from .io._moordyn import DROPPED_KINDS
 from .io._output import check_output, check_writable
 from .io._run import DEFAULT_DT_OUT, check_size, load_scene, run_scene
 
@@ -56,8 +55,7 @@ def main(argv: list[str] | None = None) -> int:
     # the library itself never does.
     jax.config.update("jax_enable_x64", True)
     _use_compilation_cache()
-    if not (args.command == "run" and _declares_fixed_steps(args)):
-        _schedule_kernels_in_order()
+    _one_kernel_thread()  # every command runs one scene or calibration at a time
     try:
         with warnings.catch_warnings():  # restores the display below when the command ends
             warnings.showwarning = _show_warning
@@ -81,25 +79,23 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
     print(f"warning: {message}", file=sys.stderr)
 
 
-def _schedule_kernels_in_order() -> None:
-    """Have XLA's CPU backend run a program's kernels one after another.
+def _one_kernel_thread() -> None:
+    """Have XLA's CPU backend run a single run's kernels on the calling thread alone.
 
-    By default it schedules them to run several at once on its thread pool. A step of
-    a single run is a few hundred kernels of microseconds each, and handing those
-    between threads costs more than it gains: with this option a Dopri5 step of seed
-    003's line took 30 µs instead of 52 at N = 20, and 68 instead of 118 at N = 100
-    (2-core x86_64, quiet; `benchmarks/README.md`). A batched sweep's kernels are large
-    enough to gain from running together, so this suits `run`, not a sweep. Nor does it
-    suit fixed steps: the Low & Langley file's 107,000 midpoint steps took 3.4 s with
-    it and 2.7 s without (quiet, in one process each), so `run` leaves it off where the
-    input asks for fixed steps (`_declares_fixed_steps`). XLA reads its flags when its
-    CPU backend starts, which is after this (nothing has run yet); flags the caller set
-    in `XLA_FLAGS` come first and win.
+    By default the backend sizes its thread pool to the cores and hands a program's
+    independent kernels between those threads. A step of a single run is a few hundred
+    kernels of a microsecond or so each, and handing them between threads costs more
+    than running them together gains. With one thread (`PJRT_NPROC=1`, read when the
+    backend starts, which is after this: nothing has run yet), on a 2-core x86_64,
+    quiet: the Low & Langley file's 107,000 fixed midpoint steps took 2.17 s instead of
+    2.72–3.90 s, and a Dopri5 step of seed 003's lumped line 29.2 µs instead of 31.6
+    at N = 20 and 66.5 instead of 77.5 at N = 100, against XLA's in-order scheduler
+    (`--xla_cpu_enable_concurrency_optimized_scheduler=false`), which this replaces.
+    A sweep is the opposite case: its chunks run on threads of their own
+    (`jaxcable.sweep`), and one thread took it from 0.95 to 1.63 s, so this suits the
+    single-scene commands only. A `PJRT_NPROC` the caller set comes first and wins.
     """
-    flag = "--xla_cpu_enable_concurrency_optimized_scheduler"
-    flags = os.environ.get("XLA_FLAGS", "")
-    if flag not in flags:
-        os.environ["XLA_FLAGS"] = f"{flags} {flag}=false".strip()
+    os.environ.setdefault("PJRT_NPROC", "1")
 
 
 def _use_compilation_cache() -> None:
@@ -203,22 +199,6 @@ def _input_path(args) -> Path:
         if not path.suffix:
             raise SceneError(f"no file or bundled example named {args.input!r}; bundled: {', '.join(scene_names())}")
     return path
-
-
-def _declares_fixed_steps(args) -> bool:
-    """Whether `run` is asked for fixed steps (`--dt`, a scene file's `dt`, a MoorDyn
-    file's `dtM`), read from the flags and the file's text before JAX starts; a file
-    that cannot be read says no here and fails later, when it is loaded."""
-    if args.adaptive or args.dt is not None:
-        return not args.adaptive
-    try:
-        path = _input_path(args)
-        if path.suffix.lower() == ".toml":
-            simulation = tomllib.loads(path.read_text(encoding="utf-8")).get("simulation")
-            return isinstance(simulation, dict) and "dt" in simulation
-        return declared_time_step(path) is not None
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, SceneError):
-        return False
 
 
 def _load(args) -> Scene:

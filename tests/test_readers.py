@@ -1326,26 +1326,6 @@ def test_toml_bad_simulation_settings_are_located(tmp_path, old, new, key):
     assert_located(error, path, new.splitlines()[-1], key)
 
 
-def test_the_command_line_knows_a_fixed_step_before_jax_starts(tmp_path):
-    """`jaxcable run` leaves XLA's in-order scheduling off for fixed steps, which it must
-    decide from the flags and the file's text alone."""
-    from jaxcable._cli import _declares_fixed_steps, _parser
-
-    fixed = write_moordyn(tmp_path, "fixed.txt", options=(*OPTIONS, "0.002  dtM"))
-    alias = write_moordyn(tmp_path, "alias.txt", options=(*OPTIONS, "0.004  dt"))
-    adaptive = write_moordyn(tmp_path, "adaptive.txt", options=OPTIONS)
-    assert jc.io._moordyn.declared_time_step(fixed) == 0.002
-    assert jc.io._moordyn.declared_time_step(alias) == 0.004
-    assert jc.io._moordyn.declared_time_step(adaptive) is None
-    parse = _parser().parse_args
-    assert _declares_fixed_steps(parse(["run", str(fixed)]))
-    assert not _declares_fixed_steps(parse(["run", str(fixed), "--adaptive"]))
-    assert not _declares_fixed_steps(parse(["run", str(adaptive)]))
-    assert _declares_fixed_steps(parse(["run", str(adaptive), "--dt", "0.001"]))
-    assert not _declares_fixed_steps(parse(["run", "seed003_line"]))  # a scene file without dt
-    assert not _declares_fixed_steps(parse(["run", str(tmp_path / "missing.txt")]))
-
-
 @pytest.mark.parametrize(
     "option, kind",
     [

@@ -20,6 +20,7 @@ Each example is run once (statics and 1 s of motion) and shared by every check.
 
 import dataclasses
 import json
+import os
 import re
 import tomllib
 
@@ -581,3 +582,16 @@ def test_cli_fixed_step_beyond_the_limit_warns_and_steps_adaptively(capsys):
     assert status == 0, err
     assert "warning: fixed steps of 0.002 s are beyond Midpoint's stability limit here" in err
     assert "Dopri5, adaptive (rtol 1e-06, atol 1e-06)" in out.splitlines()[-1]
+
+
+def test_cli_runs_xla_on_one_kernel_thread_unless_told_otherwise(monkeypatch):
+    """A single run's kernels are too small to gain from XLA's thread pool, so the
+    command sets `PJRT_NPROC=1` before the backend starts, and keeps a caller's value."""
+    from jaxcable._cli import _one_kernel_thread
+
+    monkeypatch.delenv("PJRT_NPROC", raising=False)
+    _one_kernel_thread()
+    assert os.environ["PJRT_NPROC"] == "1"
+    monkeypatch.setenv("PJRT_NPROC", "4")
+    _one_kernel_thread()
+    assert os.environ["PJRT_NPROC"] == "4"

@@ -196,17 +196,6 @@ def read_moordyn(path: str | Path) -> Scene:
     return Scene(points, line_types, mdlines, water, run, channels, tuple(notes), source, _title(lines), tuple(dropped))
 
 
-def declared_time_step(path: str | Path) -> float | None:
-    """MoorDyn's `dtM` (s) as the file at `path` gives it, read from its OPTIONS section
-    alone, before anything is built (the command line decides its XLA flags by it);
-    `None` without one, or where it is not a number (`read_moordyn` reports that)."""
-    lines = read_text(Path(path)).splitlines()
-    for _, fields in _rows(lines, _find_sections(lines), "OPTIONS"):
-        if len(fields) >= 2 and fields[1].lower() in _STEP and is_number(fields[0]):
-            return float(fields[0])
-    return None
-
-
 def _find_sections(lines: list[str]) -> dict[str, int]:
     """Map each section found to the index of its header line."""
     found = {}
