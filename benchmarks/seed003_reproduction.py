@@ -149,9 +149,11 @@ def make_figures(main_study, studies, c_e, folder: Path) -> list[str]:
 
     fig, axes = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
     for ax, angle in zip(axes, ANGLES):
-        plot_histories(main_study, angle, ax=ax)
+        plot_histories(main_study, angle, ax=ax, legend=False)
         ax.set_title(f"α = {angle:g}°, top segment, C_E = {c_e:.0e} N — cf. the paper's {PAPER_FIGURES[angle]}")
-    fig.tight_layout()
+    # The histories fill every panel edge to edge: one legend above them all.
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="upper center", ncol=len(main_study.ratios), fontsize=8)
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
     names.append(_save(fig, folder / "seed003_reproduction_histories.png"))
 
     fig, axes = plt.subplots(1, 3, figsize=(14, 3.8), sharey=True)

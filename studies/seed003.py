@@ -537,9 +537,17 @@ def table_markdown(study: Seed003Study) -> str:
 
 
 def plot_histories(
-    study: Seed003Study, angle: float, ratios: Sequence[float] | None = None, ax=None, which: str = "top"
+    study: Seed003Study,
+    angle: float,
+    ratios: Sequence[float] | None = None,
+    ax=None,
+    which: str = "top",
+    legend: bool = True,
 ):
-    """Tension (10⁴ N, as the paper's axes) over the window at one angle, one curve per ratio."""
+    """Tension (10⁴ N, as the paper's axes) over the window at one angle, one curve per ratio.
+
+    The curves fill the window edge to edge, so the legend goes outside the axes on the
+    right; `legend=False` leaves it to the caller (one legend for a stack of panels)."""
     import matplotlib.pyplot as plt
 
     if ax is None:
@@ -550,7 +558,8 @@ def plot_histories(
     ax.set_xlabel("t (s)")
     ax.set_ylabel(f"{which} T (10⁴ N)")
     ax.set_title(f"α = {angle:g}°, C_E = {study.settings['axial_stiffness_N']:.0e} N")
-    ax.legend(fontsize=8, loc="upper right")
+    if legend:
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     return ax
 
 
