@@ -15,8 +15,8 @@ def append_session(path: str | Path, **fields) -> list[dict]:
 
     The session holds `fields` after a stamp: the local time, the code's git commit
     (with `+` if the tree had changes), the machine and its core count, the platform,
-    Python, JAX's devices, the jax and diffrax versions, and `XLA_FLAGS` (which change
-    how XLA schedules a program; see `benchmarks/README.md`).
+    Python, JAX's devices, the jax and diffrax versions, `XLA_FLAGS` and `PJRT_NPROC`
+    (which change how XLA runs a program; see `benchmarks/README.md`).
     """
     import diffrax
     import jax
@@ -36,6 +36,7 @@ def append_session(path: str | Path, **fields) -> list[dict]:
             "jax": jax.__version__,
             "diffrax": diffrax.__version__,
             "xla_flags": os.environ.get("XLA_FLAGS", ""),
+            "pjrt_nproc": os.environ.get("PJRT_NPROC", ""),
             **fields,
         }
     )

@@ -772,6 +772,8 @@ def main(argv=None) -> None:
     if args.report:
         report(args.out)
         return
+    if all(r in SINGLE_RUN_ROWS for r in args.only):
+        os.environ.setdefault("PJRT_NPROC", "1")  # before JAX's CPU backend starts, below
     import importlib.metadata
 
     import jax
