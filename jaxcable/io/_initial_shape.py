@@ -47,10 +47,12 @@ def initial_positions(built: BuiltScene) -> tuple[np.ndarray, tuple[str, ...]]:
         if spread > VERTICAL_SPREAD:
             kind = types[line.line_type]
             area = np.pi * kind.diameter**2 / 4
-            weight = (kind.mass_per_length - scene.water.density * area) * scene.water.gravity
-            on_bed = depth is not None and min(start[2], end[2]) <= -depth * (1 - TOLERANCE)
+            weight = float((kind.mass_per_length - scene.water.density * area) * scene.water.gravity)
+            on_bed = depth is not None and bool(min(start[2], end[2]) <= -depth * (1 - TOLERANCE))
             arc = np.linspace(0.0, line.length, n + 1)
-            profile = catenary(spread, float(chord[2]), line.length, kind.axial_stiffness, weight, on_bed, arc)
+            profile = catenary(
+                spread, float(chord[2]), float(line.length), float(kind.axial_stiffness), weight, on_bed, arc
+            )
             if profile is None:
                 notes.append(
                     f"{line.where}: line {line.name} starts straight between its ends: its catenary has no "

@@ -519,22 +519,23 @@ def _log_progress(duration: float, stream) -> Iterator[Callable[[float], None]]:
     """[`_progress_bar`][]'s lines for a log: see there."""
     start = time.monotonic()
     last = [start]  # when the last line was written
-    reached_time = [0.0]
+    times = {"reached": 0.0, "written": -1.0}  # simulated
 
     def write(t: float) -> None:
-        elapsed = int(time.monotonic() - start)
+        last[0] = time.monotonic()
+        times["written"] = t
+        elapsed = int(last[0] - start)
         wall = f"{elapsed // 3600}:{elapsed // 60 % 60:02d}:{elapsed % 60:02d}"
         print(f"simulate: {t:.1f}/{duration:.1f} s simulated, {wall} wall", file=stream, flush=True)
 
     def reached(t: float) -> None:
-        reached_time[0] = t
-        now = time.monotonic()
-        if now - last[0] >= LOG_INTERVAL:
-            last[0] = now
+        times["reached"] = t
+        if time.monotonic() - last[0] >= LOG_INTERVAL:
             write(t)
 
     yield reached
-    write(reached_time[0])
+    if times["written"] != times["reached"]:
+        write(times["reached"])
 
 
 def _water_notes(built: BuiltScene, positions: np.ndarray) -> tuple[str, ...]:
