@@ -17,7 +17,7 @@ import pytest
 import jaxcable as jc
 from jaxcable._cli import main as cli_main
 from jaxcable._names import DROPPED_KINDS, INTERPOLATIONS, SOLVER_NAMES
-from jaxcable.io import _run
+from jaxcable.io import _channels, _run
 from jaxcable.io._initial_shape import initial_positions
 
 DTM = 5e-4  # s
@@ -219,15 +219,15 @@ def test_channel_spellings_moordyn_accepts(tmp_path):
     """MoorDyn reads `P`/`Point` and `L`/`Line` in any case; not `Con`, which v2 no
     longer accepts; and it refuses a point that does not exist."""
     scene = jc.read_moordyn(_write(tmp_path, HANGING.format(title="names")))
-    parse = jc.io._channels.parse_channel
+    parse = _channels.parse_channel
     for name in ("Point2PZ", "point2pz", "P2PZ", "p2fz", "Line1N3VX", "l1n20t"):
         assert parse(name, scene)[0] in ("Point2PZ", "Point2FZ", "L1N3VX", "L1N20T")
     for name, message in (("Con2PZ", "unknown output channel"), ("Point3PZ", "point 3 does not exist")):
         with pytest.raises(jc.io.SceneError, match=message):
             parse(name, scene)
-    units = jc.io._channels.channel_units
+    units = _channels.channel_units
     assert [units(n) for n in ("Point2PZ", "Point2VX", "Point2FZ", "L1N3VZ", "L1N3T")] == ["m", "m/s", "N", "m/s", "N"]
-    describe = jc.io._channels.describe_channel
+    describe = _channels.describe_channel
     assert describe("FairTen1", scene) == "line 1 fairlead tension (end B, at point 2)"
     assert describe("p2fz", scene) == "point 2 net force z"
 
