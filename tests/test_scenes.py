@@ -581,4 +581,4 @@ def test_cli_fixed_step_beyond_the_limit_warns_and_steps_adaptively(capsys):
     out, err = capsys.readouterr()
     assert status == 0, err
     assert "warning: fixed steps of 0.002 s are beyond Midpoint's stability limit here" in err
-    assert "Dopri5, adaptive (rtol 1e-06, atol 1e-06)" in out.splitlines()[-1]
+    assert "Dopri5, adaptive (rtol 1e-06, atol 1e-06)" in out.splitlines()[-2]
