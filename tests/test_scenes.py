@@ -214,6 +214,7 @@ def node_forces(name: str, run: jc.io.SceneRun) -> np.ndarray:
     `(nodes, 3)`: segment tensions, wet weights, drag of the current, bodies."""
     data = toml(name)
     rho, g, current = water(data)
+    assert run.static is not None  # these scenes solve statics
     x = np.asarray(run.static.state.positions)
     forces = np.zeros_like(x)
     for k, line in enumerate(data["lines"]):
