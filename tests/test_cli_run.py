@@ -388,3 +388,16 @@ def _write(tmp_path: Path, text: str) -> Path:
     path = tmp_path / f"file{len(list(tmp_path.iterdir()))}.txt"
     path.write_text(text)
     return path
+
+
+def test_compile_time_counts_nested_traces_once():
+    """A program traced inside another's trace reports its span inside the outer one:
+    the meter counts the union of the spans (1 s + 0.5 s here), not their sum."""
+    meter = _run._CompileMeter()
+    meter.span("/jax/core/compile/jaxpr_trace_duration", 10.0, 11.0)
+    meter.span("/jax/core/compile/jaxpr_trace_duration", 10.2, 10.7)  # nested
+    meter.span("/jax/core/compile/backend_compile_duration", 12.0, 12.5)
+    meter.span("/jax/some/other_event", 0.0, 100.0)  # not a compile event
+    meter.event("/jax/compilation_cache/cache_hits")
+    assert meter.seconds == pytest.approx(1.5)
+    assert (meter.hits, meter.misses) == (1, 0)

@@ -169,6 +169,8 @@ class SceneRun:
         if self.steps:
             run = max(self.dynamics_seconds - self.dynamics_compile, 0.0)
             parts.append(f"compile {self.dynamics_compile:.1f} s, run {run:.1f} s")
+        if not parts:
+            parts.append(f"the start shape {self.statics_seconds:.1f} s (no statics, no dynamics)")
         total = self.statics_seconds + self.dynamics_seconds
         cache = ""
         if self.cache_hits or self.cache_misses:
@@ -341,9 +343,13 @@ def _at_rest(built: BuiltScene, positions: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 class _CompileMeter:
-    """What JAX's compile events report while it is open: seconds spent tracing,
-    lowering and compiling (or loading from the persistent cache), and the cache's
-    hits and misses."""
+    """What JAX's compile events report while it is open: the wall time (s) spent
+    tracing, lowering and compiling programs (or loading them from the persistent
+    cache), and the cache's hits and misses.
+
+    The time is the union of the events' spans: a program traced inside another's
+    trace reports its own span within the outer one, and summing them would count it
+    twice."""
 
     EVENTS = (
         "/jax/core/compile/jaxpr_trace_duration",
@@ -352,17 +358,28 @@ class _CompileMeter:
     )
 
     def __init__(self):
-        self.seconds, self.hits, self.misses = 0.0, 0, 0
+        self.spans: list[tuple[float, float]] = []
+        self.hits, self.misses = 0, 0
 
-    def duration(self, event: str, duration_secs: float, **kwargs: str | int) -> None:
+    def span(self, event: str, start_time: float, end_time: float, **kwargs: str | int) -> None:
         if event in self.EVENTS:
-            self.seconds += duration_secs
+            self.spans.append((start_time, end_time))
 
     def event(self, event: str, **kwargs: str | int) -> None:
         if event == "/jax/compilation_cache/cache_hits":
             self.hits += 1
         elif event == "/jax/compilation_cache/cache_misses":
             self.misses += 1
+
+    @property
+    def seconds(self) -> float:
+        """The length of the union of the spans (s)."""
+        total, reached = 0.0, -np.inf
+        for start, end in sorted(self.spans):
+            if end > reached:
+                total += end - max(start, reached)
+                reached = end
+        return total
 
 
 @contextmanager
@@ -372,12 +389,12 @@ def _compile_meter() -> Iterator[_CompileMeter]:
     from jax import monitoring
 
     meter = _CompileMeter()
-    monitoring.register_event_duration_secs_listener(meter.duration)
+    monitoring.register_event_time_span_listener(meter.span)
     monitoring.register_event_listener(meter.event)
     try:
         yield meter
     finally:
-        monitoring.unregister_event_duration_listener(meter.duration)
+        monitoring.unregister_event_time_span_listener(meter.span)
         monitoring.unregister_event_listener(meter.event)
 
 
