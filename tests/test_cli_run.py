@@ -203,9 +203,11 @@ def test_a_run_without_statics_agrees_with_moordyn_at_the_same_fixed_step(moordy
     """From the same start at rest, at MoorDyn's dtM with the midpoint method (its RK2),
     the ringing chain's end tensions and the held fairlead's net force (`Point2FX`,
     `Point2FZ`: MoorDyn's `Point::doRHS` sum, same sign) follow MoorDyn's.
-    Measured: within 7e-4 of their largest value over 0.3 s; halving the step moves
-    jaxcable's by less than that, so the rest is the two codes' rounding in a
-    transient that rings at the chain's axial frequency."""
+    Measured: within 7e-4 of their largest value over 0.3 s of a start that rings at
+    the chain's axial frequency. Halving the step moves jaxcable's by 4e-6 of it, so
+    the difference is the two models', not the integration: jaxcable sums drag and
+    added mass segment by segment, MoorDyn node by node about each node's tangent
+    (reported on issue 22)."""
     samples = moordyn_samples
     run = hanging_run
     assert run.static is None
@@ -222,11 +224,11 @@ def test_a_dropped_weight_follows_moordyns(moordyn_samples, hanging_run):
     """A free point (`Point4PX`, `PZ`, `VX`, `VZ`, `FZ`) dropped from the file's
     geometry falls as MoorDyn's does at the same fixed step. Measured over 0.3 s: within
     2.5 mm, 1.6 % of its largest speed and 6 % of its largest net force, while halving
-    the step moves jaxcable's by 1e-5 of those. So the two codes' models differ here,
-    not their integration: with the ropes' added mass off too, 1 s of fall agrees to
-    1.3 mm and 1.6 % of the speed; what is left is in the snap of the ropes coming
-    taut, where jaxcable's slack switch is smoothed over a strain of 1e-5 and
-    MoorDyn's is not (issue 22's report)."""
+    the step moves jaxcable's by less than 1/300 of those. So the two codes' models
+    differ here, not their integration: with the ropes' added mass off too, 1 s of fall
+    still differs by 1.3 mm and 1.6 % of the speed, which may be the snap of the ropes
+    coming taut (jaxcable's slack switch is smoothed over a strain of 1e-5, MoorDyn's
+    is not); not pinned down (issue 22's report)."""
     names = ("Point4PX", "Point4PZ", "Point4VX", "Point4VZ", "Point4FZ")
     ours = hanging_run.channels(names)
     theirs = moordyn_samples[:, 4:]
