@@ -16,84 +16,137 @@ public modules:
 - `jaxcable.equations`: energies, forces, tension, the vector field, the stiffest mode.
 - `jaxcable.plot`: figures of a scene run and of a calibration.
 - `jaxcable.examples`: the seed papers' scenes, as builders and bundled scene files.
+
+The names are imported when first used (PEP 562), so that `import jaxcable` and the
+command line's `--help` do not import JAX; `from jaxcable import X` and `jaxcable.X`
+work as usual.
 """
 
+import importlib
 from importlib.metadata import version as _version
+from typing import TYPE_CHECKING
 
-from . import calibration as calibration
-from . import equations as equations
-from . import examples as examples
-from . import io as io
-from . import plot as plot
-from ._advice import Advice as Advice
-from ._advice import advise as advise
-from ._calibrate import CalibrationResult as CalibrationResult
-from ._calibrate import calibrate as calibrate
-from ._checks import Float64Error as Float64Error
-from ._cnoidal import Cnoidal as Cnoidal
-from ._cnoidal import cnoidal_coefficients as cnoidal_coefficients
-from ._config import (
-    SOLVERS as SOLVERS,
+if TYPE_CHECKING:
+    from . import calibration as calibration
+    from . import equations as equations
+    from . import examples as examples
+    from . import io as io
+    from . import plot as plot
+    from ._advice import Advice as Advice
+    from ._advice import advise as advise
+    from ._calibrate import CalibrationResult as CalibrationResult
+    from ._calibrate import calibrate as calibrate
+    from ._checks import Float64Error as Float64Error
+    from ._cnoidal import Cnoidal as Cnoidal
+    from ._cnoidal import cnoidal_coefficients as cnoidal_coefficients
+    from ._config import SOLVERS as SOLVERS
+    from ._config import SolverConfig as SolverConfig
+    from ._config import default_solver as default_solver
+    from ._config import stiff_solver as stiff_solver
+    from ._environment import CurrentProfile as CurrentProfile
+    from ._environment import Environment as Environment
+    from ._environment import Seabed as Seabed
+    from ._jacobian import NetworkJacobian as NetworkJacobian
+    from ._materials import AbstractTensionLaw as AbstractTensionLaw
+    from ._materials import KelvinVoigt as KelvinVoigt
+    from ._materials import LinearElastic as LinearElastic
+    from ._materials import NonlinearElastic as NonlinearElastic
+    from ._motion import AbstractMotion as AbstractMotion
+    from ._motion import Fixed as Fixed
+    from ._motion import Harmonic as Harmonic
+    from ._motion import Sampled as Sampled
+    from ._motion import Towing as Towing
+    from ._network import Body as Body
+    from ._network import Branch as Branch
+    from ._network import CableNetwork as CableNetwork
+    from ._network import LineType as LineType
+    from ._picard import PicardTrapezoid as PicardTrapezoid
+    from ._simulate import SimulationResult as SimulationResult
+    from ._simulate import simulate as simulate
+    from ._state import State as State
+    from ._statics import StaticSolution as StaticSolution
+    from ._statics import solve_statics as solve_statics
+    from ._sweep import SweepResult as SweepResult
+    from ._sweep import sweep as sweep
+    from ._sweep import sweep_grid as sweep_grid
+    from ._waves import AbstractWave as AbstractWave
+    from ._waves import Airy as Airy
+    from ._waves import airy_wavenumber as airy_wavenumber
+    from .io._moordyn import read_moordyn as read_moordyn
+    from .io._run import load_scene as load_scene
+    from .io._run import run_scene as run_scene
+    from .io._scene_file import read_scene as read_scene
+
+_MODULES = (
+    "calibration",
+    "equations",
+    "examples",
+    "io",
+    "plot",
 )
-from ._config import (
-    SolverConfig as SolverConfig,
-)
-from ._config import (
-    default_solver as default_solver,
-)
-from ._config import (
-    stiff_solver as stiff_solver,
-)
-from ._environment import CurrentProfile as CurrentProfile
-from ._environment import Environment as Environment
-from ._environment import Seabed as Seabed
-from ._jacobian import NetworkJacobian as NetworkJacobian
-from ._materials import (
-    AbstractTensionLaw as AbstractTensionLaw,
-)
-from ._materials import (
-    KelvinVoigt as KelvinVoigt,
-)
-from ._materials import (
-    LinearElastic as LinearElastic,
-)
-from ._materials import (
-    NonlinearElastic as NonlinearElastic,
-)
-from ._motion import (
-    AbstractMotion as AbstractMotion,
-)
-from ._motion import (
-    Fixed as Fixed,
-)
-from ._motion import (
-    Harmonic as Harmonic,
-)
-from ._motion import (
-    Sampled as Sampled,
-)
-from ._motion import (
-    Towing as Towing,
-)
-from ._network import Body as Body
-from ._network import Branch as Branch
-from ._network import CableNetwork as CableNetwork
-from ._network import LineType as LineType
-from ._picard import PicardTrapezoid as PicardTrapezoid
-from ._simulate import SimulationResult as SimulationResult
-from ._simulate import simulate as simulate
-from ._state import State as State
-from ._statics import StaticSolution as StaticSolution
-from ._statics import solve_statics as solve_statics
-from ._sweep import SweepResult as SweepResult
-from ._sweep import sweep as sweep
-from ._sweep import sweep_grid as sweep_grid
-from ._waves import AbstractWave as AbstractWave
-from ._waves import Airy as Airy
-from ._waves import airy_wavenumber as airy_wavenumber
-from .io._moordyn import read_moordyn as read_moordyn
-from .io._run import load_scene as load_scene
-from .io._run import run_scene as run_scene
-from .io._scene_file import read_scene as read_scene
+_NAMES = {
+    "Advice": "._advice",
+    "advise": "._advice",
+    "CalibrationResult": "._calibrate",
+    "calibrate": "._calibrate",
+    "Float64Error": "._checks",
+    "Cnoidal": "._cnoidal",
+    "cnoidal_coefficients": "._cnoidal",
+    "SOLVERS": "._config",
+    "SolverConfig": "._config",
+    "default_solver": "._config",
+    "stiff_solver": "._config",
+    "CurrentProfile": "._environment",
+    "Environment": "._environment",
+    "Seabed": "._environment",
+    "NetworkJacobian": "._jacobian",
+    "AbstractTensionLaw": "._materials",
+    "KelvinVoigt": "._materials",
+    "LinearElastic": "._materials",
+    "NonlinearElastic": "._materials",
+    "AbstractMotion": "._motion",
+    "Fixed": "._motion",
+    "Harmonic": "._motion",
+    "Sampled": "._motion",
+    "Towing": "._motion",
+    "Body": "._network",
+    "Branch": "._network",
+    "CableNetwork": "._network",
+    "LineType": "._network",
+    "PicardTrapezoid": "._picard",
+    "SimulationResult": "._simulate",
+    "simulate": "._simulate",
+    "State": "._state",
+    "StaticSolution": "._statics",
+    "solve_statics": "._statics",
+    "SweepResult": "._sweep",
+    "sweep": "._sweep",
+    "sweep_grid": "._sweep",
+    "AbstractWave": "._waves",
+    "Airy": "._waves",
+    "airy_wavenumber": "._waves",
+    "read_moordyn": ".io._moordyn",
+    "load_scene": ".io._run",
+    "run_scene": ".io._run",
+    "read_scene": ".io._scene_file",
+}
+"""Each public name and the module it comes from."""
+
+
+def __getattr__(name: str):
+    """Import a public name or module on first use, and keep it."""
+    if name in _MODULES:
+        value = importlib.import_module(f".{name}", __name__)
+    elif name in _NAMES:
+        value = getattr(importlib.import_module(_NAMES[name], __name__), name)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_MODULES) | set(_NAMES))
+
 
 __version__ = _version("jaxcable")

@@ -3,7 +3,8 @@
     jaxcable run INPUT [--duration S] [--motion FILE] [--motion-interpolation cubic|pchip|linear]
                        [--out FILE] [--dt-out S] [--plot FILE.png] [--solver NAME]
                        [--dt S | --adaptive] [--rtol R] [--atol A] [--max-steps N]
-                       [--segments N] [--channels ...] [--allow-ignored EI,waves,...]
+                       [--no-statics] [--segments N] [--channels ...]
+                       [--allow-ignored EI,waves,...]
     jaxcable info INPUT [--segments N] [--duration S]
     jaxcable calibrate RECORD.csv [RECORD.csv ...] --fit NAME=START [NAME=START ...]
                        [--optimizer lbfgs|adam] [--max-steps N] [--plot FILE.png]
@@ -13,6 +14,9 @@
 INPUT is a jaxcable scene (`.toml`), a MoorDyn v2 input file (any other suffix), or the
 name of a bundled example scene (see `jaxcable examples`). A RECORD is a towing record
 (CSV, see `jaxcable.io.read_record`) whose header names its rig.
+
+`--help` and `examples` answer without importing JAX (seconds); the other commands
+import the engine once their flags are read.
 """
 
 import argparse
@@ -22,26 +26,18 @@ import os
 import sys
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import jax
 import numpy as np
-import optax
 
-from ._advice import advise
-from ._calibrate import calibrate, calibration_solver, default_optimizer
-from ._config import SOLVERS
-from ._motion import INTERPOLATIONS, Harmonic, Sampled
-from ._stability import STABLE_GROWTH, fixed_step_growth
+from ._names import DROPPED_KINDS, INTERPOLATIONS, SOLVER_NAMES
 from .examples import scene_names, scene_path
-from .io import RunSettings, Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
-from .io._channels import default_channels, parse_channel
-from .io._moordyn import DROPPED_KINDS
-from .io._output import check_output, check_writable
-from .io._run import DEFAULT_DT_OUT, check_size, load_scene, run_scene
 
-OPTIMIZERS = {"lbfgs": lambda learning_rate: default_optimizer(), "adam": optax.adam}
-"""The `calibrate` command's optimizers by name, each made from `--learning-rate` (which
-L-BFGS, with its line search, does not use)."""
+if TYPE_CHECKING:
+    from .io import RunSettings, Scene
+
+OPTIMIZERS = ("lbfgs", "adam")
+"""The `calibrate` command's optimizers by name (`_optimizer`)."""
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -51,6 +47,13 @@ def main(argv: list[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 2
+    if args.command == "examples":
+        return _examples(args)
+    # Only now the engine, and JAX with it: --help and `examples` need neither.
+    import jax
+
+    from .io import SceneError
+
     # The command owns its process, so it may set JAX's global configuration, which
     # the library itself never does.
     jax.config.update("jax_enable_x64", True)
@@ -107,6 +110,8 @@ def _use_compilation_cache() -> None:
     (`~/.cache` by default); `JAXCABLE_CACHE_DIR=""` turns the cache off. A folder set
     for JAX itself (`JAX_COMPILATION_CACHE_DIR`) is left alone.
     """
+    import jax
+
     if "JAX_COMPILATION_CACHE_DIR" in os.environ:
         return
     folder = os.environ.get("JAXCABLE_CACHE_DIR")
@@ -140,7 +145,7 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--plot", type=Path, help="save tension histories and line shapes to this image")
     run.add_argument(
         "--solver",
-        choices=sorted(SOLVERS),
+        choices=sorted(SOLVER_NAMES),
         help="ODE solver (default: the scene's; dopri5, or midpoint for a MoorDyn file with dtM)",
     )
     run.add_argument("--dt", type=float, help="fixed step (s), as MoorDyn's dtM (default: the file's dtM, if any)")
@@ -148,8 +153,14 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--rtol", type=float, help="relative tolerance of adaptive steps (default 1e-6)")
     run.add_argument("--atol", type=float, help="absolute tolerance of adaptive steps, m and m/s (default 1e-6)")
     run.add_argument("--max-steps", type=int, help="most solver steps before the run fails (default 1000000)")
+    run.add_argument(
+        "--no-statics",
+        action="store_true",
+        help="start from the file's geometry at rest, lines as MoorDyn lays them with TmaxIC = 0 (its catenary, "
+        "or straight), for drop and swing tests; a MoorDyn file's TmaxIC = 0 asks for this too",
+    )
     run.add_argument("--segments", type=int, help="divide every line into this many segments")
-    run.add_argument("--channels", nargs="+", help="output channels, e.g. FairTen1 AnchTen1 L1N10PZ")
+    run.add_argument("--channels", nargs="+", help="output channels, e.g. FairTen1 AnchTen1 L1N10PZ Point2PZ Point2FZ")
     run.add_argument(
         "--allow-ignored",
         metavar="KINDS",
@@ -175,7 +186,7 @@ def _parser() -> argparse.ArgumentParser:
         help="coefficients to fit, with starting values: normal_drag (K_n), tangential_drag "
         "(K_τ), specific_drag (k₀, s²/m²)",
     )
-    calibrate.add_argument("--optimizer", choices=tuple(OPTIMIZERS), default="lbfgs", help="optax optimizer")
+    calibrate.add_argument("--optimizer", choices=OPTIMIZERS, default="lbfgs", help="optax optimizer")
     calibrate.add_argument("--max-steps", type=int, default=50, help="most optimizer iterations (default 50)")
     calibrate.add_argument("--learning-rate", type=float, default=0.05, help="Adam's step in log coefficients")
     calibrate.add_argument("--rtol", type=float, default=1e-6, help="solver relative tolerance")
@@ -192,6 +203,8 @@ def _parser() -> argparse.ArgumentParser:
 
 def _input_path(args) -> Path:
     """The input file: a path, or a bundled example's by name."""
+    from .io import SceneError
+
     path = Path(args.input)
     if not path.exists():
         if args.input in scene_names():
@@ -201,7 +214,9 @@ def _input_path(args) -> Path:
     return path
 
 
-def _load(args) -> Scene:
+def _load(args) -> "Scene":
+    from .io._run import load_scene
+
     path = _input_path(args)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the command prints the scene's notes itself
@@ -214,6 +229,8 @@ def _load(args) -> Scene:
 def _allowed(args) -> set[str]:
     """The kinds of left-out physics `--allow-ignored` names; `SceneError` for one that
     is not a kind."""
+    from .io import SceneError
+
     kinds = {kind.strip() for kind in (args.allow_ignored or "").split(",") if kind.strip()}
     unknown = sorted(kinds - set(DROPPED_KINDS))
     if unknown:
@@ -223,9 +240,11 @@ def _allowed(args) -> set[str]:
     return kinds
 
 
-def _refuse_dropped(scene: Scene, allowed: set[str]) -> None:
+def _refuse_dropped(scene: "Scene", allowed: set[str]) -> None:
     """`SceneError` naming each option and line of the physics the file asks for and
     jaxcable leaves out, unless `--allow-ignored` allows its kind."""
+    from .io import SceneError
+
     refused = [(kind, note) for kind, note in scene.dropped if kind not in allowed]
     if refused:
         kinds = ",".join(dict.fromkeys(kind for kind, _ in refused))
@@ -239,6 +258,9 @@ def _refuse_dropped(scene: Scene, allowed: set[str]) -> None:
 def _check_flags(args) -> None:
     """Refuse bad flag values before any work: a number out of range, or an output or
     plot file that could not be written at the end of a run."""
+    from .io import SceneError
+    from .io._output import check_output, check_writable
+
     for flag, value, allow_zero in (("--duration", "duration", True), ("--dt-out", "dt_out", False)):
         number = getattr(args, value, None)
         if number is not None and not (np.isfinite(number) and (number >= 0 if allow_zero else number > 0)):
@@ -265,6 +287,10 @@ def _check_flags(args) -> None:
 
 
 def _run(args) -> int:
+    from .io import SceneError, read_motion_file, write_output
+    from .io._channels import default_channels, parse_channel
+    from .io._run import run_scene
+
     scene = _load(args)
     _refuse_dropped(scene, _allowed(args))
     duration = args.duration
@@ -298,13 +324,21 @@ def _run(args) -> int:
         parse_channel(name, scene)  # fail now, not after the simulation
     settings = _run_settings(scene, args)
     run = run_scene(
-        scene, duration=duration, dt_out=args.dt_out, solver=settings.solver_config(), progress=not args.no_progress
+        scene,
+        duration=duration,
+        dt_out=args.dt_out,
+        solver=settings.solver_config(),
+        progress=not args.no_progress,
+        statics=settings.statics,
     )
     static = run.static
-    print(
-        f"equilibrium: {int(static.steps)} iterations, {run.statics_seconds:.1f} s; largest tension "
-        f"{float(np.max(static.tension)) / 1e3:.3f} kN, smallest {float(np.min(static.tension)) / 1e3 + 0.0:.3f} kN"
-    )
+    start = run.tension[0]
+    if static is None:
+        source = "--no-statics" if args.no_statics else "the file's TmaxIC = 0"
+        print(f"statics skipped ({source}): the run starts from the file's geometry at rest; ", end="")
+    else:
+        print(f"equilibrium: {int(static.steps)} iterations, {run.statics_seconds:.1f} s; ", end="")
+    print(f"largest tension {float(np.max(start)) / 1e3:.3f} kN, smallest {float(np.min(start)) / 1e3 + 0.0:.3f} kN")
     sys.stdout.flush()  # keep stdout and stderr lines in the order they were written
     for note in run.notes:
         print(f"warning: {note}", file=sys.stderr)
@@ -314,7 +348,7 @@ def _run(args) -> int:
     if args.plot is not None:
         from .plot import plot_run
 
-        plot_run(run, args.plot, tuple(c for c in channels if not c.upper().endswith(("PX", "PY", "PZ"))))
+        plot_run(run, args.plot, channels)
         print(f"wrote {args.plot}")
     print(run.summary())
     for _, note in scene.dropped:
@@ -322,10 +356,13 @@ def _run(args) -> int:
     return 0
 
 
-def _run_settings(scene: Scene, args) -> RunSettings:
+def _run_settings(scene: "Scene", args) -> "RunSettings":
     """The scene's run settings with the command line's `--solver`, `--dt`,
-    `--adaptive`, `--rtol`, `--atol` and `--max-steps` (their values checked by
-    `_check_flags`); `SceneError` naming the flags that contradict each other."""
+    `--adaptive`, `--rtol`, `--atol`, `--max-steps` and `--no-statics` (their values
+    checked by `_check_flags`); `SceneError` naming the flags that contradict each
+    other."""
+    from .io import SceneError
+
     if args.dt is not None and args.adaptive:
         raise SceneError("--dt asks for fixed steps and --adaptive for adaptive ones: give one of them")
     changes: dict = {"solver": args.solver, "dt": args.dt, "rtol": args.rtol, "atol": args.atol}
@@ -334,6 +371,8 @@ def _run_settings(scene: Scene, args) -> RunSettings:
         changes["max_steps"] = args.max_steps
     if args.adaptive:
         changes["dt"] = None
+    if args.no_statics:
+        changes["statics"] = False
     settings = dataclasses.replace(scene.run, **changes)
     if settings.dt is not None and (args.rtol is not None or args.atol is not None):
         raise SceneError(
@@ -344,6 +383,11 @@ def _run_settings(scene: Scene, args) -> RunSettings:
 
 
 def _info(args) -> int:
+    from ._advice import advise
+    from ._stability import STABLE_GROWTH, fixed_step_growth
+    from .io import advice_lines
+    from .io._run import DEFAULT_DT_OUT, check_size
+
     scene = _load(args)
     built = scene.build()
     model = built.model
@@ -422,6 +466,7 @@ def _info(args) -> int:
         f"run: {duration:g} s, solver {run.solver} "
         + (f"(fixed steps of {run.dt:g} s)" if run.dt is not None else f"(rtol {run.rtol:g}, atol {run.atol:g})")
         + f", output every {run.dt_out or DEFAULT_DT_OUT:g} s"
+        + ("" if run.statics else "; no statics: starts from the file's geometry at rest")
     )
     if run.dt is not None:
         solver = run.solver_config().solver
@@ -443,6 +488,8 @@ def _info(args) -> int:
 
 
 def _describe_motion(motion) -> str:
+    from ._motion import Harmonic, Sampled
+
     if motion is None:
         return "held (no motion given)"
     if isinstance(motion, Harmonic):
@@ -456,7 +503,20 @@ def _describe_motion(motion) -> str:
     return type(motion).__name__
 
 
+def _optimizer(name: str, learning_rate: float):
+    """The `calibrate` command's optimizer `name` (one of `OPTIMIZERS`), made from
+    `--learning-rate` (which L-BFGS, with its line search, does not use)."""
+    import optax
+
+    from ._calibrate import default_optimizer
+
+    return default_optimizer() if name == "lbfgs" else optax.adam(learning_rate)
+
+
 def _calibrate(args) -> int:
+    from ._calibrate import calibrate, calibration_solver
+    from .io import SceneError, read_records
+
     start = {}
     for item in args.fit:
         name, _, value = item.partition("=")
@@ -471,7 +531,7 @@ def _calibrate(args) -> int:
             result = calibrate(
                 records,
                 start,
-                optimizer=OPTIMIZERS[args.optimizer](args.learning_rate),
+                optimizer=_optimizer(args.optimizer, args.learning_rate),
                 max_steps=args.max_steps,
                 solver=calibration_solver(rtol=args.rtol, atol=args.atol),
                 progress=not args.no_progress,

@@ -16,6 +16,7 @@ import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
+from ._names import INTERPOLATIONS as INTERPOLATIONS
 from ._typing import RealLike
 
 
@@ -113,8 +114,6 @@ class Harmonic(AbstractMotion):
         omega = 2 * jnp.pi / self.period
         return ramp_factor(t, self.ramp) * self.amplitude * jnp.sin(omega * t + self.phase) * self.direction
 
-
-INTERPOLATIONS = ("cubic", "pchip", "linear")
 
 OVERSHOOT_FRACTION = 0.1
 """How far (as a fraction of a coordinate's range over the table) a cubic spline may

@@ -44,9 +44,10 @@ def check_plot_path(path: str | Path, what: str = "plot") -> Path:
 def plot_run(run: "SceneRun", path: str | Path, channels: tuple[str, ...] = (), snapshots: int = 6):
     """Save a two-panel figure of `run` to `path` (any format matplotlib writes).
 
-    Left: the tension history of each of `channels` (MoorDyn names of tension channels,
+    Left: the tension history of each tension channel among `channels` (MoorDyn names,
     `FairTen<k>`, `AnchTen<k>`, `L<k>N<i>T`; every line's end tensions by default), in
-    kN against time in s. For a statics-only run, the tension along each line against
+    kN against time in s, named in words ("line 1 fairlead tension (end B, at point
+    2)"). For a statics-only run, the tension along each line against
     the unstretched arc length from end A instead. Right: the lines in the x–z plane at
     `snapshots` evenly spaced output times (the equilibrium for statics only).
 
@@ -58,10 +59,14 @@ def plot_run(run: "SceneRun", path: str | Path, channels: tuple[str, ...] = (), 
     figure, (left, right) = plt.subplots(1, 2, figsize=(12, 4.5), layout="constrained")
     scene, built = run.built.scene, run.built
     if run.times.size > 1:
-        values = run.channels(channels)
-        for name, series in values.items():
-            if name != "Time" and not name.endswith(("PX", "PY", "PZ")):
-                left.plot(run.times, series / 1e3, label=name, linewidth=1.0)
+        from .io._channels import default_channels, describe_channel, end_tensions, is_tension
+
+        # Tensions only: positions, velocities and point forces are not this panel's.
+        names = channels or default_channels(scene)
+        tensions = tuple(name for name in names if is_tension(name, scene)) or end_tensions(scene)
+        for name, series in run.channels(tensions).items():
+            if name != "Time":
+                left.plot(run.times, series / 1e3, label=describe_channel(name, scene), linewidth=1.0)
         left.set_xlabel("time t (s)")
         left.set_title("Tension history")
     else:

@@ -48,7 +48,7 @@ def test_the_command_line_enables_float64_for_its_own_process():
         """
         import jax
         from jaxcable._cli import main
-        main(["examples"])
+        main(["run", "no-such-scene"])  # refused (2), once JAX is set up
         print(jax.config.jax_enable_x64)
         """
     )

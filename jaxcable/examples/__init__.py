@@ -6,14 +6,38 @@ its module: `jaxcable.examples.seed001` (growing elements), `.seed002` (the towe
 `.seed002_net` (the moored net of buoys) and `.seed003` (the anchored line). The studies that
 reproduce the papers are not part of the package: they are in the repository's `studies/`."""
 
+import importlib
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from .._waves import seed003_amplitude as seed003_amplitude
-from .seed001 import seed001_element as seed001_element
-from .seed002 import start_tow as start_tow
-from .seed002 import towed_trawl as towed_trawl
-from .seed002_net import moored_net as moored_net
-from .seed003 import seed003_line as seed003_line
+if TYPE_CHECKING:
+    from .._waves import seed003_amplitude as seed003_amplitude
+    from .seed001 import seed001_element as seed001_element
+    from .seed002 import start_tow as start_tow
+    from .seed002 import towed_trawl as towed_trawl
+    from .seed002_net import moored_net as moored_net
+    from .seed003 import seed003_line as seed003_line
+
+# The builders import JAX: they are imported on first use (PEP 562), so that listing
+# the bundled scenes (`jaxcable examples`) does not.
+_BUILDERS = {
+    "seed003_amplitude": ".._waves",
+    "seed001_element": ".seed001",
+    "start_tow": ".seed002",
+    "towed_trawl": ".seed002",
+    "moored_net": ".seed002_net",
+    "seed003_line": ".seed003",
+}
+
+
+def __getattr__(name: str):
+    """Import a builder on first use, and keep it."""
+    if name not in _BUILDERS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_BUILDERS[name], __name__), name)
+    globals()[name] = value
+    return value
+
 
 _SCENES = Path(__file__).parent / "scenes"
 

@@ -6,73 +6,128 @@ Channels (names are case-insensitive on input, written as below):
 - `Time` (s).
 - `FairTen<k>`, `AnchTen<k>` (N): the tension in the segment at end B and at end A of
     line k, as MoorDyn defines them (the end segment's tension, damping included).
-- `L<k>N<i>PX`, `PY`, `PZ` (m): the position of node i of line k, i = 0 at end A.
+- `L<k>N<i>PX`, `PY`, `PZ` (m), `VX`, `VY`, `VZ` (m/s): the position and velocity of
+    node i of line k, i = 0 at end A (MoorDyn's `Line<k>N<i>...` too).
 - `L<k>N<i>T` (N): the tension at node i, the mean of the adjacent segments' (the end
     segment's at an end), as MoorDyn's.
+- `P<k>PX`, ... `P<k>VZ` (MoorDyn's `Point<k>PX`, ...): the position (m) and velocity
+    (m/s) of point k.
+- `P<k>FX`, `FY`, `FZ` (N): the net force on point k as MoorDyn's `Point::doRHS` sums
+    it: every force on the point and the line ends on it (tensions, weight and
+    buoyancy, drag, seabed contact, a body's constant force) but not the inertial
+    ones, so that it is the mass matrix times the acceleration on a free point, and
+    the negative of the support's reaction on a fixed one. `P<k>T` is its magnitude.
+    (MoorDyn computes this force only for free and coupled points; it writes zeros
+    for a fixed one.)
 
 A run ([`jaxcable.io.SceneRun`][]) reads its channels from here, and the writers in
 `_output` write them: neither imports the other.
 """
 
 import re
+from collections.abc import Callable
 
 import numpy as np
 
 from ._scene import BuiltScene, Scene, SceneError
 
 _END_TENSION = re.compile(r"(?i)(fairten|anchten)(\d+)")
-_NODE = re.compile(r"(?i)l(\d+)n(\d+)(px|py|pz|t)")
+_NODE = re.compile(r"(?i)l(?:ine)?(\d+)n(\d+)(px|py|pz|vx|vy|vz|t)")
+_POINT = re.compile(r"(?i)p(?:oint)?(\d+)(px|py|pz|vx|vy|vz|fx|fy|fz|t)")
+_UNITS = {"P": "m", "V": "m/s", "F": "N", "T": "N"}
 
 
 def default_channels(scene: "Scene") -> tuple[str, ...]:
     """The scene's own channels, or `FairTen<k>` and `AnchTen<k>` for every line."""
-    if scene.channels:
-        return tuple(scene.channels)
+    return tuple(scene.channels) or end_tensions(scene)
+
+
+def end_tensions(scene: "Scene") -> tuple[str, ...]:
+    """`FairTen<k>` and `AnchTen<k>` for every line."""
     return tuple(f"{kind}{k}" for k in range(1, len(scene.lines) + 1) for kind in ("FairTen", "AnchTen"))
 
 
+def is_tension(name: str, scene: "Scene") -> bool:
+    """Whether channel `name` is a line's tension (`FairTen<k>`, `AnchTen<k>`,
+    `L<k>N<i>T`), not a position, velocity or point force."""
+    _, quantity, _, node = parse_channel(name, scene)
+    return quantity in ("FairTen", "AnchTen") or (quantity == "T" and node >= 0)
+
+
 def channel_units(name: str) -> str:
-    """The unit of channel `name`: `s`, `N` or `m`."""
+    """The unit of channel `name`: `s`, `N`, `m` or `m/s`."""
     if name == "Time":
         return "s"
-    match = _NODE.fullmatch(name)
-    return "m" if match and match.group(3).lower() != "t" else "N"
+    match = _NODE.fullmatch(name) or _POINT.fullmatch(name)
+    return _UNITS[match.group(match.lastindex or 0)[0].upper()] if match else "N"
+
+
+def describe_channel(name: str, scene: "Scene") -> str:
+    """Channel `name` in words a user recognises, for a plot's legend: "line 1
+    fairlead tension", "point 2 z", "line 3 node 10 tension"."""
+    _, quantity, k, i = parse_channel(name, scene)
+    if quantity in ("FairTen", "AnchTen"):
+        line = scene.lines[k]
+        end = "B" if quantity == "FairTen" else "A"
+        point = scene.points[line.end if end == "B" else line.start]
+        what = "fairlead" if quantity == "FairTen" else "anchor"
+        return f"line {line.name} {what} tension (end {end}, at point {point.name})"
+    words = {"T": "tension", "PX": "x", "PY": "y", "PZ": "z", "VX": "vx", "VY": "vy", "VZ": "vz"}
+    words |= {"FX": "net force x", "FY": "net force y", "FZ": "net force z"}
+    if i < 0:
+        what = "net force" if quantity == "T" else words[quantity]
+        return f"point {scene.points[k].name} {what}"
+    return f"line {scene.lines[k].name} node {i} {words[quantity]}"
 
 
 def parse_channel(name: str, scene: "Scene") -> tuple[str, str, int, int]:
-    """`(canonical name, quantity, line index, node index)` of channel `name`, with
-    quantity one of `FairTen`, `AnchTen`, `PX`, `PY`, `PZ`, `T` and indices from 0
-    (node −1 for the end tensions).
+    """`(canonical name, quantity, index, node index)` of channel `name`, with quantity
+    one of `FairTen`, `AnchTen`, `PX`, `PY`, `PZ`, `VX`, `VY`, `VZ`, `FX`, `FY`, `FZ`,
+    `T`, and indices from 0: the line and its node, or the point and node −1 (node −1
+    for the end tensions too).
 
     **Raises:**
 
-    [`jaxcable.io.SceneError`][] naming a channel that is unknown or refers to a line or
-    node that does not exist.
+    [`jaxcable.io.SceneError`][] naming a channel that is unknown or refers to a line,
+    node or point that does not exist.
     """
     count = len(scene.lines)
     if match := _END_TENSION.fullmatch(name):
         kind = "FairTen" if match.group(1).lower() == "fairten" else "AnchTen"
-        k = _line_index(name, int(match.group(2)), count)
+        k = _index(name, "line", int(match.group(2)), count)
         return f"{kind}{k + 1}", kind, k, -1
     if match := _NODE.fullmatch(name):
-        k = _line_index(name, int(match.group(1)), count)
+        k = _index(name, "line", int(match.group(1)), count)
         i, quantity = int(match.group(2)), match.group(3).upper()
         last = scene.lines[k].segments
         if i > last:
             raise SceneError(f"output channel {name!r}: line {k + 1} has nodes 0 to {last}")
         return f"L{k + 1}N{i}{quantity}", quantity, k, i
+    if match := _POINT.fullmatch(name):
+        k = _index(name, "point", int(match.group(1)), len(scene.points))
+        quantity = match.group(2).upper()
+        return f"Point{k + 1}{quantity}", quantity, k, -1
     raise SceneError(
-        f"unknown output channel {name!r}; jaxcable writes FairTen<k>, AnchTen<k>, L<k>N<i>PX / PY / PZ and L<k>N<i>T"
+        f"unknown output channel {name!r}; jaxcable writes FairTen<k>, AnchTen<k>, L<k>N<i>PX / PY / PZ / VX / VY / "
+        "VZ / T, and Point<k>PX / PY / PZ / VX / VY / VZ / FX / FY / FZ / T"
     )
 
 
 def channels(
-    built: BuiltScene, times: np.ndarray, tension: np.ndarray, positions: np.ndarray, names: tuple[str, ...] = ()
+    built: BuiltScene,
+    times: np.ndarray,
+    tension: np.ndarray,
+    positions: np.ndarray,
+    velocities: np.ndarray,
+    point_forces: Callable[[], np.ndarray],
+    names: tuple[str, ...] = (),
 ) -> dict[str, np.ndarray]:
     """Channel values over `times` (s) of a run of `built` with segment tensions `tension`
-    (N, shape `(times, segments)`) and node positions `positions` (m, shape
-    `(times, nodes, 3)`), by name, `Time` first; `names` defaults to
-    [`default_channels`][].
+    (N, shape `(times, segments)`), node positions `positions` (m) and velocities
+    `velocities` (m/s, each of shape `(times, nodes, 3)`), by name, `Time` first;
+    `names` defaults to [`default_channels`][]. `point_forces()` gives the net force
+    on every node (N, shape `(times, nodes, 3)`), called only when a `FX`, `FY`, `FZ`
+    or point `T` channel asks for it.
 
     **Raises:**
 
@@ -80,20 +135,32 @@ def channels(
     """
     scene = built.scene
     values = {"Time": times}
+    forces = None
     for name in tuple(names) or default_channels(scene):
         canonical, quantity, k, i = parse_channel(name, scene)
-        nodes, segments = built.line_nodes[k], built.line_segments[k]
         if quantity in ("FairTen", "AnchTen"):
+            segments = built.line_segments[k]
             values[canonical] = tension[:, segments[-1] if quantity == "FairTen" else segments[0]]
-        elif quantity == "T":
+            continue
+        # Point k is node k (`Scene.build`); a line's nodes are listed from end A.
+        node = k if i < 0 else built.line_nodes[k][i]
+        if quantity == "T" and i >= 0:
+            segments = built.line_segments[k]
             adjacent = segments[max(i - 1, 0) : min(i, segments.size - 1) + 1]
             values[canonical] = tension[:, adjacent].mean(axis=1)
+        elif quantity[0] in "FT":
+            forces = point_forces() if forces is None else forces
+            force = forces[:, node]
+            values[canonical] = (
+                np.linalg.norm(force, axis=-1) if quantity == "T" else force[:, "XYZ".index(quantity[1])]
+            )
         else:
-            values[canonical] = positions[:, nodes[i], "XYZ".index(quantity[1])]
+            series = positions if quantity[0] == "P" else velocities
+            values[canonical] = series[:, node, "XYZ".index(quantity[1])]
     return values
 
 
-def _line_index(name: str, k: int, count: int) -> int:
+def _index(name: str, kind: str, k: int, count: int) -> int:
     if not 1 <= k <= count:
-        raise SceneError(f"output channel {name!r}: line {k} does not exist ({count} lines)")
+        raise SceneError(f"output channel {name!r}: {kind} {k} does not exist ({count} {kind}s)")
     return k - 1

@@ -24,7 +24,8 @@ out would change the system (rods, 6-DOF bodies, nonlinear or viscoelastic stiff
 tables, VIV, constant forces on fixed or coupled points) and are listed in `Scene.notes` where the model is
 still meaningful without them (bending stiffness of a long line, bathymetry files,
 static-to-dynamic friction ratios, MoorDyn's wave and current input, its time-step
-and initial-condition options). Notes on physics left out (bending, bathymetry,
+and initial-condition options, but for `TmaxIC = 0`, which skips statics as it
+skips MoorDyn's initial-condition solve). Notes on physics left out (bending, bathymetry,
 waves) are also issued as Python warnings.
 """
 
@@ -35,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._names import DROPPED_KINDS as DROPPED_KINDS
 from .._network import Body
 from ._parse import is_number, read_text, unique_names
 from ._scene import (
@@ -83,13 +85,13 @@ _POINT_KINDS = {
     "free": ("POINT", "CONNECT", "CON", "FREE"),
 }
 # Options that tune MoorDyn's initial-condition generator, or its step from a CFL
-# number: jaxcable solves statics directly and takes dtM as given, so they do not apply.
+# number: jaxcable solves statics directly and takes dtM as given, so they do not apply
+# (but for TmaxIC = 0, no initial-condition solve at all, which jaxcable honours).
+_TMAXIC = ("tmaxic", "ictmax")
 _NOT_APPLICABLE = {
     "cfl",
     "dtic",
     "icdt",
-    "tmaxic",
-    "ictmax",
     "cdscaleic",
     "icdfac",
     "threshic",
@@ -125,11 +127,6 @@ _USED = {
 # MoorDyn's defaults (MoorDyn2.cpp): bottom stiffness and damping, friction damping.
 _KBOT, _CBOT, _FRICDAMP = 3.0e6, 3.0e5, 200.0
 _WAVES = {"wavekin", "dtwave", "currents", "unifycurrentgrid"}
-DROPPED_KINDS = ("EI", "waves", "currents", "bathymetry", "friction")
-"""What a MoorDyn file can ask for that jaxcable leaves out (`Scene.dropped`): bending
-stiffness, waves or currents from MoorDyn's input files, a bathymetry file, and
-friction's static-to-dynamic ratio. `jaxcable run` refuses such a file unless
-`--allow-ignored` names them."""
 
 
 def read_moordyn(path: str | Path) -> Scene:
@@ -189,7 +186,12 @@ def read_moordyn(path: str | Path) -> Scene:
         free_surface=True,  # MoorDyn counts only the submerged part of each segment
         seabed=seabed,
     )
-    run = RunSettings(dt_out=options.get("dtout") or None, mass_matrix="lumped", **_stepping(options, notes))
+    run = RunSettings(
+        dt_out=options.get("dtout") or None,
+        mass_matrix="lumped",
+        statics="tmaxic" not in options,
+        **_stepping(options, notes),
+    )
     for _, note in dropped:
         warnings.warn(note, stacklevel=2)
     notes = [note for _, note in dropped] + notes
@@ -419,7 +421,13 @@ def _options(
                 )
             else:
                 notes.append(f"{where}: option {name} = {value} not needed (it sets MoorDyn's wave and current input)")
-        elif key in _NOT_APPLICABLE:
+        elif key in _TMAXIC and is_number(value) and float(value) == 0:
+            options["tmaxic"] = 0.0
+            notes.append(
+                f"{where}: option {name} = {value}: no statics; the run starts from the file's geometry at rest, "
+                "lines on MoorDyn's initial catenary (or straight), as MoorDyn's does"
+            )
+        elif key in _NOT_APPLICABLE or key in _TMAXIC:
             notes.append(f"{where}: option {name} = {value} not needed (jaxcable solves statics directly)")
         elif key not in _COSMETIC:
             notes.append(f"{where}: unknown option {name} = {value} ignored")

@@ -1,6 +1,7 @@
 """Running a scene: statics, then dynamics, with the results as numpy arrays."""
 
 import os
+import sys
 import time
 import warnings
 from collections.abc import Callable, Iterator
@@ -17,13 +18,21 @@ from .._config import SolverConfig
 from .._motion import Sampled
 from .._simulate import simulate
 from .._stability import STABLE_GROWTH, fixed_step_growth
+from .._state import State
 from .._statics import StaticSolution, solve_statics
 from . import _channels
+from ._initial_shape import initial_positions
 from ._moordyn import read_moordyn
 from ._scene import BuiltScene, Scene, SceneError
 from ._scene_file import read_scene
 
 DEFAULT_DT_OUT = 0.1  # s
+# A tension history whose spread is below this, relative to its largest value, is
+# steady: the ripple of rounding and of a fixed-step solver on a held line, not a peak.
+STEADY = 1e-6
+# With stderr not a terminal (a log), the progress bar writes a line at most this often
+# (s of wall time), and at the end.
+LOG_INTERVAL = 20.0
 
 # What a run costs, for the estimate that `check_size` gives before any work. An
 # explicit Dopri5 step is six force evaluations of 144 ns per node and 13.5 µs of
@@ -52,10 +61,12 @@ class SceneRun:
     """A scene's equilibrium and, unless the duration was 0, its motion.
 
     Arrays are numpy, indexed by output time first. With a duration of 0 there is one
-    output time, 0 s, and the state is the equilibrium.
+    output time, 0 s, and the state is the initial one.
 
     - `built`: the [`jaxcable.io.BuiltScene`][] that ran.
-    - `static`: its [`jaxcable.StaticSolution`][], the initial state.
+    - `static`: its [`jaxcable.StaticSolution`][], the initial state; `None` where
+        statics was skipped and the run started from the file's geometry at rest
+        (`jaxcable.io._initial_shape`).
     - `times`: (s), shape `(times,)`.
     - `positions`, `velocities`: (m, m/s), shape `(times, nodes, 3)`.
     - `tension`: (N), shape `(times, segments)`.
@@ -65,11 +76,16 @@ class SceneRun:
     - `stepping`: how the motion was integrated, such as `"Midpoint, fixed steps of
         0.001 s"` or `"Dopri5, adaptive (rtol 1e-06, atol 1e-06)"`; empty for statics only.
     - `statics_seconds`, `dynamics_seconds`: wall time (s), compilation included.
+    - `statics_compile`, `dynamics_compile`: the part of each spent tracing and
+        compiling programs, or loading them from JAX's persistent cache (s), as JAX's
+        compile events time it.
+    - `cache_hits`, `cache_misses`: programs loaded from, and compiled and missing in,
+        JAX's persistent compilation cache (both 0 with the cache off).
     - `notes`: what the user should know about this run (seabed penetration, ...).
     """
 
     built: BuiltScene
-    static: StaticSolution
+    static: StaticSolution | None
     times: np.ndarray
     positions: np.ndarray
     velocities: np.ndarray
@@ -80,11 +96,29 @@ class SceneRun:
     statics_seconds: float
     dynamics_seconds: float
     notes: tuple[str, ...]
+    statics_compile: float = 0.0
+    dynamics_compile: float = 0.0
+    cache_hits: int = 0
+    cache_misses: int = 0
 
     def channels(self, names: tuple[str, ...] = ()) -> dict[str, np.ndarray]:
         """Output channels by MoorDyn name, `Time` first; the scene's own channels, or
         every line's `FairTen<k>` and `AnchTen<k>`, when `names` is empty."""
-        return _channels.channels(self.built, self.times, self.tension, self.positions, names)
+        return _channels.channels(
+            self.built, self.times, self.tension, self.positions, self.velocities, self.net_forces, names
+        )
+
+    def net_forces(self) -> np.ndarray:
+        """The net force on every node (N), shape `(times, nodes, 3)`: every force but
+        the inertial ones (`jaxcable.equations.generalised_forces`), the point force
+        of MoorDyn's `Point<k>FX` channels (`jaxcable.io._channels`)."""
+        import jax
+
+        from .._lagrangian import generalised_forces
+
+        model, env = self.built.model, self.built.environment
+        forces = jax.vmap(generalised_forces, in_axes=(None, None, 0, 0, 0))
+        return np.asarray(forces(model, env, self.times, self.positions, self.velocities))
 
     def peak_tension(self) -> tuple[float, int, int, float]:
         """The peak tension: `(tension (N), line index, segment index along the line
@@ -96,20 +130,55 @@ class SceneRun:
                 return float(self.tension[t, s]), k, int(hits[0]), float(self.times[t])
         raise AssertionError("every segment belongs to a line")
 
+    def steady(self) -> bool:
+        """Whether every segment's tension held constant over the run, to `STEADY` of
+        the largest tension: a held line at rest, whose "peak" would be rounding."""
+        scale = float(np.max(np.abs(self.tension)))
+        spread = np.max(self.tension, axis=0) - np.min(self.tension, axis=0)
+        return self.times.size < 2 or float(np.max(spread)) <= STEADY * max(scale, np.finfo(float).tiny)
+
     def summary(self) -> str:
-        """One line: simulated and wall time, steps, and where and when the peak
-        tension was."""
+        """Where and when the peak tension was (or that the tensions held steady), and
+        the wall time, split into statics, compiling and running."""
         value, k, j, when = self.peak_tension()
         line = self.built.scene.lines[k]
         n = line.segments
         end = " (end B)" if j == n - 1 else " (end A)" if j == 0 else ""
-        peak = f"peak tension {value / 1e3:.3f} kN in line {line.name}, segment {j + 1}/{n}{end}, at t = {when:.3f} s"
+        where = f"in line {line.name}, segment {j + 1}/{n}{end}"
+        if self.steps and self.steady():
+            peak = f"tensions steady (constant to {STEADY:g} of the largest), largest {value / 1e3:.3f} kN {where}"
+        else:
+            peak = f"peak tension {value / 1e3:.3f} kN {where}" + (f", at t = {when:.3f} s" if self.steps else "")
+        return f"{self._simulated()}; {peak}\n{self.timing()}"
+
+    def _simulated(self) -> str:
         if self.steps == 0:
-            return f"statics: {int(self.static.steps)} iterations in {self.statics_seconds:.1f} s wall; {peak}"
-        return (
-            f"simulated {self.times[-1] - self.times[0]:.3f} s in {self.statics_seconds + self.dynamics_seconds:.1f} s "
-            f"wall ({self.steps} steps, {self.stepping}); {peak}"
-        )
+            return "statics only" if self.static is not None else "initial state only (statics skipped)"
+        start = "from the file's geometry (statics skipped)" if self.static is None else "from equilibrium"
+        return f"simulated {self.times[-1] - self.times[0]:.3f} s {start} in {self.steps} steps ({self.stepping})"
+
+    def timing(self) -> str:
+        """Wall time in words: statics, then the dynamics' compiling and running, and
+        how many programs came from JAX's persistent cache."""
+        parts = []
+        if self.static is not None:
+            parts.append(
+                f"statics {self.statics_seconds:.1f} s ({int(self.static.steps)} iterations; compile "
+                f"{self.statics_compile:.1f} s of it)"
+            )
+        if self.steps:
+            run = max(self.dynamics_seconds - self.dynamics_compile, 0.0)
+            parts.append(f"compile {self.dynamics_compile:.1f} s, run {run:.1f} s")
+        if not parts:
+            parts.append(f"the start shape {self.statics_seconds:.1f} s (no statics, no dynamics)")
+        total = self.statics_seconds + self.dynamics_seconds
+        cache = ""
+        if self.cache_hits or self.cache_misses:
+            programs = self.cache_hits + self.cache_misses
+            cache = f"; {self.cache_hits} of {programs} programs loaded from the compilation cache"
+            if not self.cache_misses:
+                cache = f"; compilation served from the persistent cache ({self.cache_hits} programs)"
+        return f"wall time {total:.1f} s: " + ", ".join(parts) + cache
 
 
 def output_times(duration: float, dt_out: float) -> np.ndarray:
@@ -126,9 +195,11 @@ def run_scene(
     dt_out: float | None = None,
     solver: SolverConfig | None = None,
     progress: bool = False,
+    statics: bool | None = None,
 ) -> SceneRun:
     """Solve a scene's statics in still water (with its current, without its waves) and,
-    for a positive duration, integrate its motion from that equilibrium.
+    for a positive duration, integrate its motion from that equilibrium; or, without
+    statics, from the file's geometry at rest (MoorDyn's `TmaxIC = 0`).
 
     The motion is integrated interval by interval between output times (see
     `jaxcable._blocks`), so that its compiled program can stay in JAX's persistent
@@ -143,7 +214,11 @@ def run_scene(
     - `dt_out`: output interval (s); the scene's, or 0.1 s.
     - `solver`: a [`jaxcable.SolverConfig`][]; the scene's by default
         (`scene.run.solver_config()`: its named solver and tolerances).
-    - `progress`: show a progress bar over simulated time.
+    - `progress`: show a progress bar over simulated time on stderr: redrawn on a
+        terminal, and otherwise (a log) a line at most every `LOG_INTERVAL` seconds.
+    - `statics`: solve statics first (the scene's `run.statics` by default); without,
+        lines start as MoorDyn starts them with `TmaxIC = 0`, on their elastic catenary
+        between their ends or straight (`jaxcable.io._initial_shape`), at rest.
 
     **Raises:**
 
@@ -178,45 +253,62 @@ def run_scene(
     model, env = built.model, built.environment
     for warning in check_size(built, duration, dt_out, solver):
         warnings.warn(warning, stacklevel=2)
+    statics = settings.statics if statics is None else statics
 
-    start = time.perf_counter()
-    # The run starts from still water (the current only): the waves' drag and inertia
-    # at t = 0 are one instant of a cycle, not a load to balance.
-    static = solve_statics(model, env.without_waves())
-    statics_seconds = time.perf_counter() - start
+    start_notes: tuple[str, ...] = ()
+    with _compile_meter() as statics_meter:
+        start = time.perf_counter()
+        if statics:
+            # The run starts from still water (the current only): the waves' drag and
+            # inertia at t = 0 are one instant of a cycle, not a load to balance.
+            static = solve_statics(model, env.without_waves())
+            initial = static.state
+        else:
+            static = None
+            positions, start_notes = initial_positions(built)
+            initial = State(positions, np.zeros_like(positions))
+        statics_seconds = time.perf_counter() - start
     if duration == 0:
-        as_series = lambda x: np.asarray(x)[None]  # noqa: E731
-        positions = as_series(static.state.positions)
+        positions = np.asarray(initial.positions)[None]
+        velocities = np.asarray(initial.velocities)[None]
+        if static is not None:
+            tension, reactions = np.asarray(static.tension)[None], np.asarray(static.reactions)[None]
+        else:
+            tension, reactions = _at_rest(built, positions[0])
         return SceneRun(
             built,
             static,
             np.zeros(1),
             positions,
-            as_series(static.state.velocities),
-            as_series(static.tension),
-            as_series(static.reactions),
+            velocities,
+            tension,
+            reactions,
             0,
             "",
             statics_seconds,
             0.0,
-            _water_notes(built, positions),
+            start_notes + _water_notes(built, positions),
+            statics_compile=statics_meter.seconds,
+            cache_hits=statics_meter.hits,
+            cache_misses=statics_meter.misses,
         )
 
-    start = time.perf_counter()
-    ts = output_times(duration, dt_out)
-    solver, stepping_notes = _feasible(solver, built, ts)
-    if solver.dt0 is None or isinstance(solver.stepsize_controller, diffrax.ConstantStepSize):
-        # Interval by interval, so that the compiled solve has no host callback and a
-        # second run loads it from JAX's persistent cache (see `jaxcable._blocks`).
-        with _progress_bar(duration, progress) as bar:
-            result = simulate_in_blocks(model, env, ts, static.state, solver, on_block=bar)
-    else:
-        # diffrax checks an adaptive solve's given first step with a callback, so this
-        # solve is compiled on every run; it is one `simulate` call, with diffrax's own
-        # progress bar.
-        result = simulate(model, env, duration, ts=ts, initial=static.state, solver=solver, progress=progress)
-    positions = np.asarray(result.positions)
-    dynamics_seconds = time.perf_counter() - start
+    with _compile_meter() as dynamics_meter:
+        start = time.perf_counter()
+        ts = output_times(duration, dt_out)
+        solver, stepping_notes = _feasible(solver, built, ts)
+        if solver.dt0 is None or isinstance(solver.stepsize_controller, diffrax.ConstantStepSize):
+            # Interval by interval, so that the compiled solve has no host callback and
+            # a second run loads it from JAX's persistent cache (see `jaxcable._blocks`).
+            with _progress_bar(duration, progress) as bar:
+                result = simulate_in_blocks(model, env, ts, initial, solver, on_block=bar)
+        else:
+            # diffrax checks an adaptive solve's given first step with a callback, so
+            # this solve is compiled on every run; it is one `simulate` call, with
+            # diffrax's own progress bar.
+            result = simulate(model, env, duration, ts=ts, initial=initial, solver=solver, progress=progress)
+        positions = np.asarray(result.positions)
+        dynamics_seconds = time.perf_counter() - start
     return SceneRun(
         built,
         static,
@@ -229,8 +321,81 @@ def run_scene(
         describe_stepping(solver),
         statics_seconds,
         dynamics_seconds,
-        stepping_notes + _water_notes(built, positions),
+        start_notes + stepping_notes + _water_notes(built, positions),
+        statics_compile=statics_meter.seconds,
+        dynamics_compile=dynamics_meter.seconds,
+        cache_hits=statics_meter.hits + dynamics_meter.hits,
+        cache_misses=statics_meter.misses + dynamics_meter.misses,
     )
+
+
+def _at_rest(built: BuiltScene, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The segment tensions (N, shape `(1, segments)`) and support reactions (N, shape
+    `(1, constrained, 3)`) of the network held at `positions` (m), at rest."""
+    from .._lagrangian import reactions, tension
+
+    model, env = built.model, built.environment
+    rest = np.zeros_like(positions)
+    return (
+        np.asarray(tension(model, positions, rest))[None],
+        np.asarray(reactions(model, env, 0.0, positions, rest, rest))[None],
+    )
+
+
+class _CompileMeter:
+    """What JAX's compile events report while it is open: the wall time (s) spent
+    tracing, lowering and compiling programs (or loading them from the persistent
+    cache), and the cache's hits and misses.
+
+    The time is the union of the events' spans: a program traced inside another's
+    trace reports its own span within the outer one, and summing them would count it
+    twice."""
+
+    EVENTS = (
+        "/jax/core/compile/jaxpr_trace_duration",
+        "/jax/core/compile/jaxpr_to_mlir_module_duration",
+        "/jax/core/compile/backend_compile_duration",
+    )
+
+    def __init__(self):
+        self.spans: list[tuple[float, float]] = []
+        self.hits, self.misses = 0, 0
+
+    def span(self, event: str, start_time: float, end_time: float, **kwargs: str | int) -> None:
+        if event in self.EVENTS:
+            self.spans.append((start_time, end_time))
+
+    def event(self, event: str, **kwargs: str | int) -> None:
+        if event == "/jax/compilation_cache/cache_hits":
+            self.hits += 1
+        elif event == "/jax/compilation_cache/cache_misses":
+            self.misses += 1
+
+    @property
+    def seconds(self) -> float:
+        """The length of the union of the spans (s)."""
+        total, reached = 0.0, -np.inf
+        for start, end in sorted(self.spans):
+            if end > reached:
+                total += end - max(start, reached)
+                reached = end
+        return total
+
+
+@contextmanager
+def _compile_meter() -> Iterator[_CompileMeter]:
+    """A [`_CompileMeter`][] listening to JAX's monitoring events for the block only
+    (its listeners are removed on the way out, so nothing outlives the run)."""
+    from jax import monitoring
+
+    meter = _CompileMeter()
+    monitoring.register_event_time_span_listener(meter.span)
+    monitoring.register_event_listener(meter.event)
+    try:
+        yield meter
+    finally:
+        monitoring.unregister_event_time_span_listener(meter.span)
+        monitoring.unregister_event_listener(meter.event)
 
 
 def _feasible(solver: SolverConfig, built: BuiltScene, ts: np.ndarray) -> tuple[SolverConfig, tuple[str, ...]]:
@@ -337,24 +502,57 @@ def check_size(built: BuiltScene, duration: float, dt_out: float, solver: Solver
 
 @contextmanager
 def _progress_bar(duration: float, show: bool) -> Iterator[Callable[[float], None] | None]:
-    """A tqdm bar over `duration` (s) of simulated time, or none; yields the function to
-    call with the time reached."""
+    """A bar on stderr over `duration` (s) of simulated time, or none; yields the
+    function to call with the time reached.
+
+    On a terminal it is a tqdm bar counting simulated seconds (`12.3/60.0 s`). Where
+    stderr is not a terminal (a log file, a pipe) a redrawn bar would write a line per
+    update, so it writes `simulate: 12.3/60.0 s simulated, 0:00:41 wall` at most once
+    every `LOG_INTERVAL` seconds of wall time, and once at the end.
+    """
     if not show:
         yield None
         return
-    from tqdm.auto import tqdm
+    stream = sys.stderr
+    if not stream.isatty():
+        yield from _log_progress(duration, stream)
+        return
+    from tqdm import tqdm
 
     with tqdm(
         total=duration,
-        unit="s",
+        file=stream,
         desc="simulate",
-        bar_format="{l_bar}{bar}| {n:.1f}/{total:.1f} s simulated [{elapsed}<{remaining}]",
+        bar_format="{desc}: |{bar}| {n:.1f}/{total:.1f} s simulated [{elapsed}<{remaining}]",
     ) as bar:
 
         def reached(t: float) -> None:
             bar.update(t - bar.n)
 
         yield reached
+
+
+def _log_progress(duration: float, stream) -> Iterator[Callable[[float], None]]:
+    """[`_progress_bar`][]'s lines for a log: see there."""
+    start = time.monotonic()
+    last = [start]  # when the last line was written
+    times = {"reached": 0.0, "written": -1.0}  # simulated
+
+    def write(t: float) -> None:
+        last[0] = time.monotonic()
+        times["written"] = t
+        elapsed = int(last[0] - start)
+        wall = f"{elapsed // 3600}:{elapsed // 60 % 60:02d}:{elapsed % 60:02d}"
+        print(f"simulate: {t:.1f}/{duration:.1f} s simulated, {wall} wall", file=stream, flush=True)
+
+    def reached(t: float) -> None:
+        times["reached"] = t
+        if time.monotonic() - last[0] >= LOG_INTERVAL:
+            write(t)
+
+    yield reached
+    if times["written"] != times["reached"]:
+        write(times["reached"])
 
 
 def _water_notes(built: BuiltScene, positions: np.ndarray) -> tuple[str, ...]:

@@ -286,9 +286,10 @@ class RunSettings:
     """How to run a scene: `duration` (s), the output interval `dt_out` (s; `None` for
     0.1 s), the `solver` (a name in [`jaxcable.SOLVERS`][]), its tolerances, a fixed
     step `dt` (s; `None` to step adaptively, as by default), the most steps
-    `max_steps`, and the `mass_matrix` (`"consistent"` or `"lumped"`). Plain data, as a
-    scene file holds it; `solver_config()` makes the [`jaxcable.SolverConfig`][] that
-    runs it."""
+    `max_steps`, the `mass_matrix` (`"consistent"` or `"lumped"`), and whether to solve
+    `statics` first (otherwise the run starts from the file's geometry at rest, as
+    MoorDyn's with `TmaxIC = 0`). Plain data, as a scene file holds it;
+    `solver_config()` makes the [`jaxcable.SolverConfig`][] that runs it."""
 
     duration: float = 60.0
     dt_out: float | None = None
@@ -298,6 +299,7 @@ class RunSettings:
     dt: float | None = None
     max_steps: int = 1_000_000
     mass_matrix: str = "consistent"
+    statics: bool = True
 
     def solver_config(self) -> SolverConfig:
         """`SOLVERS[solver](rtol=rtol, atol=atol, max_steps=max_steps)`, or with `dt`

@@ -41,6 +41,8 @@ A scene file names its points and line types and lists its lines::
     #                            # with solver = "midpoint", "heun" or "euler", say
     max_steps = 1000000
     mass_matrix = "consistent"   # or "lumped"
+    statics = true               # false: start from the points' positions at rest,
+                                 # lines as MoorDyn lays them (its TmaxIC = 0)
 
     [line_types.rope]
     mass_per_length = 3.0        # kg/m
@@ -117,7 +119,7 @@ _WATER = ("density", "gravity", "depth", "current", "current_profile", "free_sur
 _CURRENT_PROFILE = ("heights", "speeds", "heading")
 _WAVE = ("theory", "height", "steepness", "period", "heading", "phase", "wheeler")
 _SEABED = ("stiffness", "damping", "friction", "friction_speed")
-_SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "dt", "max_steps", "mass_matrix")
+_SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "dt", "max_steps", "mass_matrix", "statics")
 _LINE_TYPE_REQUIRED = ("mass_per_length", "diameter", "axial_stiffness")
 _LINE_TYPE_OPTIONAL = (
     "quadratic_stiffness",
@@ -170,6 +172,7 @@ def read_scene(path: str | Path) -> Scene:
         dt=reader.number(simulation, ("simulation", "dt"), None),
         max_steps=reader.integer(simulation, ("simulation", "max_steps"), defaults.max_steps),
         mass_matrix=reader.string(simulation, ("simulation", "mass_matrix"), defaults.mass_matrix),
+        statics=reader.boolean(simulation, ("simulation", "statics"), defaults.statics),
     )
     for key, allowed in (("solver", tuple(SOLVERS)), ("mass_matrix", MASS_MATRICES)):
         if getattr(run, key) not in allowed:
