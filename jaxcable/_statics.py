@@ -28,7 +28,7 @@ from . import _checks as checks
 from . import _lagrangian as lag
 from ._environment import Environment
 from ._jacobian import NetworkJacobian
-from ._network import CableNetwork, check_held
+from ._network import CableNetwork, check_held, network_conditions
 from ._state import State
 from ._typing import RealScalarLike
 
@@ -138,7 +138,8 @@ def solve_statics(
 
     **Raises:**
 
-    `ValueError`, before solving, if a part of the network has no constrained node, if
+    `ValueError`, before solving, if a part of the network has no constrained node, if a
+    constrained node lies below the seabed (by more than 0.1 % of the depth), if
     two nodes joined by a segment start at the same point (the tension's direction is
     undefined: both ends of a line at one point, say), or if the segments between two
     constrained nodes would have to stretch by more than `MAX_REQUIRED_STRAIN` (100 %)
@@ -151,7 +152,7 @@ def solve_statics(
     """
     check_held(model)
     start = model.node_positions if initial is None else initial.positions
-    start = checks.check(start, model.conditions() + env.conditions())
+    start = checks.check(start, network_conditions(model, env))
     _check_geometry(model, start, t)
     solution = _equilibrium(model, env, start, t, max_steps, force_tolerance)
     if not throw:

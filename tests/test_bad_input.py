@@ -403,6 +403,10 @@ API_CASES = {
         lambda: jc.simulate(*small_line(seabed=jc.Seabed(), anchor_z=-60.0), 1.0),
         r"constrained node 0 is at z = -60 m, below the seabed at z = -30 m \(Environment.depth = 30 m\)",
     ),
+    "statics with an anchor below the seabed": (
+        lambda: jc.solve_statics(*small_line(seabed=jc.Seabed(), anchor_z=-60.0)),
+        r"constrained node 0 is at z = -60 m, below the seabed at z = -30 m \(Environment.depth = 30 m\)",
+    ),
     "rtol below rounding": (lambda: jc.SolverConfig(rtol=1e-300), r"SolverConfig.rtol must be at least 1e-13"),
     "NaN initial position": (
         lambda: simulate_from(positions=nan_at(small_line()[0].node_positions, (2, 0))),
