@@ -21,6 +21,8 @@ in still water off the bed, the fairlead tension against Irvine's elastic catena
 
     OPENBLAS_NUM_THREADS=1 python benchmarks/statics_fuzz.py --scenes 1000
     python benchmarks/statics_fuzz.py --report
+    python benchmarks/statics_fuzz.py --failed --records failed.json   # the last session's failures only
+    python benchmarks/statics_fuzz.py --seeds 9 220 510 --no-save
     JAX_COMPILATION_CACHE_DIR=$(mktemp -d) python benchmarks/statics_fuzz.py --timings
 
 The tests import `scene` and `check` (`tests/test_statics_fuzz.py`).
@@ -402,6 +404,10 @@ def main():
     parser = argparse.ArgumentParser(description=(__doc__ or "").split("\n\n")[0])
     parser.add_argument("--scenes", type=int, default=1000)
     parser.add_argument("--first", type=int, default=0)
+    parser.add_argument("--seeds", type=int, nargs="+", help="solve these scenes only (instead of --first/--scenes)")
+    parser.add_argument(
+        "--failed", action="store_true", help="solve only the scenes that the last saved session did not find"
+    )
     parser.add_argument("--max-steps", type=int, default=None)
     parser.add_argument("--report", action="store_true")
     parser.add_argument("--timings", action="store_true", help="time statics on the Low & Langley file and seed 003")
@@ -418,7 +424,10 @@ def main():
     if args.merge:
         records = [r for path in args.merge for r in json.loads(path.read_text())]
     else:
-        records = run(range(args.first, args.first + args.scenes), args.max_steps, progress=True, save=args.records)
+        seeds = args.seeds or range(args.first, args.first + args.scenes)
+        if args.failed:
+            seeds = [r["seed"] for r in json.loads(RESULTS.read_text())[-1]["records"] if not r.get("equilibrium")]
+        records = run(seeds, args.max_steps, progress=True, save=args.records)
     if args.records:
         return
     result = summary(records)

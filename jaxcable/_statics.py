@@ -28,7 +28,7 @@ from . import _checks as checks
 from . import _lagrangian as lag
 from ._environment import Environment
 from ._jacobian import NetworkJacobian
-from ._network import CableNetwork, check_held
+from ._network import CableNetwork, check_held, network_conditions
 from ._state import State
 from ._typing import RealScalarLike
 
@@ -138,7 +138,8 @@ def solve_statics(
 
     **Raises:**
 
-    `ValueError`, before solving, if a part of the network has no constrained node, if
+    `ValueError`, before solving, if a part of the network has no constrained node, if a
+    constrained node lies below the seabed (by more than 0.1 % of the depth), if
     two nodes joined by a segment start at the same point (the tension's direction is
     undefined: both ends of a line at one point, say), or if the segments between two
     constrained nodes would have to stretch by more than `MAX_REQUIRED_STRAIN` (100 %)
@@ -151,7 +152,7 @@ def solve_statics(
     """
     check_held(model)
     start = model.node_positions if initial is None else initial.positions
-    start = checks.check(start, model.conditions() + env.conditions())
+    start = checks.check(start, network_conditions(model, env))
     _check_geometry(model, start, t)
     solution = _equilibrium(model, env, start, t, max_steps, force_tolerance)
     if not throw:
@@ -274,10 +275,12 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance) -> StaticSolu
     zeros_free = jnp.zeros((free.shape[0], 3))
 
     def forces(model, free_positions, relative):
-        """The free nodes' forces (N) and, as the auxiliary output, the tolerance (N)."""
+        """The free nodes' forces (N) and, as the auxiliary output, the tolerance (N)
+        and the segments' strains (–), which steps are truncated by."""
         positions, _ = lag.full_state(model, t, free_positions, zeros_free)
         tolerance = relative * _force_scale(model, env, t, positions) + _rounding(model)
-        return _free_forces(model, env, t, free_positions), jax.lax.stop_gradient(tolerance)
+        strain = lag.segment_geometry(model, positions)[2]
+        return _free_forces(model, env, t, free_positions), jax.lax.stop_gradient((tolerance, strain))
 
     graph = NetworkJacobian(model.topology)
 
@@ -290,6 +293,7 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance) -> StaticSolu
             options={
                 "mass": jax.lax.stop_gradient(_pseudo_mass(model, env)[free]),
                 "shortest": jax.lax.stop_gradient(jnp.min(model.segment_length)),
+                "taut": jax.lax.stop_gradient(_taut_strain(model)),
             },
             max_steps=steps,
             adjoint=adjoint,
@@ -414,6 +418,14 @@ def _rounding(model):
     return 16 * jnp.finfo(float).eps * jnp.max(model.line.tension_law.axial_stiffness)
 
 
+def _taut_strain(model):
+    """The strain (–) from which each segment counts as taut, shape `(segments,)`: the
+    top of its slack switch's band, or 1e-9 for a sharp switch, so that a step truncated
+    there (see `_PseudoTransient`) still moves."""
+    width = jnp.broadcast_to(model.line.tension_law.slack_width, (model.n_segments,))
+    return jnp.maximum(width, 1e-9)
+
+
 def _pseudo_mass(model, env):
     """Each node's mass with its displaced water (kg), shape `(nodes,)`: the damped
     motion's inertia, which sets how far a node moves in a small pseudo-time step."""
@@ -428,6 +440,7 @@ def _pseudo_mass(model, env):
 class _PseudoTransientState(eqx.Module):
     force: Float[Array, "free 3"]
     tolerance: Float[Array, ""]
+    strain: Float[Array, " segments"]
     size: Float[Array, ""]
     step_size: Float[Array, ""]
     rejected: Int[Array, ""]
@@ -470,12 +483,12 @@ class _PseudoTransient(optx.AbstractRootFinder):
     corrections: int = 4
 
     def init(self, fn, y, args, options, f_struct, aux_struct, tags):
-        force, tolerance = fn(y, args)
+        force, (tolerance, strain) = fn(y, args)
         mass = options["mass"][:, None]
         speed = jnp.max(jnp.abs(force) / mass)
         step_size = jnp.where(speed > 0, 0.1 * options["shortest"] / jnp.where(speed > 0, speed, 1.0), 1.0)
         return _PseudoTransientState(
-            force, tolerance, jnp.max(jnp.abs(force)), step_size, jnp.array(0), jnp.array(jnp.inf)
+            force, tolerance, strain, jnp.max(jnp.abs(force)), step_size, jnp.array(0), jnp.array(jnp.inf)
         )
 
     def step(self, fn, y, args, options, state, tags):
@@ -498,22 +511,46 @@ class _PseudoTransient(optx.AbstractRootFinder):
         # and the corrections take back along the segment, where the factors are
         # accurate. Without them a line of EA 7.5e12 N was linear only for forces
         # below millinewtons, and crept.
-        candidate = jax.lax.fori_loop(0, self.corrections + 1, correct, y)
-        force, tolerance = fn(candidate, args)
+        step = jax.lax.fori_loop(0, self.corrections + 1, correct, y) - y
+        # Truncated where a segment would switch between slack and taut: the linear
+        # model holds on one side of the switch only. A slack segment (ε ≤ 0) that the
+        # step would stretch past the top of its switch's band stops there, a taut one
+        # (above the band) that it would slacken stops at zero strain; one inside the
+        # band moves freely (stiff lines rest there). All by the shortest such fraction α
+        # of the step (the strain taken as linear along it). Without this, a slack
+        # stretch of line drifting under its buoyancy or a current (a buoyant line
+        # floating up, a light line on the bed in a current) moved only as far as the
+        # step's model stayed good across its many switches: a few centimetres a step,
+        # and thousands of steps (issue 23's fuzz, seeds 9, 220, 510).
+        _, (_, ahead) = fn(y + step, args)
+        taut, before = options["taut"], state.strain
+        tightens = (before <= 0) & (ahead > taut)
+        slackens = (before >= taut) & (ahead < 0)
+        change = jnp.where(tightens | slackens, ahead - before, 1.0)
+        fraction = jnp.where(tightens, (taut - before) / change, jnp.where(slackens, -before / change, 1.0))
+        alpha = jnp.clip(jnp.min(fraction, initial=1.0), 0.0, 1.0)
+        candidate = y + alpha * step
+        force, (tolerance, strain) = fn(candidate, args)
         size = jnp.max(jnp.abs(force))
-        error = jnp.max(jnp.abs(force - mass * (candidate - y) / state.step_size)) / state.size
+        # The linear model's force at the truncated point: `(1 − α) Q_f + α D δ/Δτ`.
+        predicted = (1 - alpha) * state.force + alpha * mass * step / state.step_size
+        error = jnp.max(jnp.abs(force - predicted)) / state.size
         finite = jnp.isfinite(size) & jnp.isfinite(error)
         taken = finite & ((error <= self.bad) | (size <= 0.5 * state.size))
+        # A truncated step took a fraction α of what Δτ allowed: Δτ follows it down,
+        # so that the next step ends near the next switch, not far past it.
         factor = jnp.where(error <= self.good, self.grow, jnp.where(error <= self.poor, 1.0, self.shrink))
+        factor = factor * jnp.maximum(alpha, self.shrink**2)
         new = _PseudoTransientState(
             force=jnp.where(taken, force, state.force),
             tolerance=jnp.where(taken, tolerance, state.tolerance),
+            strain=jnp.where(taken, strain, state.strain),
             size=jnp.where(taken, size, state.size),
             step_size=state.step_size * jnp.where(finite, factor, self.shrink),
             rejected=jnp.where(taken, 0, state.rejected + 1),
             previous=jnp.where(taken, state.size, state.previous),
         )
-        return jnp.where(taken, candidate, y), new, tolerance
+        return jnp.where(taken, candidate, y), new, (tolerance, strain)
 
     def terminate(self, fn, y, args, options, state, tags):
         # Within the tolerance the steps go on while they still halve the force: near

@@ -124,8 +124,8 @@ CLI_CASES = [
     (["run", "seed003_line", "--segments", "0"], r"--segments must be a positive integer, got 0$"),
     (["info", "seed003_line", "--segments", "-3"], r"--segments must be a positive integer, got -3$"),
     # Too large to fit in memory, refused before statics.
-    (["run", "seed003_line", "--segments", "100000"], r"100,000 segments .* need about [\d,.]+ GiB .*--segments"),
-    (["info", "seed003_line", "--segments", "100000"], r"100,000 segments .* more than this machine's"),
+    (["run", "seed003_line", "--segments", "1000000"], r"1,000,000 segments .* need about [\d,.]+ GiB .*--segments"),
+    (["info", "seed003_line", "--segments", "1000000"], r"1,000,000 segments .* more than this machine's"),
     (["run", "seed003_line", "--duration", "1e9"], r"over 1e\+09 s need about .* output times every 0.05 s"),
     # Output and plot files that could not be written at the end.
     (["run", "seed003_line", "--out", "missing/run.csv"], r"--out missing/run.csv: the folder missing does not exist"),
@@ -403,6 +403,10 @@ API_CASES = {
         lambda: jc.simulate(*small_line(seabed=jc.Seabed(), anchor_z=-60.0), 1.0),
         r"constrained node 0 is at z = -60 m, below the seabed at z = -30 m \(Environment.depth = 30 m\)",
     ),
+    "statics with an anchor below the seabed": (
+        lambda: jc.solve_statics(*small_line(seabed=jc.Seabed(), anchor_z=-60.0)),
+        r"constrained node 0 is at z = -60 m, below the seabed at z = -30 m \(Environment.depth = 30 m\)",
+    ),
     "rtol below rounding": (lambda: jc.SolverConfig(rtol=1e-300), r"SolverConfig.rtol must be at least 1e-13"),
     "NaN initial position": (
         lambda: simulate_from(positions=nan_at(small_line()[0].node_positions, (2, 0))),
@@ -492,7 +496,7 @@ def test_a_run_of_hours_is_warned_of_before_it_starts(tmp_path):
 
 
 def test_size_estimate_follows_its_stated_costs(tmp_path):
-    # The warning's figures by hand: statics 204 s × (F/800)³, dynamics at the stable
+    # The warning's figures by hand: statics 35 s + 400 steps × 16 µs × F, dynamics at the stable
     # step 1.7/|λ| with |λ| = 2 √3 √(EA/m) / l (consistent mass; ζ = 0.2 leaves the
     # mode underdamped, so damping does not change |λ|), each step
     # 13.5 µs + 6 × 144 ns per node.
@@ -502,7 +506,7 @@ def test_size_estimate_follows_its_stated_costs(tmp_path):
     free, nodes = 2499, 2501
     magnitude = 2 * np.sqrt(3) * np.sqrt(3.0e7 / 3.0) / (190.0 / 2500)
     steps = 30.0 * magnitude / 1.7
-    hours = (204.0 * (free / 800) ** 3 + steps * (13.5e-6 + 6 * 144e-9 * nodes)) / 3600
+    hours = (35.0 + 400 * 16e-6 * free + steps * (13.5e-6 + 6 * 144e-9 * nodes)) / 3600
     assert f"would take some {hours:,.2g} h" in warning and f"about {steps:,.0f} steps" in warning
     assert check_size(jc.read_scene(tmp_path / "scene.toml").build(), 30.0, 0.5, jc.SolverConfig()) == ()
 

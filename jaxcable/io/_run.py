@@ -38,14 +38,21 @@ LOG_INTERVAL = 20.0
 # explicit Dopri5 step is six force evaluations of 144 ns per node and 13.5 µs of
 # diffrax's bookkeeping (`benchmarks/README.md`, a single run on a 2-core x86_64).
 STEP_SECONDS, EVALUATION_SECONDS_PER_NODE, EVALUATIONS_PER_STEP = 13.5e-6, 144e-9, 6
-# Statics (BFGS, then Levenberg–Marquardt) works with dense (3F)² float64 matrices of
-# the F free nodes (BFGS's inverse Hessian, the least-squares Jacobian, its
-# factorisation, XLA's temporaries) and factorises them, O(F³) a step. On seed 003's
-# line, a 2-core x86_64 (`solve_statics` from the built scene, compilation included):
-# 800 segments took 204 s and peaked 0.5 GB above the 400-segment run (25 s, 0.85 GB),
-# and 2,000 segments held 3.85 GB, about 11 such matrices, and ran past 5 minutes.
-STATICS_MATRICES = 11
-STATICS_SECONDS_PER_CUBED_FREE_NODE = 204.0 / 800**3
+# Statics (pseudo-transient continuation on the network's block-tridiagonal Jacobian)
+# costs O(F) a step for F free nodes, after a compilation whose time does not grow with
+# F. Seed 003's line cut into 100, 1,000 and 10,000 segments (`python
+# benchmarks/statics_cost.py --sizes`, a fresh process each, a shared 2-core x86_64):
+# first calls of 32, 30 and 37 s, warm calls of 0.11, 2.4 and 2.5 s over 110, 357 and
+# 16 steps (1.0 ms, 6.8 ms and 157 ms a step: about 16 µs per free node at 10,000), and
+# peak memory 350, 456 and 554 MiB above the built scene's, 350 MiB and about 20 kB per
+# free node more. The estimate takes the compilation, 400 steps (the 1,000-segment
+# line's order; the fuzz of random scenes has a median of about 100 and at most
+# 7 × 1,000) at 16 µs per free node, and that memory.
+STATICS_BASE_BYTES = 350 * 2**20
+STATICS_BYTES_PER_FREE_NODE = 20e3
+STATICS_COMPILE_SECONDS = 35.0
+STATICS_STEPS = 400
+STATICS_SECONDS_PER_FREE_NODE_STEP = 16e-6
 WARN_SECONDS = 3600.0  # a run estimated to take longer than this is warned of
 
 
@@ -438,10 +445,12 @@ def check_size(built: BuiltScene, duration: float, dt_out: float, solver: Solver
     """Refuse a run that cannot fit in memory, and say when one would take hours: before
     any work, so that `segments = 1000000` fails at once instead of hanging.
 
-    Memory: statics' dense matrices (`STATICS_MATRICES` of (3F)² float64 for F free
-    nodes) and the output (positions and velocities of every node, strain and tension
-    of every segment, at every output time, held twice: the solve's and the copy
-    returned). Time: statics, `STATICS_SECONDS_PER_CUBED_FREE_NODE × F³`; and for an
+    Memory: statics' (`STATICS_BASE_BYTES + STATICS_BYTES_PER_FREE_NODE × F` for F
+    free nodes) and the output (positions and velocities of every node, strain and
+    tension of every segment, at every output time, held twice: the solve's and the
+    copy returned). Time: statics, `STATICS_COMPILE_SECONDS + STATICS_STEPS ×
+    STATICS_SECONDS_PER_FREE_NODE_STEP × F` (O(F): the solver's linear systems are
+    block-tridiagonal along the network's graph); and for an
     explicit solver the dynamics, at the stable step Δt = 1.7/|λ| of the stiffest
     axial mode ([`jaxcable.advise`][]'s), each step costing
     `STEP_SECONDS + EVALUATIONS_PER_STEP × EVALUATION_SECONDS_PER_NODE × nodes`. The
@@ -460,20 +469,20 @@ def check_size(built: BuiltScene, duration: float, dt_out: float, solver: Solver
     model = built.model
     nodes, free, segments = model.n_nodes, int(model.free_nodes.size), model.n_segments
     times = 1 if duration == 0 else int(np.floor(duration / dt_out)) + 2
-    statics = STATICS_MATRICES * (3 * free) ** 2 * 8
+    statics = STATICS_BASE_BYTES + STATICS_BYTES_PER_FREE_NODE * free
     outputs = 2 * times * (6 * nodes + 2 * segments) * 8
     available = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
     counts = "/".join(str(line.segments) for line in built.scene.lines)
     if statics + outputs > available:
         raise SceneError(
             f"{built.scene.source}: {segments:,} segments (lines of {counts}) over {duration:g} s need about "
-            f"{(statics + outputs) / 2**30:,.1f} GiB ({statics / 2**30:,.1f} GiB for statics' dense matrices of "
-            f"{free:,} free nodes, {outputs / 2**30:,.1f} GiB for {times:,} output times every {dt_out:g} s), "
+            f"{(statics + outputs) / 2**30:,.1f} GiB ({statics / 2**30:,.1f} GiB for statics of {free:,} free "
+            f"nodes, {outputs / 2**30:,.1f} GiB for {times:,} output times every {dt_out:g} s), "
             f"more than this machine's {available / 2**30:,.1f} GiB: use fewer segments (segments in the file, or "
             "--segments), or fewer output times"
         )
-    statics_seconds = STATICS_SECONDS_PER_CUBED_FREE_NODE * free**3
-    parts = [f"statics some {statics_seconds / 3600:,.2g} h (dense matrices of {free:,} free nodes, O(F³))"]
+    statics_seconds = STATICS_COMPILE_SECONDS + STATICS_STEPS * STATICS_SECONDS_PER_FREE_NODE_STEP * free
+    parts = [f"statics some {statics_seconds / 3600:,.2g} h ({free:,} free nodes, O(F))"]
     seconds = statics_seconds
     if duration > 0 and not isinstance(solver.solver, diffrax.AbstractImplicitSolver):
         _, magnitude, _ = stiffest_axial_mode(model, built.environment)
