@@ -47,6 +47,7 @@ from ._config import (
 from ._environment import CurrentProfile as CurrentProfile
 from ._environment import Environment as Environment
 from ._environment import Seabed as Seabed
+from ._irregular import WaveComponents as WaveComponents
 from ._jacobian import NetworkJacobian as NetworkJacobian
 from ._materials import (
     AbstractTensionLaw as AbstractTensionLaw,

@@ -386,11 +386,7 @@ def _info(args) -> int:
         f"fluid inertia {'on' if water.fluid_inertia else 'off (waves load by drag only)'}"
     )
     for k, wave in enumerate(water.waves, start=1):
-        size = f"H = {wave.height:g} m" if wave.height is not None else f"H/λ = {wave.steepness:g}"
-        print(
-            f"wave {k}: {wave.theory}, {size}, T = {wave.period:g} s, heading {wave.heading:g}°, "
-            f"phase {wave.phase:g} rad" + (", Wheeler stretching" if wave.wheeler else "")
-        )
+        print(f"wave {k}: {wave.describe()}")
     # build() refused a seabed without a depth.
     if water.seabed is not None and water.depth is not None:
         bed = water.seabed
