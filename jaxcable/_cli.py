@@ -33,7 +33,7 @@ from ._calibrate import calibrate, calibration_solver, default_optimizer
 from ._config import SOLVERS
 from ._motion import INTERPOLATIONS, Harmonic, Sampled
 from ._stability import STABLE_GROWTH, fixed_step_growth
-from .examples import scene_names, scene_path
+from .examples import scene_names, scene_path, scene_title
 from .io import RunSettings, Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
 from .io._moordyn import DROPPED_KINDS, declared_time_step
@@ -526,7 +526,8 @@ def _calibrate(args) -> int:
 def _examples(args) -> int:
     del args
     for name in scene_names():
-        print(f"{name:20s} {scene_path(name)}")
+        print(f"{name:14s} {scene_title(name)}")
+    print(f"(scene files in {scene_path(scene_names()[0]).parent}; run one with `jaxcable run NAME`)")
     return 0
 
 

@@ -63,7 +63,17 @@ class WaveComponents(AbstractWave):
     wavenumbers: Float[Array, " components"]
     wheeler: bool = eqx.field(static=True)
 
-    def __init__(self, amplitudes, periods, depth, *, gravity=9.81, headings=0.0, phases=0.0, wheeler: bool = False):
+    def __init__(
+        self,
+        amplitudes,
+        periods,
+        depth,
+        *,
+        gravity=9.81,
+        headings: RealLike = 0.0,
+        phases: RealLike = 0.0,
+        wheeler: bool = False,
+    ):
         self.amplitudes = checks.float_array("WaveComponents.amplitudes", amplitudes)
         if self.amplitudes.ndim != 1 or self.amplitudes.shape[0] < 1:
             raise ValueError(

@@ -1349,8 +1349,8 @@ def test_the_command_line_knows_a_fixed_step_before_jax_starts(tmp_path):
 @pytest.mark.parametrize(
     "option, kind",
     [
-        ("2  WaveKin", "waves"),
-        ("1  Currents", "currents"),
+        ("5  WaveKin", "waves"),
+        ("2  Currents", "currents"),
         ("bathymetry.txt  SeafloorFile", "bathymetry"),
         ("1.5  StatDynFricScale", "friction"),
     ],

@@ -6,6 +6,7 @@ its module: `jaxcable.examples.seed001` (growing elements), `.seed002` (the towe
 `.seed002_net` (the moored net of buoys) and `.seed003` (the anchored line). The studies that
 reproduce the papers are not part of the package: they are in the repository's `studies/`."""
 
+import tomllib
 from pathlib import Path
 
 from .._waves import seed003_amplitude as seed003_amplitude
@@ -29,3 +30,9 @@ def scene_path(name: str) -> Path:
     if not path.exists():
         raise ValueError(f"no bundled example scene {name!r}; bundled: {scene_names()}")
     return path
+
+
+def scene_title(name: str) -> str:
+    """The bundled example scene `name`'s one-line description, its `title`."""
+    with scene_path(name).open("rb") as file:
+        return str(tomllib.load(file).get("title", ""))

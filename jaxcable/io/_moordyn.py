@@ -23,9 +23,11 @@ Features jaxcable does not model raise a [`jaxcable.io.SceneError`][] where leav
 out would change the system (rods, 6-DOF bodies, nonlinear or viscoelastic stiffness
 tables, VIV, constant forces on fixed or coupled points) and are listed in `Scene.notes` where the model is
 still meaningful without them (bending stiffness of a long line, bathymetry files,
-static-to-dynamic friction ratios, MoorDyn's wave and current input, its time-step
-and initial-condition options). Notes on physics left out (bending, bathymetry,
-waves) are also issued as Python warnings.
+static-to-dynamic friction ratios, the wave and current modes jaxcable cannot
+represent, its time-step and initial-condition options). Notes on physics left out
+(bending, bathymetry, waves) are also issued as Python warnings. MoorDyn's steady
+current profile and its wave spectrum and elevation files are read into the water
+(`jaxcable.io._moordyn_water`).
 """
 
 import contextlib
