@@ -387,6 +387,8 @@ def _info(args) -> int:
     )
     for k, wave in enumerate(water.waves, start=1):
         print(f"wave {k}: {wave.describe()}")
+    if water.waves and water.wave_ramp > 0:
+        print(f"waves switched on smoothly over the first {water.wave_ramp:g} s")
     # build() refused a seabed without a depth.
     if water.seabed is not None and water.depth is not None:
         bed = water.seabed

@@ -179,6 +179,9 @@ class Water:
         [`jaxcable.io.WaveComponentsSpec`][], superposed.
     - `seabed`: a [`jaxcable.io.SeabedSpec`][] at z = −depth, or `None`.
     - `fluid_inertia`: whether the waves' acceleration loads lines and bodies.
+    - `wave_ramp`: the time (s) over which the waves are switched on from t = 0
+        ([`jaxcable.Environment`][]'s `wave_ramp`), so that a run from still-water
+        statics starts without a jolt; 0 for none.
     - `where`: where in its file the water was described, for errors.
     """
 
@@ -191,6 +194,7 @@ class Water:
     waves: tuple["WaveSpec | WaveComponentsSpec", ...] = ()
     seabed: SeabedSpec | None = None
     fluid_inertia: bool = True
+    wave_ramp: float = 0.0
     where: str = ""
 
     def environment(self) -> Environment:
@@ -229,6 +233,7 @@ class Water:
                 waves=waves,
                 seabed=seabed,
                 fluid_inertia=self.fluid_inertia,
+                wave_ramp=self.wave_ramp,
             )
 
 
