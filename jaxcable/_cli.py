@@ -12,7 +12,8 @@
 
 INPUT is a jaxcable scene (`.toml`), a MoorDyn v2 input file (any other suffix), or the
 name of a bundled example scene (see `jaxcable examples`). A RECORD is a towing record
-(CSV, see `jaxcable.io.read_record`) whose header names its rig.
+(CSV, see `jaxcable.io.read_record`) whose header names its rig, or the name of a
+bundled sample record.
 """
 
 import argparse
@@ -33,7 +34,7 @@ from ._calibrate import calibrate, calibration_solver, default_optimizer
 from ._config import SOLVERS
 from ._motion import INTERPOLATIONS, Harmonic, Sampled
 from ._stability import STABLE_GROWTH, fixed_step_growth
-from .examples import scene_names, scene_path, scene_title
+from .examples import record_names, record_path, scene_names, scene_path, scene_title
 from .io import RunSettings, Scene, SceneError, advice_lines, read_motion_file, read_records, write_output
 from .io._channels import default_channels, parse_channel
 from .io._moordyn import DROPPED_KINDS, declared_time_step
@@ -170,7 +171,12 @@ def _parser() -> argparse.ArgumentParser:
     info.set_defaults(handler=_info)
 
     calibrate = commands.add_parser("calibrate", help="fit drag coefficients to towing records")
-    calibrate.add_argument("records", nargs="+", type=Path, help="towing records (CSV) whose headers name their rigs")
+    calibrate.add_argument(
+        "records",
+        nargs="+",
+        type=Path,
+        help="towing records (CSV) whose headers name their rigs, or bundled records by name (jaxcable examples)",
+    )
     calibrate.add_argument(
         "--fit",
         nargs="+",
@@ -483,7 +489,7 @@ def _calibrate(args) -> int:
         except ValueError:
             raise SceneError(f"--fit {item!r}: give NAME=START, e.g. normal_drag=1.2") from None
     try:
-        records = read_records(args.records)
+        records = read_records([_record_path(path) for path in args.records])
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # the summary prints the warnings itself
             result = calibrate(
@@ -525,11 +531,29 @@ def _calibrate(args) -> int:
     return 0
 
 
+def _record_path(path: Path) -> Path:
+    """A towing record's file: a path, or a bundled record's by name."""
+    if not path.exists():
+        if str(path) in record_names():
+            return record_path(str(path))
+        if not path.suffix:
+            raise SceneError(
+                f"no file or bundled towing record named {str(path)!r}; bundled: {', '.join(record_names())}"
+            )
+    return path
+
+
 def _examples(args) -> int:
     del args
     for name in scene_names():
         print(f"{name:14s} {scene_title(name)}")
     print(f"(scene files in {scene_path(scene_names()[0]).parent}; run one with `jaxcable run NAME`)")
+    records = record_names()
+    print(
+        f"\nsample towing records: {', '.join(records)} (in {record_path(records[0]).parent}), synthetic tows "
+        "of known drag (see README); fit them with\n"
+        f"  jaxcable calibrate {' '.join(records)} --fit normal_drag=1.2 tangential_drag=0.01"
+    )
     return 0
 
 
