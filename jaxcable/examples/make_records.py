@@ -37,7 +37,8 @@ TRUTH = {"normal_drag": 1.5, "tangential_drag": 0.015}
 NOISE = 0.02  # each observable's noise, relative to its RMS over the record
 TIMES = np.round(np.linspace(0.0, 20.0, 101), 9)  # s, rounded so that the file reads 0.6, not 0.6000000000000001
 SPEED = np.interp(TIMES, [0.0, 6.0, 9.0, 20.0], [1.0, 1.0, 2.0, 2.0])  # m/s
-CABLE = dict(cable_length=100.0, segments=4, cable_axial_stiffness=2e6, cable_axial_damping=5e3)  # m, -, N, N·s
+CABLE = dict(cable_length=100.0, cable_axial_stiffness=2e6, cable_axial_damping=5e3)  # m, N, N·s
+SEGMENTS = 4
 UNITS = {"speed": "kn", "tension": "kN"}
 FOLDER = Path(__file__).parent / "records"
 
@@ -48,9 +49,12 @@ def rigs() -> dict:
 
     neutral = 1025.0 * math.pi * 0.0173**2 / 4  # kg/m: the default cable's displaced mass
     return {
-        "depressor": HorizontalTow(**CABLE, end_mass=100.0, end_volume=0.015, end_drag_area=0.1, **TRUTH),
+        "depressor": HorizontalTow(
+            **CABLE, segments=SEGMENTS, end_mass=100.0, end_volume=0.015, end_drag_area=0.1, **TRUTH
+        ),
         "streamer": HorizontalTow(
             **CABLE,
+            segments=SEGMENTS,
             cable_mass_per_length=1.05 * neutral,
             end_mass=2.0,
             end_volume=0.0015,
