@@ -46,6 +46,7 @@ if TYPE_CHECKING:
     from ._environment import CurrentProfile as CurrentProfile
     from ._environment import Environment as Environment
     from ._environment import Seabed as Seabed
+    from ._irregular import WaveComponents as WaveComponents
     from ._jacobian import NetworkJacobian as NetworkJacobian
     from ._materials import AbstractTensionLaw as AbstractTensionLaw
     from ._materials import KelvinVoigt as KelvinVoigt
@@ -99,6 +100,7 @@ _NAMES = {
     "CurrentProfile": "._environment",
     "Environment": "._environment",
     "Seabed": "._environment",
+    "WaveComponents": "._irregular",
     "NetworkJacobian": "._jacobian",
     "AbstractTensionLaw": "._materials",
     "KelvinVoigt": "._materials",

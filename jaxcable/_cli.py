@@ -13,7 +13,8 @@
 
 INPUT is a jaxcable scene (`.toml`), a MoorDyn v2 input file (any other suffix), or the
 name of a bundled example scene (see `jaxcable examples`). A RECORD is a towing record
-(CSV, see `jaxcable.io.read_record`) whose header names its rig.
+(CSV, see `jaxcable.io.read_record`) whose header names its rig, or the name of a
+bundled sample record.
 
 `--help` and `examples` answer without importing JAX (seconds); the other commands
 import the engine once their flags are read.
@@ -31,7 +32,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ._names import DROPPED_KINDS, INTERPOLATIONS, SOLVER_NAMES
-from .examples import scene_names, scene_path
+from .examples import record_names, record_path, scene_names, scene_path, scene_title
 
 if TYPE_CHECKING:
     from .io import RunSettings, Scene
@@ -177,7 +178,12 @@ def _parser() -> argparse.ArgumentParser:
     info.set_defaults(handler=_info)
 
     calibrate = commands.add_parser("calibrate", help="fit drag coefficients to towing records")
-    calibrate.add_argument("records", nargs="+", type=Path, help="towing records (CSV) whose headers name their rigs")
+    calibrate.add_argument(
+        "records",
+        nargs="+",
+        type=Path,
+        help="towing records (CSV) whose headers name their rigs, or bundled records by name (jaxcable examples)",
+    )
     calibrate.add_argument(
         "--fit",
         nargs="+",
@@ -410,11 +416,9 @@ def _info(args) -> int:
         f"fluid inertia {'on' if water.fluid_inertia else 'off (waves load by drag only)'}"
     )
     for k, wave in enumerate(water.waves, start=1):
-        size = f"H = {wave.height:g} m" if wave.height is not None else f"H/λ = {wave.steepness:g}"
-        print(
-            f"wave {k}: {wave.theory}, {size}, T = {wave.period:g} s, heading {wave.heading:g}°, "
-            f"phase {wave.phase:g} rad" + (", Wheeler stretching" if wave.wheeler else "")
-        )
+        print(f"wave {k}: {wave.describe()}")
+    if water.waves and water.wave_ramp > 0:
+        print(f"waves switched on smoothly over the first {water.wave_ramp:g} s")
     # build() refused a seabed without a depth.
     if water.seabed is not None and water.depth is not None:
         bed = water.seabed
@@ -525,7 +529,7 @@ def _calibrate(args) -> int:
         except ValueError:
             raise SceneError(f"--fit {item!r}: give NAME=START, e.g. normal_drag=1.2") from None
     try:
-        records = read_records(args.records)
+        records = read_records([_record_path(path) for path in args.records])
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # the summary prints the warnings itself
             result = calibrate(
@@ -567,10 +571,31 @@ def _calibrate(args) -> int:
     return 0
 
 
+def _record_path(path: Path) -> Path:
+    """A towing record's file: a path, or a bundled record's by name."""
+    from .io import SceneError
+
+    if not path.exists():
+        if str(path) in record_names():
+            return record_path(str(path))
+        if not path.suffix:
+            raise SceneError(
+                f"no file or bundled towing record named {str(path)!r}; bundled: {', '.join(record_names())}"
+            )
+    return path
+
+
 def _examples(args) -> int:
     del args
     for name in scene_names():
-        print(f"{name:20s} {scene_path(name)}")
+        print(f"{name:14s} {scene_title(name)}")
+    print(f"(scene files in {scene_path(scene_names()[0]).parent}; run one with `jaxcable run NAME`)")
+    records = record_names()
+    print(
+        f"\nsample towing records: {', '.join(records)} (in {record_path(records[0]).parent}), synthetic tows "
+        "of known drag (see README); fit them with\n"
+        f"  jaxcable calibrate {' '.join(records)} --fit normal_drag=1.2 tangential_drag=0.01"
+    )
     return 0
 
 

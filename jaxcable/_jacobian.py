@@ -18,7 +18,7 @@ segment with, so A is block-sparse along the network's graph: one 6 × 6 block
 - **A block-tridiagonal factorisation.** Nodes are renumbered by reverse Cuthill–McKee
   and grouped in runs of the resulting bandwidth b (1 for a line, a few for a branched
   system, a net's width for a net), which makes A block-tridiagonal in groups of 6b
-  unknowns (the bundled Y-branch has b = 2, the 3 × 3 buoy net b = 6). It is factored
+  unknowns (the bundled Y-branch has b = 2, the 3 × 3 buoy net b = 4). It is factored
   by block elimination in one `lax.scan`: O(N b²) flops.
 
 With consistent mass, A is dense (the mass matrix's inverse couples every node), and

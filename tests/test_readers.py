@@ -963,9 +963,17 @@ def test_toml_sea_defaults(tmp_path):
     # Without [seabed] or [[waves]]: none.
     env = jc.read_scene(write_scene(tmp_path, SCENE, "plain.toml")).build().environment
     assert env.seabed is None and env.waves == ()
+    assert scene.water.wave_ramp == 0.0 and float(env.wave_ramp) == 0.0
 
 
 WAVE = '\n[[waves]]\ntheory = "airy"\nheight = 2.0\nperiod = 8.0\n'
+
+
+def test_toml_wave_ramp_reaches_the_environment(tmp_path):
+    text = edited("depth = 150.0\n", "depth = 150.0\nwave_ramp = 12.5\n") + WAVE
+    scene = jc.read_scene(write_scene(tmp_path, text))
+    assert scene.water.wave_ramp == 12.5
+    assert float(scene.build().environment.wave_ramp) == 12.5
 
 
 @pytest.mark.parametrize(
@@ -983,6 +991,11 @@ WAVE = '\n[[waves]]\ntheory = "airy"\nheight = 2.0\nperiod = 8.0\n'
             edited("depth = 150.0", "depth = 150.0\nfluid_inertia = 0"),
             "fluid_inertia",
             ("water.fluid_inertia", "true or false"),
+        ),
+        (
+            edited("depth = 150.0", "depth = 150.0\nwave_ramp = -8.0"),
+            "wave_ramp",
+            ("water.wave_ramp", "non-negative", "-8"),
         ),
         # Values.
         (
@@ -1329,8 +1342,8 @@ def test_toml_bad_simulation_settings_are_located(tmp_path, old, new, key):
 @pytest.mark.parametrize(
     "option, kind",
     [
-        ("2  WaveKin", "waves"),
-        ("1  Currents", "currents"),
+        ("5  WaveKin", "waves"),
+        ("2  Currents", "currents"),
         ("bathymetry.txt  SeafloorFile", "bathymetry"),
         ("1.5  StatDynFricScale", "friction"),
     ],

@@ -1,5 +1,6 @@
-"""Bundled examples: scene files in `scenes/`, and the seed papers' scenes as Python
-builders returning `(model, environment)`.
+"""Bundled examples: scene files in `scenes/`, sample towing records for `jaxcable
+calibrate` in `records/` (made by `make_records.py`), and the seed papers' scenes as
+Python builders returning `(model, environment)`.
 
 The builders are re-exported here; each paper's constants (its cable, bodies and sea) live in
 its module: `jaxcable.examples.seed001` (growing elements), `.seed002` (the towed trawl),
@@ -7,6 +8,7 @@ its module: `jaxcable.examples.seed001` (growing elements), `.seed002` (the towe
 reproduce the papers are not part of the package: they are in the repository's `studies/`."""
 
 import importlib
+import tomllib
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -40,6 +42,7 @@ def __getattr__(name: str):
 
 
 _SCENES = Path(__file__).parent / "scenes"
+_RECORDS = Path(__file__).parent / "records"
 
 
 def scene_names() -> list[str]:
@@ -52,4 +55,23 @@ def scene_path(name: str) -> Path:
     path = _SCENES / f"{name}.toml"
     if not path.exists():
         raise ValueError(f"no bundled example scene {name!r}; bundled: {scene_names()}")
+    return path
+
+
+def scene_title(name: str) -> str:
+    """The bundled example scene `name`'s one-line description, its `title`."""
+    with scene_path(name).open("rb") as file:
+        return str(tomllib.load(file).get("title", ""))
+
+
+def record_names() -> list[str]:
+    """Names of the bundled sample towing records, for `jaxcable calibrate NAME ...`."""
+    return sorted(p.stem for p in _RECORDS.glob("*.csv"))
+
+
+def record_path(name: str) -> Path:
+    """The path of the bundled sample towing record `name`."""
+    path = _RECORDS / f"{name}.csv"
+    if not path.exists():
+        raise ValueError(f"no bundled towing record {name!r}; bundled: {record_names()}")
     return path

@@ -63,5 +63,8 @@ from ._scene import (
     Water as Water,
 )
 from ._scene import (
+    WaveComponentsSpec as WaveComponentsSpec,
+)
+from ._scene import (
     WaveSpec as WaveSpec,
 )

@@ -23,12 +23,15 @@ Features jaxcable does not model raise a [`jaxcable.io.SceneError`][] where leav
 out would change the system (rods, 6-DOF bodies, nonlinear or viscoelastic stiffness
 tables, VIV, constant forces on fixed or coupled points) and are listed in `Scene.notes` where the model is
 still meaningful without them (bending stiffness of a long line, bathymetry files,
-static-to-dynamic friction ratios, MoorDyn's wave and current input, its time-step
-and initial-condition options, but for `TmaxIC = 0`, which skips statics as it
-skips MoorDyn's initial-condition solve). Notes on physics left out (bending, bathymetry,
-waves) are also issued as Python warnings.
+static-to-dynamic friction ratios, the wave and current modes jaxcable cannot
+represent, its time-step and initial-condition options, but for `TmaxIC = 0`, which
+skips statics as it skips MoorDyn's initial-condition solve). Notes on physics left
+out (bending, bathymetry, waves) are also issued as Python warnings. MoorDyn's steady
+current profile and its wave spectrum and elevation files are read into the water
+(`jaxcable.io._moordyn_water`).
 """
 
+import contextlib
 import math
 import re
 import warnings
@@ -38,6 +41,7 @@ import numpy as np
 
 from .._names import DROPPED_KINDS as DROPPED_KINDS
 from .._network import Body
+from . import _moordyn_water as moordyn_water
 from ._parse import is_number, read_text, unique_names
 from ._scene import (
     LineSpec,
@@ -127,6 +131,8 @@ _USED = {
 # MoorDyn's defaults (MoorDyn2.cpp): bottom stiffness and damping, friction damping.
 _KBOT, _CBOT, _FRICDAMP = 3.0e6, 3.0e5, 200.0
 _WAVES = {"wavekin", "dtwave", "currents", "unifycurrentgrid"}
+# The WaveKin and Currents modes jaxcable reads (see `_moordyn_water`).
+_WATER_MODES = {"wavekin": (2.0, 3.0, 7.0), "currents": (1.0,)}
 
 
 def read_moordyn(path: str | Path) -> Scene:
@@ -179,10 +185,14 @@ def read_moordyn(path: str | Path) -> Scene:
     density = options.get("wtrdnsty", options.get("rho", 1025.0))
     gravity = options.get("g", options.get("gravity", 9.80665))
     depth, seabed = _seabed(source, options, points, line_types, mdlines, density, gravity, notes, dropped)
+    current, profile, waves = _water(path, options, depth, notes)
     water = Water(
         density=density,
         gravity=gravity,
         depth=depth,
+        current=current,
+        current_profile=profile,
+        waves=waves,
         free_surface=True,  # MoorDyn counts only the submerged part of each segment
         seabed=seabed,
     )
@@ -410,15 +420,22 @@ def _options(
                     f"{where}: option {name} = {value}: wave kinematics come from a coupled program, so a "
                     "standalone run, MoorDyn's or jaxcable's, is in still water"
                 )
-            elif key in ("wavekin", "currents"):
+            elif key in _WATER_MODES and is_number(value) and float(value) in _WATER_MODES[key]:
+                options[key] = int(float(value))  # read by `_water`
+                options["@" + key] = where
+            elif key in _WATER_MODES:
                 kind = "waves" if key == "wavekin" else "currents"
+                honoured = ", ".join(f"{mode:g}" for mode in _WATER_MODES[key])
                 dropped.append(
                     (
                         kind,
-                        f"{where}: option {name} = {value} ignored (MoorDyn's {kind} from its input files; "
-                        "still water)",
+                        f"{where}: option {name} = {value} ignored (jaxcable reads {name} = {honoured} only; "
+                        f"no {kind})",
                     )
                 )
+            elif key == "dtwave":
+                options[key] = _number(source, line, name, value)
+                options["@" + key] = where
             else:
                 notes.append(f"{where}: option {name} = {value} not needed (it sets MoorDyn's wave and current input)")
         elif key in _TMAXIC and is_number(value) and float(value) == 0:
@@ -432,6 +449,40 @@ def _options(
         elif key not in _COSMETIC:
             notes.append(f"{where}: unknown option {name} = {value} ignored")
     return options
+
+
+def _water(path: Path, options: dict, depth, notes: list[str]):
+    """The current and waves of MoorDyn's water files beside `path`, for the `Currents`
+    and `WaveKin` options `_options` kept (see `jaxcable.io._moordyn_water`)."""
+    folder = path.parent
+    current, profile, waves = (0.0, 0.0, 0.0), None, ()
+    if "currents" in options:
+        with _located_at(options["@currents"]):
+            current, profile = moordyn_water.current_profile(folder / "current_profile.txt")
+        notes.append(f"{options['@currents']}: Currents = 1, the steady profile of {folder / 'current_profile.txt'}")
+    mode = options.get("wavekin")
+    if mode is not None:
+        if depth is None:
+            raise SceneError(f"{options['@wavekin']}: WaveKin = {mode} needs the water depth: give WtrDpth")
+        with _located_at(options["@wavekin"]):
+            if mode == 3:
+                step = options.get("dtwave", 0.25)  # MoorDyn's default dtWave
+                wave, more = moordyn_water.elevation_record(folder / "wave_elevation.txt", step)
+            else:
+                wave, more = moordyn_water.spectrum(folder / "wave_frequencies.txt", mode)
+        waves = (wave,)
+        notes.extend(more)
+        notes.append(f"{options['@wavekin']}: WaveKin = {mode}: {wave.describe()}")
+    return current, profile, waves
+
+
+@contextlib.contextmanager
+def _located_at(where: str):
+    """Prefix a `SceneError` raised inside with the option's place in the input file."""
+    try:
+        yield
+    except SceneError as error:
+        raise SceneError(f"{where}: {error}") from None
 
 
 def _stepping(options: dict, notes: list[str]) -> dict:

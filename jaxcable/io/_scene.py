@@ -20,6 +20,7 @@ from .._advice import Labels
 from .._cnoidal import Cnoidal
 from .._config import SOLVERS, SolverConfig
 from .._environment import CurrentProfile, Environment, Seabed
+from .._irregular import WaveComponents
 from .._materials import KelvinVoigt
 from .._motion import AbstractMotion, Fixed, Sampled
 from .._network import Body, Branch, CableNetwork, LineType, below_seabed
@@ -99,6 +100,51 @@ class WaveSpec:
                 return kind(self.height, self.period, depth, **options)
             return kind.from_steepness(self.steepness, self.period, depth, **options)
 
+    def describe(self) -> str:
+        """One line for `jaxcable info`."""
+        size = f"H = {self.height:g} m" if self.height is not None else f"H/λ = {self.steepness:g}"
+        return f"{self.theory}, {size}, T = {self.period:g} s, heading {self.heading:g}°, phase {self.phase:g} rad" + (
+            ", Wheeler stretching" if self.wheeler else ""
+        )
+
+
+@dataclass(frozen=True)
+class WaveComponentsSpec:
+    """An irregular sea as linear components ([`jaxcable.WaveComponents`][]):
+    `amplitudes` a_i (m), `periods` T_i (s), `headings` β_i (degrees; one for all, or
+    one each), `phases` θ₀_i (rad), and `wheeler` stretching."""
+
+    amplitudes: tuple[float, ...]
+    periods: tuple[float, ...]
+    headings: float | tuple[float, ...] = 0.0
+    phases: float | tuple[float, ...] = 0.0
+    wheeler: bool = False
+    where: str = ""
+
+    def wave(self, depth: float, gravity: float) -> AbstractWave:
+        """The engine's [`jaxcable.WaveComponents`][] in water of `depth` (m) under
+        `gravity` (m/s²); [`jaxcable.io.SceneError`][] at `where` for a value it rejects."""
+        with located(self.where):
+            return WaveComponents(
+                self.amplitudes,
+                self.periods,
+                depth,
+                gravity=gravity,
+                headings=self.headings,
+                phases=self.phases,
+                wheeler=self.wheeler,
+            )
+
+    def describe(self) -> str:
+        """One line for `jaxcable info`."""
+        a, t = np.asarray(self.amplitudes), np.asarray(self.periods)
+        peak = int(np.argmax(a))
+        return (
+            f"{a.size} linear components from {self.where}, H_s = {4 * np.sqrt(0.5 * np.sum(a**2)):.4g} m, "
+            f"periods {t.min():.4g} to {t.max():.4g} s, the largest {a[peak]:.4g} m at {t[peak]:.4g} s"
+            + (", Wheeler stretching" if self.wheeler else "")
+        )
+
 
 @dataclass(frozen=True)
 class SeabedSpec:
@@ -129,9 +175,13 @@ class Water:
     - `current`: a uniform current (m/s, a 3-vector); or `current_profile`, a
         [`jaxcable.io.CurrentProfileSpec`][] (then `current` must stay zero).
     - `free_surface`: whether lines are in the water only below z = 0.
-    - `waves`: regular waves, [`jaxcable.io.WaveSpec`][], superposed.
+    - `waves`: regular waves, [`jaxcable.io.WaveSpec`][], or linear components,
+        [`jaxcable.io.WaveComponentsSpec`][], superposed.
     - `seabed`: a [`jaxcable.io.SeabedSpec`][] at z = −depth, or `None`.
     - `fluid_inertia`: whether the waves' acceleration loads lines and bodies.
+    - `wave_ramp`: the time (s) over which the waves are switched on from t = 0
+        ([`jaxcable.Environment`][]'s `wave_ramp`), so that a run from still-water
+        statics starts without a jolt; 0 for none.
     - `where`: where in its file the water was described, for errors.
     """
 
@@ -141,9 +191,10 @@ class Water:
     current: tuple[float, float, float] = (0.0, 0.0, 0.0)
     free_surface: bool = False
     current_profile: CurrentProfileSpec | None = None
-    waves: tuple[WaveSpec, ...] = ()
+    waves: tuple["WaveSpec | WaveComponentsSpec", ...] = ()
     seabed: SeabedSpec | None = None
     fluid_inertia: bool = True
+    wave_ramp: float = 0.0
     where: str = ""
 
     def environment(self) -> Environment:
@@ -182,6 +233,7 @@ class Water:
                 waves=waves,
                 seabed=seabed,
                 fluid_inertia=self.fluid_inertia,
+                wave_ramp=self.wave_ramp,
             )
 
 

@@ -11,6 +11,7 @@ A scene file names its points and line types and lists its lines::
     current = [0.5, 0.0, 0.0]    # m/s, uniform
     free_surface = false         # true: only the part below z = 0 is in the water
     fluid_inertia = true         # false: waves load lines and bodies by drag only
+    wave_ramp = 0.0              # s: switch the waves on smoothly over this time
 
     [water.current_profile]      # instead of a uniform current: speed over depth
     heights = [-200.0, -50.0, 0.0]   # z (m), increasing; linear between, held beyond
@@ -115,7 +116,7 @@ from ._scene import (
 )
 
 _TOP = ("title", "water", "waves", "seabed", "simulation", "line_types", "points", "lines", "output")
-_WATER = ("density", "gravity", "depth", "current", "current_profile", "free_surface", "fluid_inertia")
+_WATER = ("density", "gravity", "depth", "current", "current_profile", "free_surface", "fluid_inertia", "wave_ramp")
 _CURRENT_PROFILE = ("heights", "speeds", "heading")
 _WAVE = ("theory", "height", "steepness", "period", "heading", "phase", "wheeler")
 _SEABED = ("stiffness", "damping", "friction", "friction_speed")
@@ -356,6 +357,9 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
         seabed = SeabedSpec(**values, where=reader.where(keys))
         seabed.seabed()
 
+    wave_ramp = reader.number(water, ("water", "wave_ramp"), 0.0)
+    if wave_ramp < 0:
+        raise SceneError(f"{reader.where(('water', 'wave_ramp'))}: must be non-negative, got {wave_ramp:g}")
     return Water(
         density=reader.number(water, ("water", "density"), 1025.0),
         gravity=gravity,
@@ -366,6 +370,7 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
         waves=tuple(waves),
         seabed=seabed,
         fluid_inertia=reader.boolean(water, ("water", "fluid_inertia"), True),
+        wave_ramp=wave_ramp,
         where=reader.where(("water",)),
     )
 
