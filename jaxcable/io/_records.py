@@ -16,7 +16,9 @@ time [s], speed [kn], tension [kN], depth [m]
 **Header.** The leading lines that start with `#` are the header. A header line
 
 - `# key [unit] = value` gives a numeric test condition, converted to SI by `unit`,
-  which may be any unit of [`jaxcable.io.UNITS`][];
+  which must be a unit of [`jaxcable.io.UNITS`][] of the key's dimension in
+  [`jaxcable.io.CONDITIONS`][] (`# cable_length [kN] = 200` is an error naming the key
+  and the unit); a key not named there may take any known unit;
 - `# key = value` gives a dimensionless number if `value` reads as one, and otherwise
   a string (with its surrounding space stripped), such as the rig's name;
 - without `=` is free text, and is ignored.
@@ -49,6 +51,7 @@ import numpy as np
 
 from .._records import (
     COLUMNS,
+    CONDITIONS,
     UNITS,
     RecordError,
     TowingRecord,
@@ -89,7 +92,7 @@ def _read_condition(body: str, conditions: dict, first_lines: dict, number: int,
     else:
         _check_finite(value, text, f"condition {key!r}", where)
         if unit is not None:
-            value *= _factor(unit.strip(), None, f"condition {key!r}", where)
+            value *= _factor(unit.strip(), CONDITIONS.get(key), f"condition {key!r}", where)
         conditions[key] = value
     first_lines[key] = number
 
@@ -260,6 +263,7 @@ def write_record(
                 where,
                 f"a unit is given for condition {key!r}, which is not a numeric condition of the record",
             )
+        _factor(condition_units[key], CONDITIONS.get(key), f"condition {key!r}", where)
     chosen = [units.get(name, next(iter(UNITS[COLUMNS[name]]))) for name in names]
     factors = [_factor(unit, COLUMNS[name], f"column {name!r}", where) for name, unit in zip(names, chosen)]
     lines = ["# jaxcable towing record"]
@@ -268,7 +272,7 @@ def write_record(
             lines.append(f"# {key} = {value}")
         elif key in condition_units:
             unit = condition_units[key]
-            factor = _factor(unit, None, f"condition {key!r}", where)
+            factor = _factor(unit, CONDITIONS.get(key), f"condition {key!r}", where)
             lines.append(f"# {key} [{unit}] = {_number(value / factor)}")
         else:
             lines.append(f"# {key} = {_number(value)}")
