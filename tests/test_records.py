@@ -102,7 +102,7 @@ def test_units_are_unambiguous_and_columns_have_known_dimensions():
 def test_every_rig_argument_has_a_dimension():
     from jaxcable.calibration import RIGS, rig_from_conditions
 
-    for name, rig in RIGS.items():
+    for name in RIGS:
         arguments = set(rig_from_conditions({"rig": name}).conditions()) - {"rig"}
         assert arguments <= set(CONDITIONS), f"{name}: {sorted(arguments - set(CONDITIONS))} have no dimension"
 
