@@ -133,6 +133,7 @@ by it to get SI). The first unit of each dimension is its SI unit, which
 COLUMNS: dict[str, str] = {
     "time": "time",
     "speed": "velocity",
+    "tow_load": "force",
     "tension": "force",
     "depth": "length",
     "layback": "length",
@@ -140,6 +141,18 @@ COLUMNS: dict[str, str] = {
 """The columns a towing record may have, each with its dimension (a key of
 [`jaxcable.io.UNITS`][]). `time` is required, and comes first in a file; a
 [`jaxcable.io.TowingRecord`][] holds it apart from the other columns, as `times`.
+
+Where each is measured (the rigs' docstrings say how they model it):
+
+- `speed`: the tow speed, an input of a horizontal tow; the rise speed of the towed
+  element in a vertical tow.
+- `tow_load`: the load at the tow point, what a load cell between the towing vessel
+  and the cable reads.
+- `tension`: a cable tension inside the rig: for a horizontal tow the first segment's,
+  half a segment below the tow point, so a load cell's record is `tow_load`, not
+  `tension`; for a vertical tow the tether's at its lowest segment.
+- `depth`: the end body's depth below the still-water level.
+- `layback`: the end body's horizontal distance aft of the tow point.
 """
 
 CONDITIONS: dict[str, str] = {

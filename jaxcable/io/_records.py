@@ -8,7 +8,7 @@ A towing record is a CSV file written in a towing tank or at sea:
 # cable_length [m] = 200
 # end_mass [kg] = 400
 # normal_drag [-] = 1.2
-time [s], speed [kn], tension [kN], depth [m]
+time [s], speed [kn], tow_load [kN], depth [m]
 0.0, 1.944, 5.10, 190.2
 0.1, 1.944, 5.12, 190.1
 ```
@@ -30,6 +30,8 @@ digit), and each may be given once.
 `name [unit]`, separated by commas, with space allowed around each part. Every column
 needs a unit of its name's dimension in [`jaxcable.io.COLUMNS`][], each name may appear
 once, and the first column must be `time`, followed by at least one other.
+[`jaxcable.io.COLUMNS`][] also says where each is measured: a load cell at the tow
+point is `tow_load`; `tension` is a tension inside the cable, as the rig models it.
 
 **Data.** Each later line holds one sample: as many comma-separated numbers as there
 are columns. Every value must be finite (no empty fields, `nan` or `inf`), and time
