@@ -79,6 +79,10 @@ def depressor_fit():
 def test_recovers_specific_drag_from_vertical_tows(k0_fit):
     within(k0_fit, "specific_drag", 0.05)
     assert k0_fit.converged and not k0_fit.warnings
+    # White noise on the model's own records: the residuals look like noise, and the
+    # uncertainty is hardly widened.
+    assert not any(c.discrepancy for c in k0_fit.residual_checks.values())
+    assert all(1.0 <= f <= 1.1 for f in k0_fit.inflation.values())
     assert k0_fit.loss[-1] < 0.05 * k0_fit.loss[0]
     # The error is consistent with the uncertainty the fit reports.
     assert abs(k0_fit.values["specific_drag"] - TRUTH["specific_drag"]) < 4 * k0_fit.uncertainty["specific_drag"]
@@ -107,6 +111,8 @@ def test_without_axial_flow_tangential_drag_is_flagged(depressor_fit):
     within(depressor_fit, "normal_drag", 0.05)
     assert depressor_fit.relative_uncertainty["tangential_drag"] > 5 * depressor_fit.relative_uncertainty["normal_drag"]
     assert any("tangential_drag" in w and "cannot be trusted" in w for w in depressor_fit.warnings)
+    assert not any("not independent noise" in w for w in depressor_fit.warnings)
+    assert all(f <= 1.1 for f in depressor_fit.inflation.values())
     assert "tangential_drag" in depressor_fit.summary() and "warning:" in depressor_fit.summary()
 
 
@@ -258,3 +264,70 @@ def test_command_line_calibrate_errors(tmp_path, capsys):
     assert "bad.csv, line 4: column 'tension' is NaN" in capsys.readouterr().err
     assert main(["calibrate", str(bad), "--fit", "specific_drag", "--no-progress"]) == 2
     assert "--fit 'specific_drag': give NAME=START" in capsys.readouterr().err
+
+
+def test_a_tension_column_on_a_horizontal_tow_is_flagged_as_not_a_load_cell():
+    from jaxcable._calibrate import _caveats
+
+    columns = {"speed": [1.0, 1.0], "tension": [1.0, 2.0]}
+    pairs = [
+        (depressor(), jc.io.TowingRecord([0.0, 1.0], columns, name="a.csv")),
+        (depressor(), jc.io.TowingRecord([0.0, 1.0], columns, name="b.csv")),
+        (depressor(), jc.io.TowingRecord([0.0, 1.0], {"speed": [1.0, 1.0], "tow_load": [1.0, 2.0]}, name="c.csv")),
+        (VerticalTow(), jc.io.TowingRecord([0.0, 1.0], {"tension": [1.0, 2.0]}, name="d.csv")),
+    ]
+    (message,) = _caveats(pairs)
+    assert message.startswith("a.csv, b.csv: HorizontalTow's 'tension' is the first segment's tension")
+    assert "name it 'tow_load'" in message
+    assert "tension" not in synthetic_record(depressor(), TIMES[:5], {"speed": STEP_UP[:5]}).columns
+
+
+# --------------------------------------------------------------------------------------
+# Residuals: noise or model discrepancy
+
+
+def _ar1(rho, n, rng, size=()):
+    """AR(1) series of unit variance, shape `size + (n,)`."""
+    e = rng.standard_normal((*size, n))
+    out = np.empty_like(e)
+    out[..., 0] = e[..., 0]
+    for t in range(1, n):
+        out[..., t] = rho * out[..., t - 1] + math.sqrt(1 - rho**2) * e[..., t]
+    return out
+
+
+def test_residual_check_passes_white_noise():
+    from jaxcable.calibration import residual_check
+
+    rng = np.random.default_rng(5)
+    checks = [residual_check(rng.standard_normal(151)) for _ in range(400)]
+    # Each of three tests at 3σ: a false alarm in well under 2 % of series.
+    assert sum(c.discrepancy for c in checks) < 8
+    assert np.mean([c.effective_samples for c in checks]) > 0.97 * 151
+    assert abs(np.mean([c.lag1 for c in checks])) < 0.02
+    assert abs(np.mean([c.runs - c.expected_runs for c in checks])) < 1.0
+
+
+def test_residual_check_finds_correlation_offset_and_drift():
+    from jaxcable.calibration import residual_check
+
+    rng = np.random.default_rng(6)
+    n = 151
+    correlated = residual_check(_ar1(0.9, n, rng))
+    assert correlated.discrepancy and 0.75 < correlated.lag1 < 0.97
+    assert correlated.effective_samples < 0.15 * n
+    offset = residual_check(0.01 + 0.02 * rng.standard_normal(n), scale=2.0)
+    assert offset.discrepancy and offset.mean_offset == pytest.approx(0.005, abs=0.001)
+    drift = residual_check(np.sin(np.linspace(0, 6 * math.pi, n)) + 0.3 * rng.standard_normal(n))
+    assert drift.discrepancy and drift.runs_z < -3
+
+
+def test_effective_sample_size_gives_the_spread_of_a_correlated_mean():
+    # The widening rests on var(mean) = σ²/n_eff for correlated residuals: check it on
+    # AR(1) noise against the spread of the mean over many series.
+    from jaxcable.calibration import residual_check
+
+    rng = np.random.default_rng(7)
+    series = _ar1(0.8, 600, rng, size=(1500,))
+    effective = np.mean([residual_check(s).effective_samples for s in series[:200]])
+    assert np.var(series.mean(axis=1)) * effective == pytest.approx(1.0, rel=0.12)
