@@ -809,7 +809,9 @@ def discretisation_check(
         run = _simulate_one(finer, jnp.asarray(record.times), inputs, solver)
         if not bool(run.success):
             raise RuntimeError(
-                f"discretisation_check: {record.name}: the simulation at {coarse * factor} segments failed"
+                f"discretisation_check: {record.name}: the simulation at {coarse * factor} segments failed "
+                f"(diffrax: {run.simulation.result}); finer segments are stiffer, so give a solver with more "
+                "steps, e.g. solver=jaxcable.rig_solver(max_steps=1_000_000)"
             )
         segments[record.name] = (coarse, coarse * factor)
         predicted = {}
