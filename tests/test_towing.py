@@ -123,7 +123,9 @@ def test_tow_load_is_the_support_reaction_and_exceeds_the_first_segment_tension(
         0.5 * RHO * 0.01 * math.pi * diameter * np.linalg.norm(flow_along) * flow_along
     )
     half_segment = weight + drag_per_length * stretched / 2
-    np.testing.assert_allclose(reaction[-1] + tension * along, -half_segment, atol=0.01 * np.linalg.norm(half_segment))
+    np.testing.assert_allclose(
+        reaction[-1] + tension * along, -half_segment, atol=0.01 * float(np.linalg.norm(half_segment))
+    )
     gap = float(observables["tow_load"][-1]) - tension
     expected_gap = float(half_segment @ along)  # |T t̂ + H| ≈ T + H·t̂, to first order in |H| / T
     assert 0.005 * tension < gap, "the load cell must read visibly more than the segment tension"
