@@ -18,6 +18,14 @@ noise levels; where they are proportional to the series' RMS, as in
 understated the spread of 16 refits on fresh noise 2.4-fold, measured.) A coefficient
 whose uncertainty is large, or that is strongly correlated with another, is flagged:
 the records do not pin it down.
+
+That covariance assumes independent noise. Each series' residuals are checked for it
+(`residual_check`: lag-1 autocorrelation, runs, mean offset); a series whose residuals
+are correlated carries n_eff = n (1 − ρ)/(1 + ρ) samples' worth of information, and its
+rows' share of `B` grows by n / n_eff; a warning says when the residuals show model
+discrepancy rather than noise. Discrepancy that hides under the noise is what
+`discretisation_check` looks for: it re-predicts at finer segmentation and gives the
+linearised move of each fitted value.
 """
 
 import functools

@@ -355,7 +355,7 @@ def test_good_base_file_reads(tmp_path):
         ),
         pytest.param(
             {3: "time [s], spd [kn], tension [kN]"},
-            "line 3: unknown column 'spd'; known columns: time, speed, tension, depth, layback",
+            "line 3: unknown column 'spd'; known columns: time, speed, tow_load, tension, depth, layback",
             id="unknown-column",
         ),
         pytest.param(
@@ -463,7 +463,7 @@ _SPEED = [1.0, 1.0, 1.0]
             _TIMES, {"speed": [1.0, 1.0]}, {}, "column 'speed' has shape (2,), but times has shape (3,)", id="shape"
         ),
         pytest.param(
-            _TIMES, {"spd": _SPEED}, {}, "unknown column 'spd'; known columns: speed, tension, depth", id="unknown"
+            _TIMES, {"spd": _SPEED}, {}, "unknown column 'spd'; known columns: speed, tow_load, tension, depth", id="unknown"
         ),
         pytest.param(_TIMES, {"time": _TIMES}, {}, "'time' is not one of the columns", id="time-column"),
         pytest.param(_TIMES, {}, {}, "a towing record needs at least one column besides time", id="no-columns"),
