@@ -463,7 +463,11 @@ _SPEED = [1.0, 1.0, 1.0]
             _TIMES, {"speed": [1.0, 1.0]}, {}, "column 'speed' has shape (2,), but times has shape (3,)", id="shape"
         ),
         pytest.param(
-            _TIMES, {"spd": _SPEED}, {}, "unknown column 'spd'; known columns: speed, tow_load, tension, depth", id="unknown"
+            _TIMES,
+            {"spd": _SPEED},
+            {},
+            "unknown column 'spd'; known columns: speed, tow_load, tension, depth",
+            id="unknown",
         ),
         pytest.param(_TIMES, {"time": _TIMES}, {}, "'time' is not one of the columns", id="time-column"),
         pytest.param(_TIMES, {}, {}, "a towing record needs at least one column besides time", id="no-columns"),
