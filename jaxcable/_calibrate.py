@@ -18,6 +18,14 @@ noise levels; where they are proportional to the series' RMS, as in
 understated the spread of 16 refits on fresh noise 2.4-fold, measured.) A coefficient
 whose uncertainty is large, or that is strongly correlated with another, is flagged:
 the records do not pin it down.
+
+That covariance assumes independent noise. Each series' residuals are checked for it
+(`residual_check`: lag-1 autocorrelation, runs, mean offset); a series whose residuals
+are correlated carries n_eff = n (1 − ρ)/(1 + ρ) samples' worth of information, and its
+rows' share of `B` grows by n / n_eff; a warning says when the residuals show model
+discrepancy rather than noise. Discrepancy that hides under the noise is what
+`discretisation_check` looks for: it re-predicts at finer segmentation and gives the
+linearised move of each fitted value.
 """
 
 import functools
@@ -78,8 +86,19 @@ class CalibrationResult(NamedTuple):
         times (SI), by name; NaN for a record whose simulation failed.
     - `residuals`: for each record, measured minus predicted, by name.
     - `success`: for each record, whether its final simulation reached the end.
-    - `warnings`: the identifiability warnings, as sentences; also issued as
-        `UserWarning`s.
+    - `warnings`: the warnings, as sentences (observables that are not what an
+        instrument reads, residuals that show model discrepancy rather than noise,
+        coefficients the records do not pin down); also issued as `UserWarning`s.
+    - `residual_checks`: by `(record name, observable)`, what the residuals say about
+        the noise model: a [`jaxcable.calibration.ResidualCheck`][].
+    - `inflation`: by coefficient, the factor by which the residuals' correlation
+        widened its uncertainty over the one that independent noise would give; 1
+        where every series' residuals look like independent noise.
+    - `rigs`: the rigs the records were fitted on, in order, with their coefficients
+        as they started (`rig.with_coefficients(values)` is the fitted model).
+    - `jacobian`: for each record, by observable, the derivative of the prediction in
+        the log of each coefficient at the fitted values (SI units of the observable),
+        shape `(samples, coefficients)`, coefficients in the order of `values`.
     """
 
     values: dict[str, float]
@@ -97,6 +116,10 @@ class CalibrationResult(NamedTuple):
     residuals: list[dict[str, np.ndarray]]
     success: list[bool]
     warnings: list[str]
+    residual_checks: dict[tuple[str, str], "ResidualCheck"]
+    inflation: dict[str, float]
+    rigs: list[AbstractTowingRig]
+    jacobian: list[dict[str, np.ndarray]]
 
     def summary(self) -> str:
         """A table of the fitted values with their uncertainties, then the warnings."""
@@ -105,6 +128,11 @@ class CalibrationResult(NamedTuple):
             lines.append(
                 f"{name:<16} {self.start[name]:>10.4g} {value:>12.5g} {self.uncertainty[name]:>11.3g} "
                 f"{100 * self.relative_uncertainty[name]:>7.2f} {self.sensitivity[name]:>9.3g}σ"
+                + (
+                    f"  (±1σ widened {self.inflation[name]:.3g}x for correlated residuals)"
+                    if self.inflation[name] > 1.05
+                    else ""
+                )
             )
         state = "converged" if self.converged else "stopped at the iteration limit"
         lines.append(f"{self.iterations} iterations ({state}); loss {self.loss[0]:.4g} -> {self.loss[-1]:.4g}")
@@ -113,6 +141,62 @@ class CalibrationResult(NamedTuple):
             lines.append(f"simulations that failed: {', '.join(failed)}")
         lines += [f"warning: {w}" for w in self.warnings]
         return "\n".join(lines)
+
+
+class ResidualCheck(NamedTuple):
+    """What one series' residuals (measured minus predicted, at the fitted values) say
+    about the noise model: independent noise leaves no autocorrelation, no mean
+    offset and about `n/2` runs of one sign.
+
+    - `samples`: n.
+    - `lag1`: the lag-1 autocorrelation ρ of the residuals, taken about zero rather
+        than their mean, so that an offset counts as correlation (±`1/√n` for
+        independent noise).
+    - `mean_offset`: the residuals' mean over the series' RMS value (a relative bias;
+        −0.01 is a model reading 1 % high).
+    - `runs`, `expected_runs`: runs of one sign, counted and as independent noise
+        would give them (`1 + 2 n₊ n₋ / n`).
+    - `runs_z`: the runs' standard score; far below 0 when residuals drift.
+    - `effective_samples`: n_eff = `n (1 − ρ)/(1 + ρ)`, between 1 and n, for an
+        autocorrelation above `2/√n`; n otherwise.
+    - `discrepancy`: whether the residuals show model discrepancy rather than noise:
+        ρ above `3/√n`, runs below 3 standard deviations of their expectation, or a
+        mean offset beyond 3 standard errors (with n_eff samples).
+    """
+
+    samples: int
+    lag1: float
+    mean_offset: float
+    runs: int
+    expected_runs: float
+    runs_z: float
+    effective_samples: float
+    discrepancy: bool
+
+
+def residual_check(residuals, scale: float = 1.0) -> ResidualCheck:
+    """The [`jaxcable.calibration.ResidualCheck`][] of one series' residuals, shape
+    `(n,)`, whose RMS value is `scale` (for the mean offset; the rest is
+    scale-free)."""
+    e = np.asarray(residuals, dtype=float)
+    n = e.size
+    energy = float(np.sum(e**2))
+    rho = float(np.sum(e[1:] * e[:-1]) / energy) if n > 2 and energy > 0 else 0.0
+    signs = e[e != 0] > 0
+    m = signs.size
+    positive = int(np.sum(signs))
+    runs = int(1 + np.count_nonzero(signs[1:] != signs[:-1])) if m else 0
+    expected = 1 + 2 * positive * (m - positive) / m if m else 0.0
+    variance = (expected - 1) * (expected - 2) / (m - 1) if m > 1 else 0.0
+    runs_z = (runs - expected) / math.sqrt(variance) if variance > 0 else 0.0
+    # Below 2/√n a positive ρ is within independent noise's sampling spread.
+    correlated = rho > 2 / math.sqrt(n)
+    effective = min(max(n * (1 - rho) / (1 + rho), 1.0), n) if correlated else float(n)
+    sigma = math.sqrt(energy / n) if n else 0.0
+    mean = float(np.mean(e)) if n else 0.0
+    offset_z = abs(mean) / (sigma / math.sqrt(effective)) if sigma > 0 else 0.0
+    discrepancy = rho > 3 / math.sqrt(n) or runs_z < -3 or offset_z > 3
+    return ResidualCheck(n, rho, mean / scale, runs, expected, runs_z, effective, bool(discrepancy))
 
 
 class _Group(NamedTuple):
@@ -155,7 +239,8 @@ def synthetic_record(
         tow speed `"speed"` in m/s).
     - `noise`: the relative noise level; 0 for exact data.
     - `seed`: the random seed.
-    - `observables`: which to record; all the rig's by default.
+    - `observables`: which to record; by default all the rig's but those with
+        `caveats` (HorizontalTow's `tension`: a load cell reads `tow_load`).
     - `name`: the record's name.
     - `solver`: how to integrate, a [`jaxcable.SolverConfig`][];
         [`jaxcable.rig_solver`][]`()` by default.
@@ -171,7 +256,9 @@ def synthetic_record(
     """
     if not noise >= 0:
         raise ValueError(f"synthetic_record: noise must be non-negative, got {noise}")
-    observables = tuple(rig.observables if observables is None else observables)
+    if observables is None:  # what instruments measure: not the observables with caveats
+        observables = tuple(k for k in rig.observables if k not in rig.caveats)
+    observables = tuple(observables)
     unknown = [o for o in observables if o not in rig.observables]
     if unknown:
         raise ValueError(
@@ -283,6 +370,17 @@ def calibrate(
         problem, log_values, optax.with_extra_args_support(optimizer), max_steps, tolerance, progress
     )
     return _report(problem, start, log_values, losses, steps, converged, pairs, r, jacobian, successes)
+
+
+def _caveats(pairs) -> list[str]:
+    """The rigs' caveats on the observables the records measure, one per rig type and
+    observable, naming the records."""
+    found: dict[str, list[str]] = {}
+    for index, (rig, record) in enumerate(pairs):
+        for name, caveat in rig.caveats.items():
+            if name in record.columns:
+                found.setdefault(caveat, []).append(record.name or f"tests[{index}]")
+    return [f"{', '.join(names)}: {caveat}" for caveat, names in found.items()]
 
 
 def _pair(test, index) -> tuple[AbstractTowingRig, TowingRecord]:
@@ -525,9 +623,12 @@ def _report(problem, start, log_values, losses, steps, converged, pairs, r, jaco
     records = [record for _, record in pairs]
     predictions: list[dict] = [{} for _ in pairs]
     residuals: list[dict] = [{} for _ in pairs]
+    derivatives: list[dict] = [{} for _ in pairs]
     success = [True] * len(pairs)
     noise: dict[tuple[str, str], float] = {}
     weights = np.zeros_like(r)
+    widen = np.ones_like(r)
+    checks: dict[tuple[str, str], ResidualCheck] = {}
     valid = sum(int(np.sum(np.asarray(m))) for g in groups for m in g.mask.values())
     offset = 0
     for group, ok in zip(groups, successes):
@@ -541,6 +642,7 @@ def _report(problem, start, log_values, losses, steps, converged, pairs, r, jaco
                 # r = (predicted − measured) / scale, so the predictions come back from it.
                 scaled = r[block][:n] if success[i] else np.full(n, np.nan)
                 predictions[i][k] = records[i].columns[k] + scaled * float(group.scale[k][j])
+                derivatives[i][k] = jacobian[block][:n] * float(group.scale[k][j])
                 residuals[i][k] = -scaled * float(group.scale[k][j])
                 if not success[i]:
                     continue
@@ -551,11 +653,19 @@ def _report(problem, start, log_values, losses, steps, converged, pairs, r, jaco
                 sigma = max(float(np.sqrt(np.sum(r[block][:n] ** 2) / dof)), 1e-12)
                 weights[block][:n] = 1 / sigma
                 noise[(records[i].name, k)] = sigma * float(group.scale[k][j])
+                check = residual_check(-r[block][:n])  # scaled by the series' RMS already
+                checks[(records[i].name, k)] = check
+                # Correlated residuals carry n_eff samples' worth of information, not
+                # n: their rows' share of the spread grows by n / n_eff (exact for a
+                # Jacobian that varies slowly over the correlation length).
+                widen[block][:n] = math.sqrt(n / check.effective_samples)
             offset += len(group.indices) * size
     measured = weights > 0
     jacobian = np.where(measured[:, None], jacobian, 0.0)  # a failed record's rows count for nothing
     inner = np.linalg.pinv(jacobian.T @ jacobian)
     noisy = jacobian / np.where(measured, weights, 1.0)[:, None]  # rows times σ
+    white = np.sqrt(np.maximum(np.diag(inner @ (noisy.T @ noisy) @ inner), 0.0))
+    noisy = noisy * widen[:, None]
     covariance = inner @ (noisy.T @ noisy) @ inner
     weighted = jacobian * weights[:, None]  # rows in units of their noise
     spread = np.sqrt(np.maximum(np.diag(covariance), 0.0))
@@ -563,7 +673,13 @@ def _report(problem, start, log_values, losses, steps, converged, pairs, r, jaco
         correlation = covariance / np.outer(spread, spread)
     rows = max(int(np.count_nonzero(weights)), 1)
     sensitivity = np.sqrt(np.sum((weighted * math.log(1.1)) ** 2, axis=0) / rows)
-    messages = _warnings(names, values, spread, correlation, sensitivity, weighted.T @ weighted)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        inflation = np.where(white > 0, spread / white, 1.0)
+    messages = (
+        _caveats(pairs)
+        + _discrepancy(checks)
+        + _warnings(names, values, spread, correlation, sensitivity, weighted.T @ weighted)
+    )
     for message in messages:
         warnings.warn(message, UserWarning, stacklevel=3)
     return CalibrationResult(
@@ -582,7 +698,31 @@ def _report(problem, start, log_values, losses, steps, converged, pairs, r, jaco
         residuals=residuals,
         success=success,
         warnings=messages,
+        residual_checks=checks,
+        inflation={n: float(f) for n, f in zip(names, inflation)},
+        rigs=[rig for rig, _ in pairs],
+        jacobian=derivatives,
     )
+
+
+def _discrepancy(checks: Mapping[tuple[str, str], ResidualCheck]) -> list[str]:
+    """One warning naming the series whose residuals are not noise, worst first."""
+    bad = sorted(((key, c) for key, c in checks.items() if c.discrepancy), key=lambda kc: -kc[1].lag1)
+    if not bad:
+        return []
+    described = [
+        f"{observable} in {record} (lag-1 autocorrelation {c.lag1:.3f}, mean offset {100 * c.mean_offset:+.2g} % "
+        f"of its RMS, {c.runs} runs of one sign where noise would give about {c.expected_runs:.0f})"
+        for (record, observable), c in bad[:3]
+    ]
+    more = f", and {len(bad) - 3} more series" if len(bad) > 3 else ""
+    return [
+        f"the residuals of {'; '.join(described)}{more} are not independent noise: the model misses something "
+        "the records hold (too few segments, an observable measured elsewhere than the model takes it, a force "
+        "the rig lacks). The fitted values absorb that discrepancy, so they may be biased beyond their "
+        "uncertainties, which are widened for the correlation (effective samples n(1−ρ)/(1+ρ)) but are then "
+        "at best rough. Check the rig against the test, and refit with more segments."
+    ]
 
 
 def _warnings(names, values, spread, correlation, sensitivity, fisher) -> list[str]:
@@ -605,3 +745,112 @@ def _warnings(names, values, spread, correlation, sensitivity, fisher) -> list[s
                     "combination of them rather than each."
                 )
     return messages
+
+
+class DiscretisationCheck(NamedTuple):
+    """How far a finer segmentation moves a calibration's predictions.
+
+    - `segments`: by record name, the fitted rig's segments and the finer one's.
+    - `shift`: by `(record name, observable)`, the RMS change of the prediction from
+        the fitted rig to the finer one, with the fitted values, in units of the
+        series' estimated noise σ.
+    - `moves`: by coefficient, how far a refit at the finer segmentation would move
+        its fitted value, relative (a change of its log), from the linearised refit
+        `−(J̃ᵀJ̃)⁻¹ J̃ᵀ Δ̃` with the fit's own weighting (each series over its RMS).
+    - `predictions`: for each record, the finer rig's observables (SI), by name.
+    - `warnings`: sentences for the series that move by more than `COMPARABLE` σ, and
+        the coefficients that would move by more than `COMPARABLE` of their standard
+        deviation; also issued as `UserWarning`s.
+    """
+
+    segments: dict[str, tuple[int, int]]
+    shift: dict[tuple[str, str], float]
+    moves: dict[str, float]
+    predictions: list[dict[str, np.ndarray]]
+    warnings: list[str]
+
+
+COMPARABLE = 0.5
+"""A discretisation shift, in noise standard deviations, above which the model's own
+discretisation error is comparable to the noise, and the fitted values carry it."""
+
+
+def discretisation_check(
+    result: CalibrationResult, factor: int = 2, solver: SolverConfig | None = None
+) -> DiscretisationCheck:
+    """Re-predict each record at `factor` × its rig's segments, with the fitted values,
+    and compare with the fitted predictions in units of each series' noise.
+
+    A shift well below the noise says the segmentation is fine enough for these records;
+    one comparable to the noise says the fit absorbed discretisation error into the
+    coefficients: refit with more segments. A shift far below the noise can still
+    move the coefficients by more than their uncertainty, since every sample carries
+    it the same way; `moves` says by how much, without refitting.
+
+    **Arguments:**
+
+    - `result`: a [`jaxcable.CalibrationResult`][].
+    - `factor`: how many times finer (an integer ≥ 2).
+    - `solver`: how to integrate; [`jaxcable.rig_solver`][]`()` by default.
+
+    **Returns:**
+
+    A [`jaxcable.calibration.DiscretisationCheck`][].
+
+    **Raises:**
+
+    `ValueError` for a factor that is not an integer ≥ 2; `RuntimeError` if a finer
+    simulation fails.
+    """
+    if not (isinstance(factor, int) and factor >= 2):
+        raise ValueError(f"discretisation_check: factor must be an integer >= 2, got {factor!r}")
+    segments, shift, predictions, messages = {}, {}, [], []
+    names = list(result.values)
+    normal = np.zeros((len(names), len(names)))  # J̃ᵀJ̃
+    projected = np.zeros(len(names))  # J̃ᵀΔ̃
+    for rig, record, fitted, jacobian in zip(result.rigs, result.records, result.predictions, result.jacobian):
+        conditions = rig.conditions()
+        coarse = int(conditions["segments"])
+        finer = rig_from_conditions({**conditions, "segments": coarse * factor}, record.name)
+        finer = finer.with_coefficients(result.values)
+        inputs = {k: jnp.asarray(record.columns[k]) for k in rig.inputs}
+        run = _simulate_one(finer, jnp.asarray(record.times), inputs, solver)
+        if not bool(run.success):
+            raise RuntimeError(
+                f"discretisation_check: {record.name}: the simulation at {coarse * factor} segments failed "
+                f"(diffrax: {run.simulation.result}); finer segments are stiffer, so give a solver with more "
+                "steps, e.g. solver=jaxcable.rig_solver(max_steps=1_000_000)"
+            )
+        segments[record.name] = (coarse, coarse * factor)
+        predicted = {}
+        for k in fitted:
+            predicted[k] = np.asarray(run.observables[k])
+            sigma = result.noise.get((record.name, k))
+            if sigma is None:
+                continue
+            change = predicted[k] - fitted[k]
+            scale = max(float(np.sqrt(np.mean(record.columns[k] ** 2))), 1e-12)  # as the fit weighs it
+            normal += jacobian[k].T @ jacobian[k] / scale**2
+            projected += jacobian[k].T @ change / scale**2
+            moved = float(np.sqrt(np.mean(change**2))) / sigma
+            shift[(record.name, k)] = moved
+            if moved > COMPARABLE:
+                messages.append(
+                    f"{record.name}: at {coarse * factor} segments instead of {coarse}, the prediction of {k} moves "
+                    f"by {moved:.2g} times its noise (RMS): the model's discretisation error is comparable to the "
+                    "noise, and the fitted values carry it; refit with more segments."
+                )
+        predictions.append(predicted)
+    step = -np.linalg.pinv(normal) @ projected
+    moves = {name: float(d) for name, d in zip(names, step)}
+    for name, d in moves.items():
+        spread = result.relative_uncertainty[name]
+        if abs(d) > COMPARABLE * spread:
+            messages.append(
+                f"refitted at {factor}x the segments, {name} would move by {100 * d:+.3g} % (linearised), "
+                f"{abs(d) / spread:.2g} times its standard deviation: the discretisation error is comparable to "
+                "what the records resolve; refit with more segments."
+            )
+    for message in messages:
+        warnings.warn(message, UserWarning, stacklevel=2)
+    return DiscretisationCheck(segments, shift, moves, predictions, messages)

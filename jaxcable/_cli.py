@@ -7,6 +7,7 @@
                        [--allow-ignored EI,waves,...]
     jaxcable info INPUT [--segments N] [--duration S]
     jaxcable calibrate RECORD.csv [RECORD.csv ...] --fit NAME=START [NAME=START ...]
+                       [--segments N] [--check-segments]
                        [--optimizer lbfgs|adam] [--max-steps N] [--plot FILE.png]
                        [--out FILE.json]
     jaxcable examples
@@ -200,6 +201,14 @@ def _parser() -> argparse.ArgumentParser:
     calibrate.add_argument("--plot", type=Path, help="save the data against the fit, and the loss, to this image")
     calibrate.add_argument("--out", type=Path, help="write the fitted values and uncertainties to this JSON file")
     calibrate.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
+    calibrate.add_argument(
+        "--segments", type=int, help="divide every rig's cable into this many segments (overrides the records' headers)"
+    )
+    calibrate.add_argument(
+        "--check-segments",
+        action="store_true",
+        help="after the fit, re-predict at twice the segments and report how far the predictions move",
+    )
     calibrate.set_defaults(handler=_calibrate)
 
     examples = commands.add_parser("examples", help="list the bundled example scenes")
@@ -518,7 +527,8 @@ def _optimizer(name: str, learning_rate: float):
 
 
 def _calibrate(args) -> int:
-    from ._calibrate import calibrate, calibration_solver
+    from ._calibrate import calibrate, calibration_solver, discretisation_check
+    from ._towing import rig_from_conditions
     from .io import SceneError, read_records
 
     start = {}
@@ -528,12 +538,17 @@ def _calibrate(args) -> int:
             start[name.strip()] = float(value)
         except ValueError:
             raise SceneError(f"--fit {item!r}: give NAME=START, e.g. normal_drag=1.2") from None
+    if args.segments is not None and args.segments < 1:
+        raise SceneError(f"--segments must be a positive integer, got {args.segments}")
     try:
         records = read_records([_record_path(path) for path in args.records])
+        tests = records
+        if args.segments is not None:
+            tests = [(rig_from_conditions({**r.conditions, "segments": args.segments}, r.name), r) for r in records]
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # the summary prints the warnings itself
             result = calibrate(
-                records,
+                tests,
                 start,
                 optimizer=_optimizer(args.optimizer, args.learning_rate),
                 max_steps=args.max_steps,
@@ -545,6 +560,22 @@ def _calibrate(args) -> int:
     except OSError as error:  # a record that is missing, or a folder
         raise SceneError(f"cannot read {error.filename}: {error.strerror}") from None
     print(result.summary())
+    check = None
+    if args.check_segments:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # printed below
+                check = discretisation_check(result, solver=calibration_solver(rtol=args.rtol, atol=args.atol))
+        except RuntimeError as error:  # the fit stands; only its check could not be made
+            print(f"warning: cannot check the segmentation: {error}")
+        else:
+            for (name, observable), moved in check.shift.items():
+                coarse, fine = check.segments[name]
+                print(f"{name}: {observable} moves {moved:.3g} σ from {coarse} to {fine} segments")
+            for name, move in check.moves.items():
+                print(f"{name} would move {100 * move:+.3g} % refitted at twice the segments (linearised)")
+            for message in check.warnings:
+                print(f"warning: {message}")
     if args.out is not None:
         summary = {
             "values": result.values,
@@ -559,8 +590,18 @@ def _calibrate(args) -> int:
             "noise": [{"record": r, "observable": o, "sigma": s} for (r, o), s in result.noise.items()],
             "records": [r.name for r in result.records],
             "success": result.success,
-            "warnings": result.warnings,
+            "warnings": result.warnings + (check.warnings if check is not None else []),
+            "inflation": result.inflation,
+            "residual_checks": [
+                {"record": r, "observable": o, **c._asdict()} for (r, o), c in result.residual_checks.items()
+            ],
         }
+        if check is not None:
+            summary["discretisation"] = [
+                {"record": r, "observable": o, "segments": check.segments[r], "shift_sigma": m}
+                for (r, o), m in check.shift.items()
+            ]
+            summary["discretisation_moves"] = check.moves
         args.out.write_text(json.dumps(summary, indent=2) + "\n")
         print(f"wrote {args.out}")
     if args.plot is not None:

@@ -17,6 +17,9 @@ import numpy as np
 from ._typing import RealLike
 
 _G0 = 9.80665  # standard gravity (m/s²), exact by definition
+_POUND = 0.45359237  # the international pound (kg), exact by definition
+_FOOT = 0.3048  # the international foot (m), exact by definition
+_INCH = _FOOT / 12
 
 UNITS: dict[str, dict[str, float]] = {
     "time": {"s": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0},
@@ -26,7 +29,7 @@ UNITS: dict[str, dict[str, float]] = {
         "mm/s": 1e-3,
         "km/h": 1000 / 3600,
         "kn": 1852 / 3600,  # the knot: one international nautical mile (1852 m) per hour
-        "ft/s": 0.3048,
+        "ft/s": _FOOT,
     },
     "force": {
         "N": 1.0,
@@ -34,10 +37,19 @@ UNITS: dict[str, dict[str, float]] = {
         "MN": 1e6,
         "kgf": _G0,
         "tf": 1e3 * _G0,  # tonne-force
-        "lbf": 0.45359237 * _G0,  # the international pound is 0.45359237 kg exactly
+        "lbf": _POUND * _G0,
     },
-    "length": {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "km": 1e3, "ft": 0.3048},
-    "mass": {"kg": 1.0, "g": 1e-3, "t": 1e3},
+    "length": {
+        "m": 1.0,
+        "cm": 1e-2,
+        "mm": 1e-3,
+        "km": 1e3,
+        "ft": _FOOT,
+        "in": _INCH,
+        "fathom": 6 * _FOOT,
+        "nmi": 1852.0,
+    },
+    "mass": {"kg": 1.0, "g": 1e-3, "t": 1e3, "lb": _POUND},
     "area": {
         "m²": 1.0,
         "m^2": 1.0,
@@ -48,6 +60,12 @@ UNITS: dict[str, dict[str, float]] = {
         "mm²": 1e-6,
         "mm^2": 1e-6,
         "mm2": 1e-6,
+        "ft²": _FOOT**2,
+        "ft^2": _FOOT**2,
+        "ft2": _FOOT**2,
+        "in²": _INCH**2,
+        "in^2": _INCH**2,
+        "in2": _INCH**2,
     },
     "volume": {
         "m³": 1.0,
@@ -58,6 +76,50 @@ UNITS: dict[str, dict[str, float]] = {
         "cm³": 1e-6,
         "cm^3": 1e-6,
         "cm3": 1e-6,
+        "ft³": _FOOT**3,
+        "ft^3": _FOOT**3,
+        "ft3": _FOOT**3,
+    },
+    "mass per length": {"kg/m": 1.0, "g/m": 1e-3, "kg/km": 1e-3, "lb/ft": _POUND / _FOOT},
+    "density": {
+        "kg/m³": 1.0,
+        "kg/m^3": 1.0,
+        "kg/m3": 1.0,
+        "t/m³": 1e3,
+        "t/m^3": 1e3,
+        "t/m3": 1e3,
+        "g/cm³": 1e3,
+        "g/cm^3": 1e3,
+        "g/cm3": 1e3,
+        "lb/ft³": _POUND / _FOOT**3,
+        "lb/ft^3": _POUND / _FOOT**3,
+        "lb/ft3": _POUND / _FOOT**3,
+    },
+    "acceleration": {
+        "m/s²": 1.0,
+        "m/s^2": 1.0,
+        "m/s2": 1.0,
+        "ft/s²": _FOOT,
+        "ft/s^2": _FOOT,
+        "ft/s2": _FOOT,
+    },
+    # An axial damping C_v, in T = EA ε + C_v ε̇: a force times a time.
+    "force × time": {
+        "N·s": 1.0,
+        "N*s": 1.0,
+        "kN·s": 1e3,
+        "kN*s": 1e3,
+        "lbf·s": _POUND * _G0,
+        "lbf*s": _POUND * _G0,
+    },
+    # A linear damping coefficient: force per velocity.
+    "force / velocity": {
+        "N·s/m": 1.0,
+        "N*s/m": 1.0,
+        "kN·s/m": 1e3,
+        "kN*s/m": 1e3,
+        "lbf·s/ft": _POUND * _G0 / _FOOT,
+        "lbf*s/ft": _POUND * _G0 / _FOOT,
     },
     # Zhukov's k₀, in the drag law R = k₀ u² m g of a towed body of mass m.
     "specific drag coefficient": {"s²/m²": 1.0, "s^2/m^2": 1.0, "s2/m2": 1.0},
@@ -71,6 +133,7 @@ by it to get SI). The first unit of each dimension is its SI unit, which
 COLUMNS: dict[str, str] = {
     "time": "time",
     "speed": "velocity",
+    "tow_load": "force",
     "tension": "force",
     "depth": "length",
     "layback": "length",
@@ -78,6 +141,65 @@ COLUMNS: dict[str, str] = {
 """The columns a towing record may have, each with its dimension (a key of
 [`jaxcable.io.UNITS`][]). `time` is required, and comes first in a file; a
 [`jaxcable.io.TowingRecord`][] holds it apart from the other columns, as `times`.
+
+Where each is measured (the rigs' docstrings say how they model it):
+
+- `speed`: the tow speed, an input of a horizontal tow; the rise speed of the towed
+  element in a vertical tow.
+- `tow_load`: the load at the tow point, what a load cell between the towing vessel
+  and the cable reads.
+- `tension`: a cable tension inside the rig: for a horizontal tow the first segment's,
+  half a segment below the tow point, so a load cell's record is `tow_load`, not
+  `tension`; for a vertical tow the tether's at its lowest segment.
+- `depth`: the end body's depth below the still-water level.
+- `layback`: the end body's horizontal distance aft of the tow point.
+"""
+
+CONDITIONS: dict[str, str] = {
+    # The rigs' arguments (`jaxcable.calibration.HorizontalTow`, `VerticalTow`).
+    "cable_length": "length",
+    "cable_diameter": "length",
+    "cable_mass_per_length": "mass per length",
+    "cable_axial_stiffness": "force",
+    "cable_axial_damping": "force × time",
+    "normal_drag": "dimensionless",
+    "tangential_drag": "dimensionless",
+    "cable_added_mass": "dimensionless",
+    "end_mass": "mass",
+    "end_volume": "volume",
+    "end_drag_area": "area",
+    "end_added_mass": "dimensionless",
+    "tow_depth": "length",
+    "leader_lift": "force",
+    "leader_mass": "mass",
+    "leader_drag_area": "area",
+    "leader_added_mass": "dimensionless",
+    "element_mass": "mass",
+    "element_volume": "volume",
+    "organism_mass": "mass",
+    "specific_drag": "specific drag coefficient",
+    "element_drag_area": "area",
+    "element_added_mass": "dimensionless",
+    "tether_length": "length",
+    "tether_diameter": "length",
+    "tether_mass_per_length": "mass per length",
+    "tether_axial_stiffness": "force",
+    "tether_axial_damping": "force × time",
+    "tether_normal_drag": "dimensionless",
+    "tether_tangential_drag": "dimensionless",
+    "start_depth": "length",
+    "water_density": "density",
+    "gravity": "acceleration",
+    "segments": "dimensionless",
+    # Common test conditions that no rig takes.
+    "tow_speed": "velocity",
+    "water_depth": "length",
+    "duration": "time",
+}
+"""The dimension of each known condition key (a key of [`jaxcable.io.UNITS`][]): a
+condition given in a file with a unit must be given in a unit of its key's dimension.
+It names every argument of the towing rigs. Keys not named here may be given in any
+known unit; the rigs reject them when they build from a header.
 """
 
 # Every unit is in one dimension only (the tests check it), so a unit alone says which.

@@ -84,6 +84,10 @@ class AbstractTowingRig(eqx.Module):
     inputs: ClassVar[tuple[str, ...]]
     observables: ClassVar[tuple[str, ...]]
     coefficients: ClassVar[tuple[str, ...]]
+    caveats: ClassVar[dict[str, str]] = {}
+    """Observables that are easily mistaken for an instrument's reading, by name: a
+    sentence saying where the model takes them, which calibration repeats when a record
+    measures one of them."""
 
     @abc.abstractmethod
     def with_coefficients(self, values: Mapping[str, Float[ArrayLike, ""]]) -> "AbstractTowingRig":
@@ -139,9 +143,18 @@ class HorizontalTow(AbstractTowingRig):
 
     Observables:
 
-    - `tension`: at the tow point (N), the tension of the first segment;
-    - `depth`: of the end body below the still-water level (m);
-    - `layback`: the end body's distance aft of the tow point (m).
+    - `tow_load`: the load at the tow point (N), what a load cell between the towing
+      vessel and the cable reads: the magnitude of the support's reaction on the
+      cable's end node, `|M a − Q|` there. It carries the whole cable, the tow node's
+      half segment included (its wet weight, drag and inertia).
+    - `tension`: the first segment's axial tension (N), `EA ε + C_v ε̇` of its mean
+      strain: the tension half a segment (`cable_length / (2 segments)`) below the tow
+      point. It reads below `tow_load` by about that half segment's wet weight and
+      drag (1-2 % for the default rig), and the gap shrinks as `segments` grows: fit a
+      load cell's record as `tow_load`, never as `tension`.
+    - `depth`: of the end body's node below the still-water level (m);
+    - `layback`: the horizontal distance along the tow from the tow point back to the
+      end body's node (m).
 
     Coefficients: `normal_drag` (K_n) and `tangential_drag` (K_τ) of the cable.
 
@@ -174,8 +187,16 @@ class HorizontalTow(AbstractTowingRig):
     """
 
     inputs: ClassVar[tuple[str, ...]] = ("speed",)
-    observables: ClassVar[tuple[str, ...]] = ("tension", "depth", "layback")
+    observables: ClassVar[tuple[str, ...]] = ("tow_load", "tension", "depth", "layback")
     coefficients: ClassVar[tuple[str, ...]] = ("normal_drag", "tangential_drag")
+    caveats: ClassVar[dict[str, str]] = {
+        "tension": (
+            "HorizontalTow's 'tension' is the first segment's tension, half a segment below the tow point, "
+            "not a load cell's reading at the tow point: it misses that half segment's wet weight and drag, "
+            "and a fit shifts the drag coefficients to make up for it. If the column was measured at the tow "
+            "point, name it 'tow_load'."
+        )
+    }
 
     cable: LineType
     cable_length: Float[Array, ""]
@@ -310,6 +331,8 @@ class HorizontalTow(AbstractTowingRig):
         result = _run(model, Environment(self.water_density, self.gravity), times, initial, solver)
         end = self.segments
         observables = {
+            # The tow point is the network's only constrained node.
+            "tow_load": jnp.linalg.norm(result.reactions[:, 0, :], axis=-1),
             "tension": result.tension[:, 0],
             "depth": -result.positions[:, end, 2],
             "layback": result.positions[:, 0, 0] - result.positions[:, end, 0],
@@ -329,8 +352,11 @@ class VerticalTow(AbstractTowingRig):
 
     Observables:
 
-    - `speed`: the element's rise speed (m/s);
-    - `tension`: the tether's tension at the element (N).
+    - `speed`: the element's rise speed (m/s), the vertical velocity of its node;
+    - `tension`: the lowest tether segment's axial tension (N), `EA ε + C_v ε̇` of its
+      mean strain: with the default single segment, the tension at the tether's
+      middle, which differs from a load cell at the element by half the tether's wet
+      weight and drag (under 1 N for the default 8 mm rope).
 
     Coefficients: `specific_drag` (k₀) of the element. The tether's drag, from its
     own K_n and K_τ, is a known part of the rig.

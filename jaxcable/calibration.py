@@ -10,10 +10,25 @@ fit against known values.
 """
 
 from ._calibrate import (
+    COMPARABLE as COMPARABLE,
+)
+from ._calibrate import (
+    DiscretisationCheck as DiscretisationCheck,
+)
+from ._calibrate import (
+    ResidualCheck as ResidualCheck,
+)
+from ._calibrate import (
     calibration_solver as calibration_solver,
 )
 from ._calibrate import (
     default_optimizer as default_optimizer,
+)
+from ._calibrate import (
+    discretisation_check as discretisation_check,
+)
+from ._calibrate import (
+    residual_check as residual_check,
 )
 from ._calibrate import (
     synthetic_record as synthetic_record,

@@ -106,6 +106,7 @@ def plot_run(run: "SceneRun", path: str | Path, channels: tuple[str, ...] = (), 
 # factor from SI.
 _OBSERVABLES = {
     "speed": ("speed (m/s)", 1.0),
+    "tow_load": ("tow-point load (kN)", 1e-3),
     "tension": ("tension (kN)", 1e-3),
     "depth": ("depth (m)", 1.0),
     "layback": ("layback (m)", 1.0),

@@ -15,6 +15,7 @@ import pytest
 
 from jaxcable.io import (
     COLUMNS,
+    CONDITIONS,
     UNITS,
     RecordError,
     TowingRecord,
@@ -66,6 +67,23 @@ def _write(tmp_path, text, name="tow1.csv"):
         ("cm3", "volume", 0.01**3),
         ("s²/m²", "specific drag coefficient", 1.0),
         ("-", "dimensionless", 1.0),
+        ("in", "length", FOOT / 12),
+        ("fathom", "length", 6 * FOOT),
+        ("lb", "mass", POUND),
+        ("ft²", "area", FOOT**2),
+        ("ft3", "volume", FOOT**3),
+        ("kg/m", "mass per length", 1.0),
+        ("lb/ft", "mass per length", POUND / FOOT),  # 1.488164 kg/m
+        ("kg/m³", "density", 1.0),
+        ("g/cm3", "density", 1000.0),
+        ("lb/ft^3", "density", POUND / FOOT**3),  # 16.01846 kg/m³
+        ("m/s²", "acceleration", 1.0),
+        ("ft/s2", "acceleration", FOOT),
+        ("N·s", "force × time", 1.0),
+        ("kN*s", "force × time", 1000.0),
+        ("lbf·s", "force × time", POUND * G0),
+        ("N·s/m", "force / velocity", 1.0),
+        ("lbf*s/ft", "force / velocity", POUND * G0 / FOOT),
     ],
 )
 def test_unit_factor_matches_its_definition(unit, dimension, si):
@@ -78,6 +96,59 @@ def test_units_are_unambiguous_and_columns_have_known_dimensions():
     assert len(every_unit) == len(set(every_unit))
     assert set(COLUMNS.values()) <= set(UNITS)
     assert list(COLUMNS)[0] == "time"
+    assert set(CONDITIONS.values()) <= set(UNITS)
+
+
+def test_every_rig_argument_has_a_dimension():
+    from jaxcable.calibration import RIGS, rig_from_conditions
+
+    for name in RIGS:
+        arguments = set(rig_from_conditions({"rig": name}).conditions()) - {"rig"}
+        assert arguments <= set(CONDITIONS), f"{name}: {sorted(arguments - set(CONDITIONS))} have no dimension"
+
+
+def test_spot_values_of_imperial_units():
+    # Published values, independent of how the table writes them.
+    assert to_si(1.0, "lb/ft") == pytest.approx(1.48816394, rel=1e-8)
+    assert to_si(1.0, "lb/ft3") == pytest.approx(16.0184634, rel=1e-8)
+    assert to_si(1.0, "lbf") == pytest.approx(4.44822162, rel=1e-8)
+    assert to_si(64.0, "lb/ft³") == pytest.approx(1025.18, rel=1e-5)  # sea water
+
+
+@pytest.mark.parametrize(
+    "line, message",
+    [
+        ("# cable_length [kN] = 200", "condition 'cable_length' is a unit of force, not length"),
+        ("# tow_depth [kn] = 5", "condition 'tow_depth' is a unit of velocity, not length"),
+        ("# water_density [kg/m] = 1025", "condition 'water_density' is a unit of mass per length, not density"),
+        ("# normal_drag [m] = 1.2", "condition 'normal_drag' is a unit of length, not dimensionless"),
+        ("# gravity [g] = 9.81", "condition 'gravity' is a unit of mass, not acceleration"),
+    ],
+)
+def test_condition_in_a_unit_of_the_wrong_dimension_is_an_error(tmp_path, line, message):
+    text = f"# rig = horizontal_tow\n{line}\ntime [s], speed [kn]\n0, 1\n1, 1\n"
+    with pytest.raises(RecordError, match=re.escape(message)) as caught:
+        read_record(_write(tmp_path, text))
+    assert "tow1.csv, line 2" in str(caught.value)
+
+
+def test_conditions_in_their_units_read_as_si(tmp_path):
+    text = (
+        "# rig = horizontal_tow\n"
+        "# cable_mass_per_length [lb/ft] = 1\n"
+        "# cable_axial_damping [kN·s] = 21\n"
+        "# water_density [kg/m³] = 1025\n"
+        "# gravity [m/s²] = 9.81\n"
+        "# tow_depth [fathom] = 2\n"
+        "# my_note [kn] = 3\n"  # a key the table does not know takes any unit
+        "time [s], speed [kn]\n0, 1\n1, 1\n"
+    )
+    conditions = read_record(_write(tmp_path, text)).conditions
+    assert conditions["cable_mass_per_length"] == pytest.approx(POUND / FOOT, rel=1e-15)
+    assert conditions["cable_axial_damping"] == pytest.approx(21e3, rel=1e-15)
+    assert conditions["water_density"] == 1025.0 and conditions["gravity"] == 9.81
+    assert conditions["tow_depth"] == pytest.approx(12 * FOOT, rel=1e-15)
+    assert conditions["my_note"] == pytest.approx(3 * KNOT, rel=1e-15)
     # The writer's default is the first unit of each dimension, which must be SI.
     assert all(next(iter(units.values())) == 1.0 for units in UNITS.values())
 
@@ -215,6 +286,7 @@ def test_read_records_reads_each_file(tmp_path):
         ({"depth": "m"}, None, "a unit is given for column 'depth', which the record does not have"),
         (None, {"rig": "m"}, "a unit is given for condition 'rig', which is not a numeric condition"),
         (None, {"end_mass": "stone"}, "unknown unit 'stone' for condition 'end_mass'"),
+        (None, {"end_mass": "kN"}, "unit 'kN' of condition 'end_mass' is a unit of force, not mass"),
     ],
 )
 def test_write_rejects_bad_units_before_writing(tmp_path, units, condition_units, message):
@@ -283,7 +355,7 @@ def test_good_base_file_reads(tmp_path):
         ),
         pytest.param(
             {3: "time [s], spd [kn], tension [kN]"},
-            "line 3: unknown column 'spd'; known columns: time, speed, tension, depth, layback",
+            "line 3: unknown column 'spd'; known columns: time, speed, tow_load, tension, depth, layback",
             id="unknown-column",
         ),
         pytest.param(
@@ -391,7 +463,11 @@ _SPEED = [1.0, 1.0, 1.0]
             _TIMES, {"speed": [1.0, 1.0]}, {}, "column 'speed' has shape (2,), but times has shape (3,)", id="shape"
         ),
         pytest.param(
-            _TIMES, {"spd": _SPEED}, {}, "unknown column 'spd'; known columns: speed, tension, depth", id="unknown"
+            _TIMES,
+            {"spd": _SPEED},
+            {},
+            "unknown column 'spd'; known columns: speed, tow_load, tension, depth",
+            id="unknown",
         ),
         pytest.param(_TIMES, {"time": _TIMES}, {}, "'time' is not one of the columns", id="time-column"),
         pytest.param(_TIMES, {}, {}, "a towing record needs at least one column besides time", id="no-columns"),

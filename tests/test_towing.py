@@ -75,6 +75,63 @@ def test_steady_tow_starts_in_equilibrium():
     assert 30.0 < float(observables["depth"][0]) < 100.0  # streamed aft, not hanging straight down
 
 
+def test_tow_load_is_the_support_reaction_and_exceeds_the_first_segment_tension():
+    # In steady tow the tow node is in equilibrium: the support holds the first
+    # segment's pull T t̂ plus the tow node's half segment, its wet weight and its drag.
+    # So the load cell reads more than T by about that half segment's load along the
+    # cable.
+    diameter, mass, n, length, speed = 0.0173, 1.21, 4, 100.0, 1.5
+    rig = HorizontalTow(
+        cable_length=length,
+        cable_diameter=diameter,
+        cable_mass_per_length=mass,
+        cable_axial_stiffness=2e6,
+        cable_axial_damping=5e3,
+        normal_drag=1.2,
+        tangential_drag=0.01,
+        end_mass=100.0,
+        end_volume=0.015,
+        end_drag_area=0.1,
+        segments=n,
+        water_density=RHO,
+        gravity=G,
+    )
+    times = np.linspace(0.0, 4.0, 5)
+    speeds = np.full(5, speed)
+    solver = jc.calibration.rig_solver(rtol=1e-9, atol=1e-9)
+    observables, run, success = rig.simulate(times, {"speed": speeds}, solver)
+    assert bool(success)
+    # The same rig simulated plainly, from the rig's own starting state.
+    initial = jc.State(run.positions[0], run.velocities[0])
+    plain = jc.simulate(
+        rig.network(times, speeds), jc.Environment(RHO, G), times[-1], ts=times, initial=initial, solver=solver
+    )
+    reaction = np.asarray(plain.reactions[:, 0, :])
+    np.testing.assert_allclose(np.asarray(observables["tow_load"]), np.linalg.norm(reaction, axis=1), rtol=1e-9)
+
+    positions = np.asarray(run.positions[-1])
+    chord = positions[1] - positions[0]
+    stretched = float(np.linalg.norm(chord))
+    along = chord / stretched
+    tension = float(observables["tension"][-1])
+    area = math.pi * diameter**2 / 4
+    weight = np.array([0.0, 0.0, -(mass - RHO * area) * G * length / n / 2])
+    flow = np.array([-speed, 0.0, 0.0])  # the water past the cable
+    flow_along = (flow @ along) * along
+    flow_across = flow - flow_along
+    drag_per_length = 0.5 * RHO * 1.2 * diameter * np.linalg.norm(flow_across) * flow_across + (
+        0.5 * RHO * 0.01 * math.pi * diameter * np.linalg.norm(flow_along) * flow_along
+    )
+    half_segment = weight + drag_per_length * stretched / 2
+    np.testing.assert_allclose(
+        reaction[-1] + tension * along, -half_segment, atol=0.01 * float(np.linalg.norm(half_segment))
+    )
+    gap = float(observables["tow_load"][-1]) - tension
+    expected_gap = float(half_segment @ along)  # |T t̂ + H| ≈ T + H·t̂, to first order in |H| / T
+    assert 0.005 * tension < gap, "the load cell must read visibly more than the segment tension"
+    np.testing.assert_allclose(gap, expected_gap, rtol=0.03)
+
+
 @pytest.mark.parametrize("lift", [150.0, 300.0])
 def test_vertical_tow_rises_at_the_speed_where_lift_balances_drag(lift):
     rig = VerticalTow(leader_lift=lift, element_drag_area=0.01)

@@ -14,6 +14,9 @@ from .._records import (
     COLUMNS as COLUMNS,
 )
 from .._records import (
+    CONDITIONS as CONDITIONS,
+)
+from .._records import (
     UNITS as UNITS,
 )
 from .._records import (

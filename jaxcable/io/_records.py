@@ -8,7 +8,7 @@ A towing record is a CSV file written in a towing tank or at sea:
 # cable_length [m] = 200
 # end_mass [kg] = 400
 # normal_drag [-] = 1.2
-time [s], speed [kn], tension [kN], depth [m]
+time [s], speed [kn], tow_load [kN], depth [m]
 0.0, 1.944, 5.10, 190.2
 0.1, 1.944, 5.12, 190.1
 ```
@@ -16,7 +16,9 @@ time [s], speed [kn], tension [kN], depth [m]
 **Header.** The leading lines that start with `#` are the header. A header line
 
 - `# key [unit] = value` gives a numeric test condition, converted to SI by `unit`,
-  which may be any unit of [`jaxcable.io.UNITS`][];
+  which must be a unit of [`jaxcable.io.UNITS`][] of the key's dimension in
+  [`jaxcable.io.CONDITIONS`][] (`# cable_length [kN] = 200` is an error naming the key
+  and the unit); a key not named there may take any known unit;
 - `# key = value` gives a dimensionless number if `value` reads as one, and otherwise
   a string (with its surrounding space stripped), such as the rig's name;
 - without `=` is free text, and is ignored.
@@ -28,6 +30,8 @@ digit), and each may be given once.
 `name [unit]`, separated by commas, with space allowed around each part. Every column
 needs a unit of its name's dimension in [`jaxcable.io.COLUMNS`][], each name may appear
 once, and the first column must be `time`, followed by at least one other.
+[`jaxcable.io.COLUMNS`][] also says where each is measured: a load cell at the tow
+point is `tow_load`; `tension` is a tension inside the cable, as the rig models it.
 
 **Data.** Each later line holds one sample: as many comma-separated numbers as there
 are columns. Every value must be finite (no empty fields, `nan` or `inf`), and time
@@ -49,6 +53,7 @@ import numpy as np
 
 from .._records import (
     COLUMNS,
+    CONDITIONS,
     UNITS,
     RecordError,
     TowingRecord,
@@ -89,7 +94,7 @@ def _read_condition(body: str, conditions: dict, first_lines: dict, number: int,
     else:
         _check_finite(value, text, f"condition {key!r}", where)
         if unit is not None:
-            value *= _factor(unit.strip(), None, f"condition {key!r}", where)
+            value *= _factor(unit.strip(), CONDITIONS.get(key), f"condition {key!r}", where)
         conditions[key] = value
     first_lines[key] = number
 
@@ -260,6 +265,7 @@ def write_record(
                 where,
                 f"a unit is given for condition {key!r}, which is not a numeric condition of the record",
             )
+        _factor(condition_units[key], CONDITIONS.get(key), f"condition {key!r}", where)
     chosen = [units.get(name, next(iter(UNITS[COLUMNS[name]]))) for name in names]
     factors = [_factor(unit, COLUMNS[name], f"column {name!r}", where) for name, unit in zip(names, chosen)]
     lines = ["# jaxcable towing record"]
@@ -268,7 +274,7 @@ def write_record(
             lines.append(f"# {key} = {value}")
         elif key in condition_units:
             unit = condition_units[key]
-            factor = _factor(unit, None, f"condition {key!r}", where)
+            factor = _factor(unit, CONDITIONS.get(key), f"condition {key!r}", where)
             lines.append(f"# {key} [{unit}] = {_number(value / factor)}")
         else:
             lines.append(f"# {key} = {_number(value)}")
