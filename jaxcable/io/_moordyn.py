@@ -290,6 +290,7 @@ def _line_type(source: str, line: int, fields: list[str], dropped: list[tuple[st
             tangential_drag=values["CdAx"],
             normal_added_mass=values["Ca"],
             tangential_added_mass=values["CaAx"],
+            slack_damping=True,
             where=where,
         )
 

@@ -197,6 +197,10 @@ class LineTypeSpec:
     - `axial_damping_ratio`: ζ (–), a fraction of the critical damping of one segment's
         axial mode, C_v = ζ (L/N) √(EA m) as MoorDyn defines it (its negative `BA`). It
         depends on the segment length, so it is resolved when the scene is built.
+
+    `slack_damping` lets the damping act on a slack segment too, as MoorDyn's does (see
+    [`jaxcable.KelvinVoigt`][]); the MoorDyn reader sets it, and every line type of a
+    scene must agree on it.
     """
 
     name: str
@@ -212,6 +216,7 @@ class LineTypeSpec:
     tangential_added_mass: float = 0.0
     area: float | None = None
     slack_width: float = 1e-5
+    slack_damping: bool = False
     where: str = ""
 
     def damping_coefficient(self, segment_length: float) -> float:
@@ -235,6 +240,7 @@ class LineTypeSpec:
                 self.quadratic_stiffness,
                 self.damping_coefficient(segment_length),
                 self.slack_width,
+                self.slack_damping,
             )
             return LineType(
                 mass_per_length=self.mass_per_length,

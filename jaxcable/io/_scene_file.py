@@ -51,7 +51,8 @@ A scene file names its points and line types and lists its lines::
     quadratic_stiffness = 3.0e6  # C_E1 (N), optional
     axial_damping = 0.0          # C_v (N·s), or axial_damping_ratio (–), optional
     normal_drag = 1.2            # K_n; also tangential_drag, normal_added_mass,
-                                 # tangential_added_mass, area, slack_width
+                                 # tangential_added_mass, area, slack_width;
+                                 # slack_damping = true damps slack segments too
 
     [points.anchor]
     type = "fixed"               # "fixed", "coupled" or "free"
@@ -132,6 +133,7 @@ _LINE_TYPE_OPTIONAL = (
     "area",
     "slack_width",
 )
+_LINE_TYPE_FLAGS = ("slack_damping",)
 _BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height")
 _BODY_VECTORS = ("force",)
 _HARMONIC = ("type", "amplitude", "period", "direction", "phase", "ramp")
@@ -193,9 +195,10 @@ def read_scene(path: str | Path) -> Scene:
     for name in line_type_tables:
         keys = ("line_types", name)
         table = reader.table(line_type_tables, keys, required=True)
-        reader.keys(table, keys, _LINE_TYPE_REQUIRED + _LINE_TYPE_OPTIONAL)
+        reader.keys(table, keys, _LINE_TYPE_REQUIRED + _LINE_TYPE_OPTIONAL + _LINE_TYPE_FLAGS)
         values = {k: reader.number(table, (*keys, k)) for k in _LINE_TYPE_REQUIRED}
         values |= {k: reader.number(table, (*keys, k)) for k in _LINE_TYPE_OPTIONAL if k in table}
+        values |= {k: reader.boolean(table, (*keys, k)) for k in _LINE_TYPE_FLAGS if k in table}
         line_types.append(LineTypeSpec(name=name, where=reader.where(keys), **values))
     unique_names(line_types, "line type", str(path))
 
