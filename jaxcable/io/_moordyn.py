@@ -7,7 +7,9 @@ one: MoorDyn's `Cd` is referred to d·l and `CdAx` to π·d·l, exactly as K_n a
 and `Ca`, `CaAx` are jaxcable's normal and tangential added-mass coefficients on
 π d²/4 — so they are copied, not converted. The column `BA/-zeta` is axial damping in
 N·s when positive and a fraction of critical damping when negative; the reader turns it
-into `axial_damping` or `axial_damping_ratio` (see [`jaxcable.io.LineTypeSpec`][]).
+into `axial_damping` or `axial_damping_ratio` (see [`jaxcable.io.LineTypeSpec`][]), with
+`slack_damping`, since MoorDyn damps a slack segment's strain rate as a taut one's
+(Line.cpp switches only the elastic tension off in compression).
 
 The seabed is MoorDyn's: MoorDyn always has one, flat at `WtrDpth` (0 by default),
 which it lowers to the deepest point when a point lies below it (MoorDyn2.cpp, reading
