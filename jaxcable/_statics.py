@@ -384,9 +384,7 @@ def _scaled_stiffness(model, factor):
     does nothing at rest) times `factor`; the slack switch's width and the law's static
     flags (`slack_damping`) unchanged."""
     law = model.line.tension_law
-    names = [
-        f.name for f in dataclasses.fields(law) if f.name != "slack_width" and not f.metadata.get("static", False)
-    ]
+    names = [f.name for f in dataclasses.fields(law) if f.name != "slack_width" and not f.metadata.get("static", False)]
     return eqx.tree_at(
         lambda m: [getattr(m.line.tension_law, n) for n in names],
         model,

@@ -437,23 +437,11 @@ def test_compile_time_counts_nested_traces_once():
     assert (meter.hits, meter.misses) == (1, 0)
 
 
-def test_a_chain_resting_on_the_bed_follows_moordyns(tmp_path):
-    """From MoorDyn's start of a chain on the bed, at its dtM, node positions and the
-    fairlead tension follow MoorDyn's over 0.3 s. The touchdown segments start slack
-    (compressed), and MoorDyn's `BA` damps a slack segment as a taut one, which the
-    MoorDyn reader asks of jaxcable's law (`slack_damping`); without that, those nodes
-    fell freely, 6 cm apart, and the tension parted from MoorDyn's by 50 % of its peak.
-    Measured: positions within 5e-6 m and the tension within 15 N (6e-5 of its peak);
-    halving the step moves jaxcable's by 1e-6 m and 3e-5 of the peak. The tension is
-    compared with MoorDyn's own end-of-step state (EA ε + BA ε̇ of the top segment, from
-    its node positions and velocities): `GetLineFairTen` reports the tension of its
-    last right-hand-side evaluation, the midpoint stage, which lags that by up to
-    0.5 % of the peak here."""
+def _moordyn_chain(path: Path, duration: float) -> tuple[np.ndarray, np.ndarray]:
+    """MoorDyn's run of a one-chain file (`RESTING`'s line) with its coupled point
+    held: node positions, shape `(samples, 21, 3)`, and the fairlead tension from its
+    end-of-step state (EA ε + BA ε̇ of the top segment), every 0.01 s."""
     moordyn = pytest.importorskip("moordyn")
-    path = tmp_path / "resting.txt"
-    path.write_text(RESTING)
-    run = jc.run_scene(jc.read_moordyn(path), duration=DURATION, dt_out=0.01)
-    nodes = run.built.line_nodes[0]
     stride = round(0.01 / DTM)
     with _quiet_fd():
         system = moordyn.Create(str(path))
@@ -462,7 +450,7 @@ def test_a_chain_resting_on_the_bed_follows_moordyns(tmp_path):
         line = moordyn.GetLine(system, 1)
         positions, tensions = [], []
         with _quiet_fd():
-            for k in range(round(DURATION / DTM)):
+            for k in range(round(duration / DTM)):
                 moordyn.Step(system, [0.0] * 3, [0.0] * 3, k * DTM, DTM)
                 if (k + 1) % stride == 0:
                     r = np.array([moordyn.GetLineNodePos(line, i) for i in range(21)])
@@ -475,9 +463,50 @@ def test_a_chain_resting_on_the_bed_follows_moordyns(tmp_path):
     finally:
         with _quiet_fd():
             moordyn.Close(system)
+    return np.asarray(positions), np.asarray(tensions)
+
+
+def test_a_chain_resting_on_the_bed_follows_moordyns(tmp_path):
+    """From MoorDyn's start of a chain on the bed, at its dtM, node positions and the
+    fairlead tension follow MoorDyn's over 0.3 s. The touchdown segments start slack
+    (compressed), and MoorDyn's `BA` damps a slack segment as a taut one, which the
+    MoorDyn reader asks of jaxcable's law (`slack_damping`); without that, those nodes
+    fell freely, 6 cm apart, and the tension parted from MoorDyn's by 50 % of its peak.
+    Measured: positions within 5e-6 m and the tension within 15 N (6e-5 of its peak);
+    halving the step moves jaxcable's by 1e-6 m and 3e-5 of the peak. The tension is
+    compared with MoorDyn's own end-of-step state (EA ε + BA ε̇ of the top segment, from
+    its node positions and velocities): `GetLineFairTen` reports the tension of its
+    last right-hand-side evaluation, the midpoint stage, which lags that by up to
+    0.5 % of the peak here."""
+    path = tmp_path / "resting.txt"
+    path.write_text(RESTING)
+    positions, tensions = _moordyn_chain(path, DURATION)
+    run = jc.run_scene(jc.read_moordyn(path), duration=DURATION, dt_out=0.01)
+    nodes = run.built.line_nodes[0]
     assert float(np.min(np.asarray(positions)[:, :, 2])) < -100.0  # in contact with the bed
     np.testing.assert_allclose(run.positions[1:, nodes], np.asarray(positions), rtol=0, atol=2e-5)
     ours, theirs = run.channels(("FairTen1",))["FairTen1"][1:], np.asarray(tensions)
     scale = float(np.max(np.abs(theirs)))
     assert scale > 1e5
     np.testing.assert_allclose(ours, theirs, rtol=0, atol=2e-4 * scale)
+
+
+@pytest.mark.slow
+def test_a_chain_sliding_on_the_bed_with_friction_follows_moordyns(tmp_path):
+    """`RESTING` with its anchor free and `FrictionCoefficient` 1: the chain's end slides
+    0.8 m along the bed in 1 s against friction. With MoorDyn's friction (the reader
+    sets the seabed's `friction_damping` to `FricDamp`), nodes follow MoorDyn's within
+    1.3e-4 m, as without friction (1.3e-4 m: what remains is not friction's); jaxcable's
+    smooth friction with `friction_speed` = N / FricDamp, the former mapping, parted by
+    1.2e-3 m."""
+    path = tmp_path / "sliding.txt"
+    text = RESTING.replace("1   Fixed   -300", "1   Free    -300").replace(
+        "0        TmaxIC", "0        TmaxIC\n1.0      FrictionCoefficient"
+    )
+    path.write_text(text)
+    positions, _ = _moordyn_chain(path, 1.0)
+    assert float(np.ptp(positions[:, 0, 0])) > 0.5  # it slid
+    scene = jc.read_moordyn(path)
+    assert scene.water.seabed.friction_damping == 200.0
+    run = jc.run_scene(scene, duration=1.0, dt_out=0.01)
+    np.testing.assert_allclose(run.positions[1:, run.built.line_nodes[0]], positions, rtol=0, atol=3e-4)

@@ -105,18 +105,19 @@ class SeabedSpec:
     """A flat seabed at the water's depth ([`jaxcable.Seabed`][]): `stiffness` (Pa/m)
     and `damping` (Pa·s/m) per unit contact area (MoorDyn's `kBot`, `cBot`), the
     Coulomb `friction` coefficient (–) and the `friction_speed` (m/s) below which
-    friction is viscous."""
+    friction is viscous; or, with `friction_damping` (N·s/m), MoorDyn's friction."""
 
     stiffness: float = 3.0e6
     damping: float = 3.0e5
     friction: float = 0.0
     friction_speed: float = 0.01
     where: str = ""
+    friction_damping: float | None = None
 
     def seabed(self) -> Seabed:
         """The engine's [`jaxcable.Seabed`][]."""
         with located(self.where):
-            return Seabed(self.stiffness, self.damping, self.friction, self.friction_speed)
+            return Seabed(self.stiffness, self.damping, self.friction, self.friction_speed, self.friction_damping)
 
 
 @dataclass(frozen=True)

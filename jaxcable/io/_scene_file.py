@@ -30,6 +30,7 @@ A scene file names its points and line types and lists its lines::
     damping = 3.0e5              # Pa·s/m (MoorDyn's cBot)
     friction = 0.0               # Coulomb coefficient μ (–)
     friction_speed = 0.01        # m/s, below which friction is viscous
+                                 # friction_damping (N·s/m): MoorDyn's FricDamp form
 
     [simulation]                 # all optional
     duration = 30.0              # s
@@ -119,7 +120,7 @@ _TOP = ("title", "water", "waves", "seabed", "simulation", "line_types", "points
 _WATER = ("density", "gravity", "depth", "current", "current_profile", "free_surface", "fluid_inertia")
 _CURRENT_PROFILE = ("heights", "speeds", "heading")
 _WAVE = ("theory", "height", "steepness", "period", "heading", "phase", "wheeler")
-_SEABED = ("stiffness", "damping", "friction", "friction_speed")
+_SEABED = ("stiffness", "damping", "friction", "friction_speed", "friction_damping")
 _SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "dt", "max_steps", "mass_matrix", "statics")
 _LINE_TYPE_REQUIRED = ("mass_per_length", "diameter", "axial_stiffness")
 _LINE_TYPE_OPTIONAL = (
@@ -350,7 +351,9 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
         defaults = SeabedSpec()
         values = {key: reader.number(table, (*keys, key), getattr(defaults, key)) for key in _SEABED}
         for key, value in values.items():
-            positive = key in ("stiffness", "friction_speed")
+            if value is None:  # friction_damping not given: the smooth friction
+                continue
+            positive = key in ("stiffness", "friction_speed", "friction_damping")
             if not (value > 0 if positive else value >= 0):
                 kind = "positive" if positive else "non-negative"
                 raise SceneError(f"{reader.where((*keys, key))}: must be {kind}, got {value:g}")
