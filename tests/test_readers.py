@@ -997,6 +997,16 @@ WAVE = '\n[[waves]]\ntheory = "airy"\nheight = 2.0\nperiod = 8.0\n'
         (SCENE + "\n[seabed]\nstiffness = -3.0e6\n", "stiffness = -3.0e6", ("seabed.stiffness", "positive")),
         (SCENE + "\n[seabed]\nfriction = -0.1\n", "friction = -0.1", ("seabed.friction", "non-negative")),
         (SCENE + "\n[seabed]\nfriction_speed = 0\n", "friction_speed = 0", ("seabed.friction_speed", "positive")),
+        (
+            SCENE + "\n[seabed]\nfriction_damping = 0\n",
+            "friction_damping = 0",
+            ("seabed.friction_damping", "positive"),
+        ),
+        (
+            edited("axial_stiffness = 3.0e7\n", "axial_stiffness = 3.0e7\nslack_damping = 1\n"),
+            "slack_damping = 1",
+            ("slack_damping", "true or false"),
+        ),
         # The engine's own checks, located at the wave's table.
         (
             SCENE + WAVE.replace("airy", "cnoidal").replace("height = 2.0", "height = 120.0"),
@@ -1353,3 +1363,16 @@ def test_the_command_line_refuses_physics_left_out_unless_allowed(tmp_path, caps
     assert "left out (--allow-ignored): " in capsys.readouterr().out
     assert cli_main([*argv, "--allow-ignored", "EI,bends"]) == 2
     assert "--allow-ignored: unknown kind(s) bends" in capsys.readouterr().err
+
+
+def test_toml_moordyn_forms_of_damping_and_friction(tmp_path):
+    """`slack_damping` on a line type and `friction_damping` on the seabed reach the
+    engine; without them, the law and friction are jaxcable's own."""
+    text = edited("axial_stiffness = 3.0e7\n", "axial_stiffness = 3.0e7\nslack_damping = true\n")
+    text += "\n[seabed]\nfriction = 0.5\nfriction_damping = 150.0\n"
+    built = jc.read_scene(write_scene(tmp_path, text)).build()
+    assert built.model.line.tension_law.slack_damping is True
+    assert float(built.environment.seabed.friction_damping) == 150.0
+    plain = jc.read_scene(write_scene(tmp_path, SCENE + "\n[seabed]\nfriction = 0.5\n", "plain.toml")).build()
+    assert plain.model.line.tension_law.slack_damping is False
+    assert plain.environment.seabed.friction_damping is None

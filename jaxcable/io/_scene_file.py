@@ -134,7 +134,7 @@ _LINE_TYPE_OPTIONAL = (
     "area",
     "slack_width",
 )
-_LINE_TYPE_FLAGS = ("slack_damping",)
+_LINE_TYPE_FLAGS = ("slack_damping",)  # true or false
 _BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height")
 _BODY_VECTORS = ("force",)
 _HARMONIC = ("type", "amplitude", "period", "direction", "phase", "ramp")
@@ -199,8 +199,8 @@ def read_scene(path: str | Path) -> Scene:
         reader.keys(table, keys, _LINE_TYPE_REQUIRED + _LINE_TYPE_OPTIONAL + _LINE_TYPE_FLAGS)
         values = {k: reader.number(table, (*keys, k)) for k in _LINE_TYPE_REQUIRED}
         values |= {k: reader.number(table, (*keys, k)) for k in _LINE_TYPE_OPTIONAL if k in table}
-        values |= {k: reader.boolean(table, (*keys, k)) for k in _LINE_TYPE_FLAGS if k in table}
-        line_types.append(LineTypeSpec(name=name, where=reader.where(keys), **values))
+        slack = reader.boolean(table, (*keys, "slack_damping"), False)
+        line_types.append(LineTypeSpec(name=name, where=reader.where(keys), slack_damping=slack, **values))
     unique_names(line_types, "line type", str(path))
 
     points = []
