@@ -168,7 +168,9 @@ def seabed_mode(model: CableNetwork, env: Environment, touching=None) -> tuple[f
     spring k A and damper c A: |λ| = (c' + √(c'² − 4k'))/2 with c' = cA/M, k' = kA/M
     (√k' if underdamped), independent of the segment length. Friction below its
     `friction_speed` v_s is a viscous drag μN/v_s on a node carrying N, its wet weight
-    w per length: |λ| = μ w / (v_s M) along the bed, with M's tangential added mass.
+    w per length: |λ| = μ w / (v_s M) along the bed, with M's tangential added mass;
+    MoorDyn's friction (`friction_damping` c_f, per node) is μ c_f / (M l), l the
+    segment length.
 
     **Arguments:**
 
@@ -208,8 +210,12 @@ def _seabed_rates(model: CableNetwork, env: Environment, mask: np.ndarray) -> tu
     m, area, d = fields["mass_per_length"], fields["area"], fields["diameter"]
     normal = (m + rho * area * fields["normal_added_mass"]) / share
     along = (m + rho * area * fields["tangential_added_mass"]) / share
-    weight = np.maximum((m - rho * area) * g, 0.0)
-    friction = float(bed.friction) * weight / (float(bed.friction_speed) * along)
+    if bed.friction_damping is not None:
+        length = np.broadcast_to(np.asarray(model.segment_length), (model.n_segments,))[mask]
+        friction = float(bed.friction) * float(bed.friction_damping) / (along * length)
+    else:
+        weight = np.maximum((m - rho * area) * g, 0.0)
+        friction = float(bed.friction) * weight / (float(bed.friction_speed) * along)
     return float(bed.damping) * d / normal, float(bed.stiffness) * d / normal, friction
 
 

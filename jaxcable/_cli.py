@@ -431,9 +431,13 @@ def _info(args) -> int:
     # build() refused a seabed without a depth.
     if water.seabed is not None and water.depth is not None:
         bed = water.seabed
-        friction = f"friction μ = {bed.friction:g}" + (
-            f" (viscous below {bed.friction_speed:.4g} m/s)" if bed.friction else " (none)"
-        )
+        if not bed.friction:
+            form = " (none)"
+        elif bed.friction_damping is not None:
+            form = f" (MoorDyn's: μ·{bed.friction_damping:g} N·s/m·|v| up to μN)"
+        else:
+            form = f" (viscous below {bed.friction_speed:.4g} m/s)"
+        friction = f"friction μ = {bed.friction:g}{form}"
         print(
             f"seabed: at z = {-water.depth:g} m, stiffness {bed.stiffness:g} Pa/m, damping {bed.damping:g} Pa·s/m, "
             f"{friction}"

@@ -98,6 +98,11 @@ class Seabed(eqx.Module):
     - `friction_speed`: v_s (m/s), where friction approaches its Coulomb value; 0.01 by
         default. Smaller is closer to dry friction and stiffer to integrate: the
         viscous rate μ k δ A / (v_s m) limits an explicit step.
+    - `friction_damping`: c_f (N·s/m), to use MoorDyn's friction instead of the smooth
+        one: `μ c_f |v|` per node, opposite v, until it exceeds μ N, then μ N, with N
+        the bed's whole reaction `|k δ − c ż| A` (MoorDyn's `FricDamp`, Line.cpp). It
+        is per node, whatever the node's length, and its kink at μ N is not smooth;
+        `friction_speed` is then unused. `None` (default) for the smooth friction.
 
     **Raises:**
 
@@ -109,8 +114,9 @@ class Seabed(eqx.Module):
     damping: Float[Array, ""]
     friction: Float[Array, ""]
     friction_speed: Float[Array, ""]
+    friction_damping: Float[Array, ""] | None
 
-    def __init__(self, stiffness=3.0e6, damping=3.0e5, friction=0.0, friction_speed=0.01):
+    def __init__(self, stiffness=3.0e6, damping=3.0e5, friction=0.0, friction_speed=0.01, friction_damping=None):
         self.stiffness = checks.float_array("Seabed.stiffness", stiffness, ())
         self.damping = checks.float_array("Seabed.damping", damping, ())
         self.friction = checks.float_array("Seabed.friction", friction, ())
@@ -119,6 +125,10 @@ class Seabed(eqx.Module):
         checks.positive("Seabed.damping", self.damping, allow_zero=True)
         checks.positive("Seabed.friction", self.friction, allow_zero=True)
         checks.positive("Seabed.friction_speed", self.friction_speed)
+        self.friction_damping = None
+        if friction_damping is not None:
+            self.friction_damping = checks.float_array("Seabed.friction_damping", friction_damping, ())
+            checks.positive("Seabed.friction_damping", self.friction_damping)
 
     def conditions(self) -> list[checks.Condition]:
         """What the fields require (see [`jaxcable.Environment`][]'s)."""
@@ -126,12 +136,18 @@ class Seabed(eqx.Module):
             checks.finite(f"Seabed.{f}", getattr(self, f))
             for f in ("stiffness", "damping", "friction", "friction_speed")
         ]
-        return out + [
+        out += [
             checks.sign("Seabed.stiffness", self.stiffness),
             checks.sign("Seabed.damping", self.damping, allow_zero=True),
             checks.sign("Seabed.friction", self.friction, allow_zero=True),
             checks.sign("Seabed.friction_speed", self.friction_speed),
         ]
+        if self.friction_damping is not None:
+            out += [
+                checks.finite("Seabed.friction_damping", self.friction_damping),
+                checks.sign("Seabed.friction_damping", self.friction_damping),
+            ]
+        return out
 
 
 class Environment(eqx.Module):

@@ -428,10 +428,19 @@ def _seabed_forces(model: CableNetwork, env: Environment, positions, velocities)
     touching = positions[2] < -depth
     penetration = jnp.maximum(-depth - positions[2], 0.0)
     damping = jnp.where(touching, -bed.damping * area * velocities[2], 0.0)
-    normal_force = bed.stiffness * area * penetration
     sliding = velocities * (1.0 - _UP)
-    speed = jnp.sqrt(dot(sliding, sliding) + bed.friction_speed**2)
-    return -(bed.friction * normal_force / speed) * sliding + damping * _UP
+    if bed.friction_damping is None:
+        normal_force = bed.stiffness * area * penetration
+        speed = jnp.sqrt(dot(sliding, sliding) + bed.friction_speed**2)
+        return -(bed.friction * normal_force / speed) * sliding + damping * _UP
+    # MoorDyn's: μ c_f |v| up to μ N, N the whole reaction (spring and damper).
+    cap = bed.friction * jnp.abs(bed.stiffness * area * penetration + damping)
+    speed_squared = dot(sliding, sliding)
+    capped = (bed.friction * bed.friction_damping) ** 2 * speed_squared > cap * cap
+    # Double `where`: the capped branch divides by |v|, which is positive wherever it is taken.
+    speed = jnp.sqrt(jnp.where(capped, speed_squared, 1.0))
+    rate = jnp.where(capped, cap / speed, bed.friction * bed.friction_damping)
+    return -rate * sliding + damping * _UP
 
 
 def seabed_forces(model: CableNetwork, env: Environment, positions, velocities) -> Float[Array, "nodes 3"]:

@@ -265,12 +265,19 @@ class KelvinVoigt(AbstractTensionLaw):
     - `quadratic_stiffness`: C_E1 (N).
     - `axial_damping`: C_v (N·s); seed 002 takes 0.02 × C_E (in seconds × N).
     - `slack_width`: w (–), as for [`jaxcable.LinearElastic`][].
+    - `slack_damping`: whether the damping acts on a slack segment too, `T = (C_E ε +
+        C_E1 ε²) H(ε) + C_v ε̇`, as MoorDyn's `BA` does (its `Line::getStateDeriv`
+        switches off only the elastic part in compression); `False` (default) for seed
+        002's law, where a slack segment carries nothing. It matters where a segment
+        starts compressed, as the touchdown segments of MoorDyn's initial shape of a
+        chain resting on the seabed do.
     """
 
     axial_stiffness: Float[Array, "*segments"]
     quadratic_coefficient: Float[Array, "*segments"]
     axial_damping: Float[Array, "*segments"]
     slack_width: Float[Array, "*segments"]
+    slack_damping: bool = eqx.field(static=True)
 
     def __init__(
         self,
@@ -278,11 +285,22 @@ class KelvinVoigt(AbstractTensionLaw):
         quadratic_stiffness: RealLike,
         axial_damping: RealLike,
         slack_width: RealLike = 1e-5,
+        slack_damping: bool = False,
     ):
         self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
         self.quadratic_coefficient = jnp.asarray(quadratic_stiffness, dtype=float)
         self.axial_damping = jnp.asarray(axial_damping, dtype=float)
         self.slack_width = jnp.asarray(slack_width, dtype=float)
+        self.slack_damping = bool(slack_damping)
+
+    def viscous_tension(
+        self, strain: Float[ArrayLike, "*segments"], strain_rate: Float[ArrayLike, "*segments"]
+    ) -> Array:
+        """The damping part `C_v ε̇ H(ε)` (N), or `C_v ε̇` with `slack_damping`."""
+        if not self.slack_damping:
+            return super().viscous_tension(strain, strain_rate)
+        shape = jnp.broadcast_shapes(jnp.shape(strain), jnp.shape(strain_rate))
+        return jnp.broadcast_to(self.damping() * jnp.asarray(strain_rate), shape)
 
     def quadratic_stiffness(self):
         return self.quadratic_coefficient

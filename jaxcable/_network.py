@@ -529,6 +529,9 @@ def _stack_lines(branches: Sequence[Branch]) -> LineType:
             f"all branches must share one class of tension law, got {names}; express them all "
             "as KelvinVoigt (with zero coefficients where a term is absent)"
         )
+    slack = {getattr(branch.line.tension_law, "slack_damping", False) for branch in branches}
+    if len(slack) > 1:
+        raise ValueError("all branches' tension laws must share one slack_damping (KelvinVoigt), got both")
     counts = [branch.segments for branch in branches]
     return jax.tree.map(
         lambda *xs: jnp.concatenate([jnp.broadcast_to(jnp.asarray(x, dtype=float), (n,)) for x, n in zip(xs, counts)]),

@@ -390,9 +390,10 @@ def _stiffness(model):
 
 def _scaled_stiffness(model, factor):
     """`model` with its tension law's stiffness coefficients (C_E, C_E1, and C_v, which
-    does nothing at rest) times `factor`; the slack switch's width unchanged."""
+    does nothing at rest) times `factor`; the slack switch's width and the law's static
+    flags (`slack_damping`) unchanged."""
     law = model.line.tension_law
-    names = [f.name for f in dataclasses.fields(law) if f.name != "slack_width"]
+    names = [f.name for f in dataclasses.fields(law) if f.name != "slack_width" and not f.metadata.get("static", False)]
     return eqx.tree_at(
         lambda m: [getattr(m.line.tension_law, n) for n in names],
         model,

@@ -377,6 +377,11 @@ def test_seabed_mode_by_hand():
     rate, kind = seabed_mode(model, env)
     np.testing.assert_allclose(rate, 0.8 * (m - rho * area) * g / (0.005 * along), rtol=1e-12)
     assert kind == "friction"
+    # MoorDyn's friction, μ c_f per node of length l = 9.9 m: μ c_f / (M l).
+    env = jc.Environment(depth=60.0, seabed=jc.Seabed(3e6, 3e5, friction=0.8, friction_damping=5e6))
+    rate, kind = seabed_mode(model, env)
+    np.testing.assert_allclose(rate, 0.8 * 5e6 / (along * 9.9), rtol=1e-12)
+    assert kind == "friction"
     # Underdamped: √k'.
     env = jc.Environment(depth=60.0, seabed=jc.Seabed(3e6, 1e3))
     np.testing.assert_allclose(seabed_mode(model, env)[0], np.sqrt(k), rtol=1e-12)

@@ -102,6 +102,38 @@ END
 )
 
 
+# A chain resting on the bed (depth 100 m), from MoorDyn's start: its catenary solve
+# leaves the touchdown segments compressed by up to 0.28 %, so the start rings there
+# first. No drag or added mass, whose node-by-node form in MoorDyn differs from
+# jaxcable's (see `HANGING`), so that the bed and the axial law are what is compared.
+RESTING = """--------------------- MoorDyn Input File ------------------------
+a chain resting on the bed, from MoorDyn's start
+---------------------- LINE TYPES ----------------------
+TypeName  Diam    Mass/m   EA      BA/-zeta  EI   Cd   Ca   CdAx  CaAx
+(-)       (m)     (kg/m)   (N)     (N-s/-)   (-)  (-)  (-)  (-)   (-)
+chain     0.1     150.0    5.0e8   1.0e7     0    0.0  0.0  0.0   0.0
+---------------------- POINTS ----------------------
+ID  Type    X      Y     Z      Mass   Volume  CdA  Ca
+(-) (-)     (m)    (m)   (m)    (kg)   (m^3)   (m2) (-)
+1   Fixed   -300   0     -100   0      0       0    0
+2   Vessel  0      0     0      0      0       0    0
+---------------------- LINES ----------------------
+ID  LineType  AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
+(-) (-)       (-)      (-)      (m)       (-)      (-)
+1   chain     1        2        350.0     20       -
+---------------------- OPTIONS ----------------------
+1025.0   WtrDnsty
+9.81     g
+100.0    WtrDpth
+0.0005   dtM
+0        TmaxIC
+---------------------- OUTPUTS ----------------------
+FairTen1
+END
+--------------------- need this line ------------------------
+"""
+
+
 @contextlib.contextmanager
 def _quiet_fd():
     """Silence MoorDyn, which writes to the process's stdout itself."""
@@ -403,3 +435,78 @@ def test_compile_time_counts_nested_traces_once():
     meter.event("/jax/compilation_cache/cache_hits")
     assert meter.seconds == pytest.approx(1.5)
     assert (meter.hits, meter.misses) == (1, 0)
+
+
+def _moordyn_chain(path: Path, duration: float) -> tuple[np.ndarray, np.ndarray]:
+    """MoorDyn's run of a one-chain file (`RESTING`'s line) with its coupled point
+    held: node positions, shape `(samples, 21, 3)`, and the fairlead tension from its
+    end-of-step state (EA ε + BA ε̇ of the top segment), every 0.01 s."""
+    moordyn = pytest.importorskip("moordyn")
+    stride = round(0.01 / DTM)
+    with _quiet_fd():
+        system = moordyn.Create(str(path))
+        moordyn.Init(system, [0.0] * 3, [0.0] * 3)
+    try:
+        line = moordyn.GetLine(system, 1)
+        positions, tensions = [], []
+        with _quiet_fd():
+            for k in range(round(duration / DTM)):
+                moordyn.Step(system, [0.0] * 3, [0.0] * 3, k * DTM, DTM)
+                if (k + 1) % stride == 0:
+                    r = np.array([moordyn.GetLineNodePos(line, i) for i in range(21)])
+                    v = np.array([moordyn.GetLineNodeVel(line, i) for i in (19, 20)])
+                    chord = r[20] - r[19]
+                    stretched = float(np.linalg.norm(chord))
+                    rate = float(np.dot(chord / stretched, v[1] - v[0])) / 17.5
+                    tensions.append(5.0e8 * max(stretched / 17.5 - 1.0, 0.0) + 1.0e7 * rate)
+                    positions.append(r)
+    finally:
+        with _quiet_fd():
+            moordyn.Close(system)
+    return np.asarray(positions), np.asarray(tensions)
+
+
+def test_a_chain_resting_on_the_bed_follows_moordyns(tmp_path):
+    """From MoorDyn's start of a chain on the bed, at its dtM, node positions and the
+    fairlead tension follow MoorDyn's over 0.3 s. The touchdown segments start slack
+    (compressed), and MoorDyn's `BA` damps a slack segment as a taut one, which the
+    MoorDyn reader asks of jaxcable's law (`slack_damping`); without that, those nodes
+    fell freely, 6 cm apart, and the tension parted from MoorDyn's by 50 % of its peak.
+    Measured: positions within 5e-6 m and the tension within 15 N (6e-5 of its peak);
+    halving the step moves jaxcable's by 1e-6 m and 3e-5 of the peak. The tension is
+    compared with MoorDyn's own end-of-step state (EA ε + BA ε̇ of the top segment, from
+    its node positions and velocities): `GetLineFairTen` reports the tension of its
+    last right-hand-side evaluation, the midpoint stage, which lags that by up to
+    0.5 % of the peak here."""
+    path = tmp_path / "resting.txt"
+    path.write_text(RESTING)
+    positions, tensions = _moordyn_chain(path, DURATION)
+    run = jc.run_scene(jc.read_moordyn(path), duration=DURATION, dt_out=0.01)
+    nodes = run.built.line_nodes[0]
+    assert float(np.min(np.asarray(positions)[:, :, 2])) < -100.0  # in contact with the bed
+    np.testing.assert_allclose(run.positions[1:, nodes], np.asarray(positions), rtol=0, atol=2e-5)
+    ours, theirs = run.channels(("FairTen1",))["FairTen1"][1:], np.asarray(tensions)
+    scale = float(np.max(np.abs(theirs)))
+    assert scale > 1e5
+    np.testing.assert_allclose(ours, theirs, rtol=0, atol=2e-4 * scale)
+
+
+@pytest.mark.slow
+def test_a_chain_sliding_on_the_bed_with_friction_follows_moordyns(tmp_path):
+    """`RESTING` with its anchor free and `FrictionCoefficient` 1: the chain's end slides
+    0.8 m along the bed in 1 s against friction. With MoorDyn's friction (the reader
+    sets the seabed's `friction_damping` to `FricDamp`), nodes follow MoorDyn's within
+    1.3e-4 m, as without friction (1.3e-4 m: what remains is not friction's); jaxcable's
+    smooth friction with `friction_speed` = N / FricDamp, the former mapping, parted by
+    1.2e-3 m."""
+    path = tmp_path / "sliding.txt"
+    text = RESTING.replace("1   Fixed   -300", "1   Free    -300").replace(
+        "0        TmaxIC", "0        TmaxIC\n1.0      FrictionCoefficient"
+    )
+    path.write_text(text)
+    positions, _ = _moordyn_chain(path, 1.0)
+    assert float(np.ptp(positions[:, 0, 0])) > 0.5  # it slid
+    scene = jc.read_moordyn(path)
+    assert scene.water.seabed.friction_damping == 200.0
+    run = jc.run_scene(scene, duration=1.0, dt_out=0.01)
+    np.testing.assert_allclose(run.positions[1:, run.built.line_nodes[0]], positions, rtol=0, atol=3e-4)

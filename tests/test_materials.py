@@ -473,3 +473,29 @@ def test_viscous_pull_on_nodes(strain_target):
     np.testing.assert_allclose(got, [pull, -pull], rtol=1e-10, atol=1e-9)
     if strain_target < 0:
         assert np.all(got == 0.0)
+
+
+@pytest.mark.parametrize("strain_target", [0.01, 2e-4, -0.01])
+def test_slack_damping_pulls_in_compression_too(strain_target):
+    """With `slack_damping` (MoorDyn's `BA`), the damping is ±C_v ε̇ τ whatever the
+    strain: a compressed segment resists its strain rate though it carries no elastic
+    tension. The elastic part keeps its switch."""
+    length, width = 10.0, 1e-3
+    law = jc.KelvinVoigt(C_E, C_E1, C_V, width, slack_damping=True)
+    np.testing.assert_allclose(
+        np.asarray(law.tension(jnp.asarray(STRAINS), jnp.asarray(RATES))),
+        reference_tension(STRAINS, 0.0, C_E, C_E1, 0.0, width) + C_V * RATES,
+        rtol=1e-13,
+        atol=1e-20,
+    )
+    model = one_segment(law=law, normal_drag=0.0, tangential_drag=0.0, length=length)
+    direction = np.array([2.0, -1.0, 2.0]) / 3.0
+    positions = np.array([[1.0, 2.0, -3.0], [1.0, 2.0, -3.0]])
+    positions[1] += direction * length * (1 + strain_target)
+    velocities = np.array([[0.3, -0.2, 0.1], [0.9, 0.4, -0.7]])
+    got = np.asarray(
+        _lagrangian.nonconservative_forces(model, jc.Environment(water_density=RHO), 0.0, positions, velocities)
+    )
+    pull = C_V * np.dot(direction, velocities[1] - velocities[0]) / length * direction
+    np.testing.assert_allclose(got, [pull, -pull], rtol=1e-10, atol=1e-9)
+    assert np.linalg.norm(pull) > 1.0

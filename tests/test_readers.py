@@ -332,25 +332,20 @@ def test_moordyn_seabed_options_map_to_the_seabed(tmp_path, stiffness, damping):
     assert (float(env.seabed.stiffness), float(env.seabed.damping)) == (2.5e6, 4.0e4)
 
 
-def test_moordyn_friction_matches_moordyns_slope_at_rest(tmp_path):
-    # MoorDyn's friction on a node sliding at v is μ FricDamp v (below μN); jaxcable's
-    # μ N v / √(v² + v_s²) → μ N v / v_s. Equal for v_s = N / FricDamp, N the node's
-    # wet weight: chain of 20 kg/m, d = 0.1 m (displacing π d²/4), 25 m segments.
+def test_moordyn_friction_is_moordyns_form(tmp_path):
+    """`FrictionCoefficient` and `FricDamp` select MoorDyn's friction (the seabed's
+    `friction_damping`), silently; FricDamp is MoorDyn's 200 N·s/m when absent."""
     options = (*OPTIONS, "0.6   FrictionCoefficient", "150   FricDamp")
-    path = write_moordyn(tmp_path, options=options)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        scene = jc.read_moordyn(path)
-    node_weight = (20.0 - 1025.0 * np.pi * 0.1**2 / 4) * 9.81 * 250.0 / 10
+        scene = jc.read_moordyn(write_moordyn(tmp_path, options=options))
     bed = scene.water.seabed
-    assert bed.friction == 0.6
-    assert bed.friction_speed == pytest.approx(node_weight / 150.0, rel=1e-12)
-    (note,) = [n for n in scene.notes if "FricDamp" in n]
-    assert re.search(rf"\bline {line_of(path, 'FrictionCoefficient')}\b", note)
-    assert f"{node_weight / 150.0:.4g} m/s" in note and "ignored" not in note
-    # The default FricDamp is MoorDyn's 200 N·s/m.
+    assert (bed.friction, bed.friction_damping) == (0.6, 150.0)
+    assert not any("FricDamp" in n for n in scene.notes)
+    env = scene.build().environment
+    assert (float(env.seabed.friction), float(env.seabed.friction_damping)) == (0.6, 150.0)
     scene = jc.read_moordyn(write_moordyn(tmp_path, "default.txt", options=(*OPTIONS, "0.6   FrictionCoefficient")))
-    assert scene.water.seabed.friction_speed == pytest.approx(node_weight / 200.0, rel=1e-12)
+    assert scene.water.seabed.friction_damping == 200.0
 
 
 def test_moordyn_static_to_dynamic_friction_ratio_and_bathymetry_are_notes(tmp_path):
@@ -1015,6 +1010,16 @@ def test_toml_wave_ramp_reaches_the_environment(tmp_path):
         (SCENE + "\n[seabed]\nstiffness = -3.0e6\n", "stiffness = -3.0e6", ("seabed.stiffness", "positive")),
         (SCENE + "\n[seabed]\nfriction = -0.1\n", "friction = -0.1", ("seabed.friction", "non-negative")),
         (SCENE + "\n[seabed]\nfriction_speed = 0\n", "friction_speed = 0", ("seabed.friction_speed", "positive")),
+        (
+            SCENE + "\n[seabed]\nfriction_damping = 0\n",
+            "friction_damping = 0",
+            ("seabed.friction_damping", "positive"),
+        ),
+        (
+            edited("axial_stiffness = 3.0e7\n", "axial_stiffness = 3.0e7\nslack_damping = 1\n"),
+            "slack_damping = 1",
+            ("slack_damping", "true or false"),
+        ),
         # The engine's own checks, located at the wave's table.
         (
             SCENE + WAVE.replace("airy", "cnoidal").replace("height = 2.0", "height = 120.0"),
@@ -1371,3 +1376,16 @@ def test_the_command_line_refuses_physics_left_out_unless_allowed(tmp_path, caps
     assert "left out (--allow-ignored): " in capsys.readouterr().out
     assert cli_main([*argv, "--allow-ignored", "EI,bends"]) == 2
     assert "--allow-ignored: unknown kind(s) bends" in capsys.readouterr().err
+
+
+def test_toml_moordyn_forms_of_damping_and_friction(tmp_path):
+    """`slack_damping` on a line type and `friction_damping` on the seabed reach the
+    engine; without them, the law and friction are jaxcable's own."""
+    text = edited("axial_stiffness = 3.0e7\n", "axial_stiffness = 3.0e7\nslack_damping = true\n")
+    text += "\n[seabed]\nfriction = 0.5\nfriction_damping = 150.0\n"
+    built = jc.read_scene(write_scene(tmp_path, text)).build()
+    assert built.model.line.tension_law.slack_damping is True
+    assert float(built.environment.seabed.friction_damping) == 150.0
+    plain = jc.read_scene(write_scene(tmp_path, SCENE + "\n[seabed]\nfriction = 0.5\n", "plain.toml")).build()
+    assert plain.model.line.tension_law.slack_damping is False
+    assert plain.environment.seabed.friction_damping is None

@@ -1,12 +1,14 @@
 """The seabed: a chain resting on the bottom against the elastic catenary with seabed
 contact, and friction against Coulomb's law."""
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
 from scipy.optimize import brentq
 
 import jaxcable as jc
+from jaxcable import _lagrangian
 
 RHO, G = 1025.0, 9.81
 DEPTH, LENGTH, SPAN = 50.0, 300.0, 280.0
@@ -107,3 +109,67 @@ def test_friction_holds_a_dragged_chain_at_mu_times_its_weight():
     pull = np.asarray(result.reactions[:, 0, 0])
     regularised = speed / np.hypot(speed, 0.002)  # 0.99995: sliding far above v_s
     np.testing.assert_allclose(pull, mu * WET_WEIGHT * length * regularised, rtol=1e-3)
+
+
+def test_bed_force_is_moordyns_per_node():
+    """MoorDyn's `Line::getStateDeriv` pushes a node below the bed up by `(kBot δ − cBot ż)
+    d (l₋ + l₊)/2`, l± the unstretched lengths of the segments either side (one at an
+    end), vertically, whether the node moves into the bed or out of it. jaxcable's
+    spring (the gradient of its penalty energy) plus its damper is that, node by node."""
+    segments, length, depth, k, c = 4, 20.0, 30.0, 2.0e6, 4.0e5
+    line = jc.LineType(mass_per_length=MASS, diameter=DIAMETER, tension_law=jc.LinearElastic(EA))
+    model = jc.CableNetwork.from_branches(
+        junctions=np.array([[0.0, 0.0, -depth], [length, 0.0, -depth]]),
+        branches=[jc.Branch(0, 1, line, length, segments)],
+        constraints={},
+    )
+    bed = jc.Environment(RHO, G, depth=depth, seabed=jc.Seabed(k, c))
+    bare = jc.Environment(RHO, G, depth=depth)
+    x = np.linspace(0.0, length, segments + 1)
+    z = -depth + np.array([-0.02, 0.01, -0.005, -0.03, 0.0])  # two above or on the bed
+    positions = np.stack([x, np.zeros_like(x), z], axis=1)
+    velocities = np.array([[0.1, 0.0, -0.3], [0.0, 0.2, 0.1], [0.0, 0.0, 0.4], [0.5, 0.0, -0.2], [0.0, 0.0, 0.7]])
+
+    def spring(env):
+        return -np.asarray(jax.grad(lambda p: _lagrangian.potential_energy(model, env, p))(jnp.asarray(positions)))
+
+    got = spring(bed) - spring(bare) + np.asarray(_lagrangian.seabed_forces(model, bed, positions, velocities))
+    share = length / segments * np.array([0.5, 1.0, 1.0, 1.0, 0.5])
+    below = z < -depth
+    expected = np.zeros_like(positions)
+    expected[:, 2] = np.where(below, ((-depth - z) * k - velocities[:, 2] * c) * DIAMETER * share, 0.0)
+    np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-6)
+    assert np.sum(below) == 3 and expected[3, 2] > 0 > expected[2, 2]  # out of the bed fast: pulled down
+
+
+def test_moordyn_friction_is_its_saturated_ramp():
+    """With `friction_damping` c_f, friction is MoorDyn's (Line.cpp): μ c_f |v| per node
+    against the horizontal velocity v until that exceeds μ N, then μ N, N = |k δ − c ż| A
+    the whole bed reaction; none at rest or off the bed."""
+    segments, length, depth, k, c, mu, c_f = 4, 20.0, 30.0, 2.0e6, 4.0e5, 0.7, 5.0e4
+    line = jc.LineType(mass_per_length=MASS, diameter=DIAMETER, tension_law=jc.LinearElastic(EA))
+    model = jc.CableNetwork.from_branches(
+        junctions=np.array([[0.0, 0.0, -depth], [length, 0.0, -depth]]),
+        branches=[jc.Branch(0, 1, line, length, segments)],
+        constraints={},
+    )
+    env = jc.Environment(RHO, G, depth=depth, seabed=jc.Seabed(k, c, mu, friction_damping=c_f))
+    x = np.linspace(0.0, length, segments + 1)
+    z = -depth + np.array([-0.02, -0.01, -0.005, -0.03, 0.01])
+    positions = np.stack([x, np.zeros_like(x), z], axis=1)
+    # Sliding fast (capped), slowly (on the ramp), at rest, rising fast, and off the bed.
+    velocities = np.array([[3.0, -4.0, 0.0], [1e-3, 2e-3, 0.0], [0.0, 0.0, 0.0], [0.5, 0.0, 0.4], [2.0, 0.0, 0.0]])
+    got = np.asarray(_lagrangian.seabed_forces(model, env, positions, velocities))
+    share = length / segments * np.array([0.5, 1.0, 1.0, 1.0, 0.5])
+    normal = np.where(z < -depth, ((-depth - z) * k - velocities[:, 2] * c) * DIAMETER * share, 0.0)
+    speed = np.linalg.norm(velocities[:, :2], axis=1)
+    ramp, cap = mu * c_f * speed, mu * np.abs(normal)
+    magnitude = np.where(ramp > cap, cap, ramp)
+    direction = np.divide(velocities[:, :2], speed[:, None], out=np.zeros((5, 2)), where=speed[:, None] > 0)
+    np.testing.assert_allclose(got[:, :2], -magnitude[:, None] * direction, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(got[:, 2], np.where(z < -depth, -velocities[:, 2] * c * DIAMETER * share, 0.0))
+    assert ramp[0] > cap[0] > 0 and 0 < ramp[1] < cap[1] and magnitude[4] == 0
+    assert normal[3] < 0  # rising out of the bed faster than the spring pushes: N = |that|
+    # Differentiable at rest: the ramp's slope, μ c_f, not a NaN.
+    slope = jax.jacfwd(lambda v: _lagrangian.seabed_forces(model, env, positions, v)[2, 0])(jnp.asarray(velocities))
+    assert float(slope[2, 0]) == pytest.approx(-mu * c_f)

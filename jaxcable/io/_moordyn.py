@@ -7,17 +7,18 @@ one: MoorDyn's `Cd` is referred to d·l and `CdAx` to π·d·l, exactly as K_n a
 and `Ca`, `CaAx` are jaxcable's normal and tangential added-mass coefficients on
 π d²/4 — so they are copied, not converted. The column `BA/-zeta` is axial damping in
 N·s when positive and a fraction of critical damping when negative; the reader turns it
-into `axial_damping` or `axial_damping_ratio` (see [`jaxcable.io.LineTypeSpec`][]).
+into `axial_damping` or `axial_damping_ratio` (see [`jaxcable.io.LineTypeSpec`][]), with
+`slack_damping`, since MoorDyn damps a slack segment's strain rate as a taut one's
+(Line.cpp switches only the elastic tension off in compression).
 
 The seabed is MoorDyn's: MoorDyn always has one, flat at `WtrDpth` (0 by default),
 which it lowers to the deepest point when a point lies below it (MoorDyn2.cpp, reading
 POINTS), and pushes each line node below it up by `(kBot δ − cBot ż) d l` with l the
 node's share of unstretched length — jaxcable's [`jaxcable.Seabed`][] on the same
 contact area, so `kBot` and `cBot` (3e6 Pa/m and 3e5 Pa·s/m when absent) are copied.
-`FrictionCoefficient` μ is copied; MoorDyn's friction is `μ FricDamp |v|` capped at
-`μ N` (Line.cpp), jaxcable's `μ N v / √(v² + v_s²)`: the two agree at low speed when
-v_s = N / FricDamp, which depends on each node's bed reaction N, so the reader sets
-`friction_speed` from the heaviest line's node weight and says so in a note.
+`FrictionCoefficient` μ and `FricDamp` (200 N·s/m when absent) are copied too: MoorDyn's
+friction is `μ FricDamp |v|` capped at `μ N` (Line.cpp), which the seabed's
+`friction_damping` selects in place of jaxcable's smooth `μ N v / √(v² + v_s²)`.
 
 Features jaxcable does not model raise a [`jaxcable.io.SceneError`][] where leaving them
 out would change the system (rods, 6-DOF bodies, nonlinear or viscoelastic stiffness
@@ -36,8 +37,6 @@ import math
 import re
 import warnings
 from pathlib import Path
-
-import numpy as np
 
 from .._names import DROPPED_KINDS as DROPPED_KINDS
 from .._network import Body
@@ -184,7 +183,7 @@ def read_moordyn(path: str | Path) -> Scene:
 
     density = options.get("wtrdnsty", options.get("rho", 1025.0))
     gravity = options.get("g", options.get("gravity", 9.80665))
-    depth, seabed = _seabed(source, options, points, line_types, mdlines, density, gravity, notes, dropped)
+    depth, seabed = _seabed(source, options, points, notes, dropped)
     current, profile, waves = _water(path, options, depth, notes)
     water = Water(
         density=density,
@@ -300,6 +299,7 @@ def _line_type(source: str, line: int, fields: list[str], dropped: list[tuple[st
             tangential_drag=values["CdAx"],
             normal_added_mass=values["Ca"],
             tangential_added_mass=values["CaAx"],
+            slack_damping=True,
             where=where,
         )
 
@@ -504,9 +504,7 @@ def _stepping(options: dict, notes: list[str]) -> dict:
     return {"dt": step, "solver": solver}
 
 
-def _seabed(
-    source, options, points, line_types, lines, density, gravity, notes, dropped
-) -> tuple[float | None, SeabedSpec | None]:
+def _seabed(source, options, points, notes, dropped) -> tuple[float | None, SeabedSpec | None]:
     """The water depth and MoorDyn's seabed (module docstring)."""
     depth = options.get("wtrdpth", 0.0)
     deepest = min(range(len(points)), key=lambda k: points[k].position[2])
@@ -535,37 +533,6 @@ def _seabed(
     fricdamp, _ = given("fricdamp", default=_FRICDAMP)
     scale, where_s = given("statdynfricscale", default=1.0)
     where = where_k or where_c or where_f or options.get("@wtrdpth") or source
-    friction_speed = SeabedSpec().friction_speed
-    if friction > 0:
-        # MoorDyn's friction is μ FricDamp |v| up to μ N; jaxcable's μ N v / √(v² + v_s²)
-        # has the same slope at rest for v_s = N / FricDamp. N is a node's share of its
-        # line's wet weight, here that of the line whose nodes weigh most.
-        types = {t.name: t for t in line_types}
-        weights = {
-            line.name: (
-                types[line.line_type].mass_per_length - density * np.pi * types[line.line_type].diameter ** 2 / 4
-            )
-            * gravity
-            * line.length
-            / line.segments
-            for line in lines
-        }
-        heaviest = max(weights, key=lambda k: weights[k])
-        if weights[heaviest] > 0:
-            friction_speed = weights[heaviest] / fricdamp
-            notes.append(
-                f"{where_f}: seabed friction μ = {friction:g}: MoorDyn applies μ·FricDamp·|v| (FricDamp = "
-                f"{fricdamp:g} N·s/m) up to μN, jaxcable μN·v/√(v² + v_s²); they agree at low speed for "
-                f"v_s = N/FricDamp = {friction_speed:.4g} m/s with N = {weights[heaviest]:.4g} N, the wet weight "
-                f"of a node of line {heaviest} (the heaviest), so friction_speed = {friction_speed:.4g} m/s. "
-                "Nodes that weigh less slide a little more freely than in MoorDyn; re-dividing the lines "
-                "(--segments) changes N but not this speed"
-            )
-        else:
-            notes.append(
-                f"{where_f}: seabed friction μ = {friction:g} with FricDamp = {fricdamp:g} N·s/m: every line is "
-                f"buoyant, so friction_speed keeps jaxcable's default {friction_speed:g} m/s"
-            )
     if scale != 1:
         dropped.append(
             (
@@ -575,7 +542,7 @@ def _seabed(
             )
         )
     with located(where):
-        seabed = SeabedSpec(stiffness, damping, friction, friction_speed, where)
+        seabed = SeabedSpec(stiffness, damping, friction, SeabedSpec().friction_speed, where, friction_damping=fricdamp)
         seabed.seabed()
     return depth, seabed
 

@@ -151,18 +151,19 @@ class SeabedSpec:
     """A flat seabed at the water's depth ([`jaxcable.Seabed`][]): `stiffness` (Pa/m)
     and `damping` (Pa·s/m) per unit contact area (MoorDyn's `kBot`, `cBot`), the
     Coulomb `friction` coefficient (–) and the `friction_speed` (m/s) below which
-    friction is viscous."""
+    friction is viscous; or, with `friction_damping` (N·s/m), MoorDyn's friction."""
 
     stiffness: float = 3.0e6
     damping: float = 3.0e5
     friction: float = 0.0
     friction_speed: float = 0.01
     where: str = ""
+    friction_damping: float | None = None
 
     def seabed(self) -> Seabed:
         """The engine's [`jaxcable.Seabed`][]."""
         with located(self.where):
-            return Seabed(self.stiffness, self.damping, self.friction, self.friction_speed)
+            return Seabed(self.stiffness, self.damping, self.friction, self.friction_speed, self.friction_damping)
 
 
 @dataclass(frozen=True)
@@ -249,6 +250,10 @@ class LineTypeSpec:
     - `axial_damping_ratio`: ζ (–), a fraction of the critical damping of one segment's
         axial mode, C_v = ζ (L/N) √(EA m) as MoorDyn defines it (its negative `BA`). It
         depends on the segment length, so it is resolved when the scene is built.
+
+    `slack_damping` lets the damping act on a slack segment too, as MoorDyn's does (see
+    [`jaxcable.KelvinVoigt`][]); the MoorDyn reader sets it, and every line type of a
+    scene must agree on it.
     """
 
     name: str
@@ -264,6 +269,7 @@ class LineTypeSpec:
     tangential_added_mass: float = 0.0
     area: float | None = None
     slack_width: float = 1e-5
+    slack_damping: bool = False
     where: str = ""
 
     def damping_coefficient(self, segment_length: float) -> float:
@@ -287,6 +293,7 @@ class LineTypeSpec:
                 self.quadratic_stiffness,
                 self.damping_coefficient(segment_length),
                 self.slack_width,
+                self.slack_damping,
             )
             return LineType(
                 mass_per_length=self.mass_per_length,

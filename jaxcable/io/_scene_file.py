@@ -31,6 +31,7 @@ A scene file names its points and line types and lists its lines::
     damping = 3.0e5              # Pa·s/m (MoorDyn's cBot)
     friction = 0.0               # Coulomb coefficient μ (–)
     friction_speed = 0.01        # m/s, below which friction is viscous
+                                 # friction_damping (N·s/m): MoorDyn's FricDamp form
 
     [simulation]                 # all optional
     duration = 30.0              # s
@@ -52,7 +53,8 @@ A scene file names its points and line types and lists its lines::
     quadratic_stiffness = 3.0e6  # C_E1 (N), optional
     axial_damping = 0.0          # C_v (N·s), or axial_damping_ratio (–), optional
     normal_drag = 1.2            # K_n; also tangential_drag, normal_added_mass,
-                                 # tangential_added_mass, area, slack_width
+                                 # tangential_added_mass, area, slack_width;
+                                 # slack_damping = true damps slack segments too
 
     [points.anchor]
     type = "fixed"               # "fixed", "coupled" or "free"
@@ -119,7 +121,7 @@ _TOP = ("title", "water", "waves", "seabed", "simulation", "line_types", "points
 _WATER = ("density", "gravity", "depth", "current", "current_profile", "free_surface", "fluid_inertia", "wave_ramp")
 _CURRENT_PROFILE = ("heights", "speeds", "heading")
 _WAVE = ("theory", "height", "steepness", "period", "heading", "phase", "wheeler")
-_SEABED = ("stiffness", "damping", "friction", "friction_speed")
+_SEABED = ("stiffness", "damping", "friction", "friction_speed", "friction_damping")
 _SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "dt", "max_steps", "mass_matrix", "statics")
 _LINE_TYPE_REQUIRED = ("mass_per_length", "diameter", "axial_stiffness")
 _LINE_TYPE_OPTIONAL = (
@@ -133,6 +135,7 @@ _LINE_TYPE_OPTIONAL = (
     "area",
     "slack_width",
 )
+_LINE_TYPE_FLAGS = ("slack_damping",)  # true or false
 _BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height")
 _BODY_VECTORS = ("force",)
 _HARMONIC = ("type", "amplitude", "period", "direction", "phase", "ramp")
@@ -194,10 +197,11 @@ def read_scene(path: str | Path) -> Scene:
     for name in line_type_tables:
         keys = ("line_types", name)
         table = reader.table(line_type_tables, keys, required=True)
-        reader.keys(table, keys, _LINE_TYPE_REQUIRED + _LINE_TYPE_OPTIONAL)
+        reader.keys(table, keys, _LINE_TYPE_REQUIRED + _LINE_TYPE_OPTIONAL + _LINE_TYPE_FLAGS)
         values = {k: reader.number(table, (*keys, k)) for k in _LINE_TYPE_REQUIRED}
         values |= {k: reader.number(table, (*keys, k)) for k in _LINE_TYPE_OPTIONAL if k in table}
-        line_types.append(LineTypeSpec(name=name, where=reader.where(keys), **values))
+        slack = reader.boolean(table, (*keys, "slack_damping"), False)
+        line_types.append(LineTypeSpec(name=name, where=reader.where(keys), slack_damping=slack, **values))
     unique_names(line_types, "line type", str(path))
 
     points = []
@@ -348,7 +352,9 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
         defaults = SeabedSpec()
         values = {key: reader.number(table, (*keys, key), getattr(defaults, key)) for key in _SEABED}
         for key, value in values.items():
-            positive = key in ("stiffness", "friction_speed")
+            if value is None:  # friction_damping not given: the smooth friction
+                continue
+            positive = key in ("stiffness", "friction_speed", "friction_damping")
             if not (value > 0 if positive else value >= 0):
                 kind = "positive" if positive else "non-negative"
                 raise SceneError(f"{reader.where((*keys, key))}: must be {kind}, got {value:g}")
