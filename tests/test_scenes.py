@@ -196,6 +196,7 @@ def test_run_starts_from_equilibrium_and_supports_follow_their_motions(name, run
             np.testing.assert_allclose(run.positions[:, k], expected, rtol=0, atol=1e-9, err_msg=f"point {k}")
 
 
+@pytest.mark.slow  # a second compile of the net, without waves: 23 s of the default suite
 def test_undriven_net_stays_at_equilibrium():
     """buoy_net has no moving support: without its waves, started from its equilibrium
     in the current, it must stay there."""
