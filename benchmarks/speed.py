@@ -23,16 +23,22 @@ Rows (`--only` takes these names):
   The error is the RMS top-tension difference from a Dopri8 reference at rtol = atol =
   1e-12, relative to its peak, over t ≤ 3 s: the line's tension can be converged
   pointwise only up to its first slack event (see `moordyn_side_by_side.py`). Short
-  runs (4 s) of MoorDyn at several dtM and of jaxcable's Dopri5 at several tolerances
-  find, for each engine, the cheapest setting within `--level` (1e-3) and the next
-  cheaper one; those are timed over the whole duration and each engine's time at the
-  level interpolated in log-log between them (`moordyn_side_by_side.wall_at`).
+  runs (4 s) of MoorDyn at several dtM and of jaxcable's settings find, for each engine,
+  the cheapest setting within `--level` (1e-3) and the next cheaper one; those are timed
+  over the whole duration and each engine's time at the level interpolated in log-log
+  between them (`moordyn_side_by_side.wall_at`). jaxcable's settings come in families,
+  each bracketed and interpolated on its own, and the fastest family's time is the
+  row's: Dopri5 at `--tols`, and each of `--fixed` (Bosh3, Tsit5) at fixed steps
+  `--fixed-dt` (scaled by 20/N as MoorDyn's dtM is), the way a MoorDyn user picks dtM.
+  A step beyond a method's stability limit shows as an infinite error and is not picked.
 - `sweep`: `moordyn_side_by_side.part_sweep`: 256 wave steepnesses as one
   `jaxcable.sweep` (`--sweep-steps`, shared steps by default; the default chunks, one
   per core), against 256 sequential MoorDyn runs (stepping time, IC generation
-  apart), at the pair of settings of equal error found by the N = 20 `seed003` row of
-  the same run (MoorDyn at dtM = 1 ms and the Dopri5 tolerance of the same RMS error;
-  `moordyn_side_by_side.sweep_pair`).
+  apart). MoorDyn runs at dtM = 1 ms; jaxcable at each family's cheapest setting whose
+  error, in the N = 20 `seed003` row of the same run, is no larger than MoorDyn's there
+  (Dopri5 at the tolerance of equal error, interpolated; each fixed-step family at its
+  largest step within that error; `sweep_settings`). Each is timed, and the fastest is
+  the row's.
 - `field`: the cost per node of one force evaluation, `jaxcable.equations.vector_field`
   on seed 003's line (N = 20, 21 nodes, lumped), vmapped over a batch of 256 cases (the
   sweep's fairlead amplitudes) inside one compiled `fori_loop` (`step_cost.field_seconds`),
@@ -102,6 +108,19 @@ def parse(argv=None):
     parser.add_argument("--reference-tol", type=float, default=1e-12)
     parser.add_argument("--tols", type=float, nargs="+", default=[1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6])
     parser.add_argument(
+        "--fixed",
+        nargs="*",
+        default=["Bosh3", "Tsit5"],
+        help="diffrax explicit solvers also tried at fixed steps (`--fixed-dt`), beside Dopri5's tolerances",
+    )
+    parser.add_argument(
+        "--fixed-dt",
+        type=float,
+        nargs="+",
+        default=[6e-3, 5e-3, 4.5e-3, 4e-3, 3e-3, 2e-3, 1e-3],
+        help="jaxcable's fixed steps (s) at N = 20, scaled by 20/N for other N (and rounded to divide 0.05 s)",
+    )
+    parser.add_argument(
         "--dtm",
         type=float,
         nargs="+",
@@ -125,6 +144,7 @@ def parse(argv=None):
         args.segments = [20]
         args.tols = [1e-3, 1e-4, 1e-5, 1e-6]
         args.dtm = [1e-3, 5e-4, 2.5e-4, 1e-4]
+        args.fixed_dt = [5e-3, 4e-3, 2e-3]
     return args
 
 
@@ -510,9 +530,10 @@ def cached_programs(folder: Path) -> list[tuple[str, int]]:
     return sorted(entries, key=lambda e: -e[1])
 
 
-def moordyn_steps(n: int, dtms: list[float]) -> list[float]:
-    """MoorDyn steps for N segments: `dtms` (for N = 20) scaled by 20/N, each rounded
-    down to a divisor of the 0.05 s output interval."""
+def steps_for(n: int, dtms: list[float]) -> list[float]:
+    """Fixed steps for N segments, largest first: `dtms` (for N = 20) scaled by 20/N (the
+    fastest axial mode grows as N), each rounded down to a divisor of the 0.05 s output
+    interval."""
     # Python floats: MoorDyn cannot read a numpy scalar's repr.
     return sorted({OUTPUT_DT / int(np.ceil(OUTPUT_DT / (d * 20 / n) - 1e-9)) for d in dtms}, reverse=True)
 
@@ -530,7 +551,6 @@ def bracket(settings: list[dict], level: float) -> list[dict]:
 
 
 def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
-    import diffrax
     import jax
     import moordyn_side_by_side as mss
 
@@ -544,28 +564,32 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
     amplitude = float(jc.examples.seed003_amplitude(mss.PERIOD))
     short = args.window + 1.0
 
-    def config(solver, tol):
-        return jc.SolverConfig(solver, rtol=tol, atol=tol, max_steps=10_000_000)
+    def run(setting, duration, max_steps=10_000_000):
+        return mss.run_jaxcable(
+            model, env, static.state, duration, solver=mss.solver_setting(setting, max_steps), repeats=0
+        )
 
-    ref = mss.run_jaxcable(
-        model, env, static.state, short, solver=config(diffrax.Dopri8(), args.reference_tol), repeats=0
-    )
+    ref = run({"solver": "Dopri8", "tol": args.reference_tol}, short)
     reference = ref["tension"]
     inside = np.linspace(0.0, short, reference.size) <= args.window + 1e-9
-    check = mss.run_jaxcable(
-        model, env, static.state, short, solver=config(diffrax.Dopri8(), 10 * args.reference_tol), repeats=0
-    )
+    check = run({"solver": "Dopri8", "tol": 10 * args.reference_tol}, short)
     reference_error = mss.errors(check["tension"][inside], reference[inside])
     print(f"seed003 N = {n}: reference {ref['steps']} steps, its 10× tolerance within {reference_error}", flush=True)
 
     def window_error(tension):
         return mss.errors(tension[: inside.sum()], reference[inside])
 
+    # jaxcable's settings by family, cheapest first: Dopri5's tolerances, and each fixed
+    # step solver's steps (MoorDyn's dtM is the same kind of choice).
+    families = {"Dopri5": [{"solver": "Dopri5", "tol": tol} for tol in sorted(args.tols, reverse=True)]}
+    for name in args.fixed:
+        families[f"{name} fixed"] = [{"solver": name, "dt": dt} for dt in steps_for(n, args.fixed_dt)]
+
     # Short runs: each setting's error.
-    rows, moordyn_settings, jaxcable_settings = [], [], []
+    rows, moordyn_settings, jaxcable_settings = [], [], {family: [] for family in families}
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
-        for dtm in moordyn_steps(n, args.dtm):
+        for dtm in steps_for(n, args.dtm):
             path = folder / f"seed003_{dtm:g}.txt"
             path.write_text(mss.moordyn_input(model, env, dtm))
             r = mss.run_moordyn(path, fairlead, amplitude, short, dtm)
@@ -573,35 +597,44 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
             rows.append({"engine": "MoorDyn RK2", "setting": f"dtM {dtm:g}", "dt": dtm, **e, "run_s": r["run_s"]})
             moordyn_settings.append({"dtm": dtm, "path": path, **e})
             print(f"  MoorDyn dtM {dtm:g}: RMS err {e['rms']:.2e}", flush=True)
-        for tol in sorted(args.tols, reverse=True):
-            r = mss.run_jaxcable(model, env, static.state, short, solver=config(diffrax.Dopri5(), tol), repeats=0)
-            e = window_error(r["tension"])
-            rows.append({"engine": "jaxcable Dopri5", "setting": f"tol {tol:g}", "tol": tol, **e, "run_s": r["run_s"]})
-            jaxcable_settings.append({"tol": tol, **e})
-            print(f"  Dopri5 tol {tol:g}: RMS err {e['rms']:.2e}, {r['steps']} steps", flush=True)
-        pair = mss.sweep_pair(rows) if n == 20 else None
-
-        # Long runs at the settings that bracket the level, in turns.
-        md_pick = bracket(moordyn_settings, args.level)
-        jx_pick = bracket(jaxcable_settings, args.level)
-        long, runs = {}, {}
-        first_call = None
-        for s in jx_pick:
-            name = f"jaxcable tol {s['tol']:g}"
-
-            def run_jx(tol=s["tol"], name=name):
-                r = mss.run_jaxcable(
-                    model, env, static.state, args.duration, solver=config(diffrax.Dopri5(), tol), repeats=0
+        for family, settings in families.items():
+            for setting in settings:
+                r = run(setting, short)
+                e = window_error(r["tension"])
+                rows.append(
+                    {
+                        "engine": f"jaxcable {family}",
+                        "setting": mss.setting_name(setting),
+                        **setting,
+                        **e,
+                        "steps": r["steps"],
+                        "run_s": r["run_s"],
+                    }
                 )
-                long[name] = r
-                return r["run_s"]
+                jaxcable_settings[family].append({**setting, **e})
+                print(f"  {mss.setting_name(setting)}: RMS err {e['rms']:.2e}, {r['steps']} steps", flush=True)
+        pair = sweep_settings(rows) if n == 20 else None
 
-            if first_call is None:  # compiles, once for every tolerance (they are data)
+        # Long runs at the settings that bracket the level, in turns. Each jaxcable
+        # setting is called once first: that call compiles (a fixed step's solver and
+        # step are part of the program).
+        md_pick = bracket(moordyn_settings, args.level)
+        long, runs, first_calls = {}, {}, {}
+        for family, settings in jaxcable_settings.items():
+            for s in bracket(settings, args.level):
+                setting = {k: s[k] for k in ("solver", "tol", "dt") if k in s}
+                name = f"jaxcable {mss.setting_name(setting)}"
+
+                def run_jx(setting=setting, name=name, family=family):
+                    r = run(setting, args.duration)
+                    long[name] = {**r, "family": family}
+                    return r["run_s"]
+
                 start = time.perf_counter()
                 run_jx()
-                first_call = time.perf_counter() - start
-                print(f"  {name}: first call {first_call:.1f} s", flush=True)
-            runs[name] = run_jx
+                first_calls[name] = time.perf_counter() - start
+                print(f"  {name}: first call {first_calls[name]:.1f} s", flush=True)
+                runs[name] = run_jx
         for s in md_pick:
             name = f"MoorDyn dtM {s['dtm']:g}"
 
@@ -620,6 +653,7 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
             {
                 "name": name,
                 "engine": name.split()[0],
+                "family": r.get("family"),
                 "runs_s": w,
                 "run_s": statistics.median(w),
                 "steps": int(r["steps"]),
@@ -631,7 +665,16 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
         print(
             f"  {name}: {statistics.median(w):.2f} s over {args.duration:g} s ({len(w)} runs), RMS err {e['rms']:.2e}"
         )
-    jx_s, jx_bound = mss.wall_at([(r["rms"], r["run_s"]) for r in long_rows if r["engine"] == "jaxcable"], args.level)
+    # jaxcable's time at the level: each family's, interpolated between its two runs; the
+    # fastest family's is the row's.
+    by_family = {}
+    for family in families:
+        points = [(r["rms"], r["run_s"]) for r in long_rows if r["family"] == family]
+        wall, bound = mss.wall_at(points, args.level)
+        if wall is not None:
+            by_family[family] = (wall, bound)
+    best = min(by_family, key=lambda f: by_family[f][0]) if by_family else None
+    jx_s, jx_bound = by_family[best] if best else (None, False)
     md_s, md_bound = mss.wall_at([(r["rms"], r["run_s"]) for r in long_rows if r["engine"] == "MoorDyn"], args.level)
 
     def describe(engine):
@@ -643,8 +686,12 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
     stats = "; ".join(
         f"{r['name']}: peak {r['peak_N'] / 1e3:.1f} kN, mean {r['mean_N'] / 1e3:.1f} kN" for r in long_rows
     )
+    families_at_level = ", ".join(
+        f"{family} {wall:.3g} s" + (" (bound)" if bound else "") for family, (wall, bound) in by_family.items()
+    )
     notes = (
         f"times interpolated to {args.level:g} in log-log"
+        + (f"; jaxcable's from {best} (each family: {families_at_level})" if best else "")
         + (" (jaxcable's an upper bound)" if jx_bound else "")
         + (" (MoorDyn's an upper bound: no ratio)" if md_bound else "")
         + f"; over {args.duration:g} s: {stats}"
@@ -659,12 +706,14 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
             notes=notes,
             short_runs=rows,
             long_runs=long_rows,
+            jaxcable_by_family={f: {"run_s": w, "upper_bound": b} for f, (w, b) in by_family.items()},
+            jaxcable_family=best,
             reference={
                 "steps": ref["steps"],
                 "peak_N": float(reference.max()),
                 "error_of_10x_tolerance": reference_error,
             },
-            jaxcable_first_long_call_s=first_call,
+            jaxcable_first_long_calls_s=first_calls,
             jaxcable_upper_bound=jx_bound,
             moordyn_upper_bound=md_bound,
             sweep_pair=pair,
@@ -672,6 +721,25 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
             load=[before, load()],
         )
     ], pair
+
+
+def sweep_settings(rows) -> dict | None:
+    """The sweep's settings of matched error, from the N = 20 short runs: MoorDyn's dtM
+    and its error (`moordyn_side_by_side.sweep_pair`), Dopri5's tolerance of that error,
+    and for each fixed-step family its largest step whose error is no larger."""
+    import moordyn_side_by_side as mss
+
+    pair = mss.sweep_pair(rows)
+    if pair is None:
+        return None
+    settings = [{"solver": "Dopri5", "tol": pair["tol"]}]
+    fixed = [r for r in rows if "dt" in r and r["engine"].startswith("jaxcable")]
+    for family in dict.fromkeys(r["engine"] for r in fixed):
+        within = [r for r in fixed if r["engine"] == family and r["rms"] <= pair["moordyn_rms"]]
+        if within:
+            best = max(within, key=lambda r: r["dt"])
+            settings.append({"solver": best["solver"], "dt": best["dt"]})
+    return {**pair, "jaxcable": settings}
 
 
 def rows_sweep(args, pair) -> list[dict]:
@@ -686,6 +754,7 @@ def rows_sweep(args, pair) -> list[dict]:
         sweep_duration=args.sweep_duration,
         sweep_tol=pair["tol"] if pair else None,
         sweep_dtm=pair["dtm"] if pair else None,
+        sweep_settings=pair.get("jaxcable") if pair else None,
         sweep_repeats=args.sweep_repeats,
         sweep_steps=args.sweep_steps,
         moordyn_cases=None,
@@ -707,13 +776,19 @@ def rows_sweep(args, pair) -> list[dict]:
             jaxcable=j["run_s"],
             moordyn=m["run_s"],
             target=0.1,
-            accuracy=f"Dopri5 tol {s['tol']:.2g} against dtM {s['dtm']:g}"
-            + (f" (RMS err {pair['moordyn_rms']:.1e}, matched)" if pair else " (pair from moordyn_side_by_side.json)")
+            accuracy=f"jaxcable {mss.setting_name(j['setting'])} against dtM {s['dtm']:g}"
+            + (
+                f" (RMS err ≤ MoorDyn's {pair['moordyn_rms']:.1e}, from the N = 20 row)"
+                if pair
+                else " (pair from moordyn_side_by_side.json)"
+            )
             + f"; peaks, t ≤ {p['early_s']:g} s: largest diff {p['early_max_rel_diff']:.2%}, median "
             f"{p['early_median_rel_diff']:.2%}; over {s['duration_s']:g} s {p['max_rel_diff']:.1%}, "
             f"{p['median_rel_diff']:.1%}",
             notes=f"compile {j['compile_s']:.1f} s apart; steps max {j['steps_max']} (mean {j['steps_mean']:.0f}); "
-            f"MoorDyn with IC generation {m['total_s']:.1f} s",
+            + "settings tried: "
+            + ", ".join(f"{mss.setting_name(t['setting'])} {t['run_s']:.2f} s" for t in record["jaxcable_tried"])
+            + f"; MoorDyn with IC generation {m['total_s']:.1f} s",
             sweep={k: v for k, v in record.items() if k != "peaks"},
             stops=pauses_since(count),
             load=[before, load()],

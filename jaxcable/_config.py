@@ -200,6 +200,7 @@ SOLVERS: dict[str, Callable[..., SolverConfig]] = _Presets(
     {
         "dopri5": _preset(default_solver),
         "tsit5": _preset(diffrax.Tsit5),
+        "bosh3": _preset(diffrax.Bosh3),
         "dopri8": _preset(diffrax.Dopri8),
         "midpoint": _preset(diffrax.Midpoint),
         "heun": _preset(diffrax.Heun),
@@ -212,7 +213,9 @@ SOLVERS: dict[str, Callable[..., SolverConfig]] = _Presets(
 """Solver configurations by the names scene files and the command line use, each a
 factory `SOLVERS[name](**options) -> SolverConfig` taking [`jaxcable.SolverConfig`][]'s
 keyword arguments (`rtol`, `atol`, ...): explicit Runge–Kutta `dopri5` (the default),
-`tsit5` and `dopri8`; the two-stage `midpoint` and `heun` and the one-stage `euler`,
+`tsit5`, `bosh3` (three stages, third order: at a fixed step near its stability limit
+the cheapest per simulated second where an error of about 1 % of the peak will do,
+`benchmarks/README.md`, *The speed table*) and `dopri8`; the two-stage `midpoint` and `heun` and the one-stage `euler`,
 for fixed steps as MoorDyn takes them (its `RK2` is the midpoint method) with
 `dt0=` and `stepsize_controller=diffrax.ConstantStepSize()`; implicit `kvaerno5`
 ([`jaxcable.stiff_solver`][]),

@@ -165,3 +165,23 @@ def test_bad_values_are_named_eagerly_and_under_jit(driven_line):
         eqx.filter_jit(lambda t1: jc.simulate(model, env, t1, ts=[0.0], initial=static.state))(0.0)
     with pytest.raises(ValueError, match=r"simulate: ts must lie within \[t0, t1\], got 2.0 at index 1"):
         jc.simulate(model, env, 1.0, ts=[0.0, 2.0], initial=static.state)
+
+
+def test_bosh3_fixed_steps_converge_at_third_order(driven_line):
+    """`SOLVERS["bosh3"]` at a fixed step, as the speed table's sweep runs it: on the
+    driven line, halving the step divides the error (against a tight Dopri8 run) by
+    about 2³ = 8, Bogacki–Shampine's third order."""
+    model, env, static = driven_line
+    ts = np.linspace(0.0, 0.5, 11)
+
+    def top_tension(config):
+        run = jc.simulate(model, env, 0.5, ts=ts, initial=static.state, solver=config)
+        return np.asarray(run.tension[:, -1])
+
+    reference = top_tension(jc.SOLVERS["dopri8"](rtol=1e-12, atol=1e-12))
+    errors = []
+    for dt in (2e-3, 1e-3, 5e-4):
+        fixed = jc.SOLVERS["bosh3"](dt0=dt, stepsize_controller=diffrax.ConstantStepSize())
+        errors.append(np.max(np.abs(top_tension(fixed) - reference)))
+    ratios = np.array(errors[:-1]) / np.array(errors[1:])
+    np.testing.assert_allclose(ratios, 8.0, rtol=0.2)
