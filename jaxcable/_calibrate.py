@@ -585,6 +585,11 @@ def _optimise(problem, log_values, opt, max_steps, tolerance, progress):
         if not math.isfinite(evaluated[0][1]):
             raise RuntimeError("calibrate: a simulation failed at the starting values; check the rigs and records")
         if bar is not None:
+            if steps == 1:
+                # The first iteration compiles the simulations (most of a minute): its
+                # time would make the first estimate of the rest hours long.
+                bar.reset()
+                bar.set_description("calibrate")
             bar.update(1)
             bar.set_postfix(loss=f"{float(value):.4g}")
         if len(evaluated) > 1:
@@ -607,11 +612,12 @@ def _optimise(problem, log_values, opt, max_steps, tolerance, progress):
 
 
 def _bar(total, progress):
+    """A bar over at most `total` iterations, started as compiling (see `_optimise`)."""
     if not progress:
         return None
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, desc="calibrate", unit="it")
+    return tqdm(total=total, desc="calibrate (compiling)", unit="it")
 
 
 def _report(problem, start, log_values, losses, steps, converged, pairs, r, jacobian, successes):

@@ -7,6 +7,7 @@ step serves several tests.
 """
 
 import math
+import time
 import warnings
 
 import diffrax
@@ -127,6 +128,30 @@ def test_adam_also_recovers_specific_drag(vertical_records):
         vertical_records, {"specific_drag": 1.0}, optimizer=optax.adam(0.05), max_steps=120, progress=False
     )
     within(result, "specific_drag", 0.05)
+
+
+def test_progress_bar_times_iterations_after_the_compiling_one(vertical_records, monkeypatch):
+    """The first iteration compiles the simulations; the bar starts its clock (and so its
+    estimate of the time left) only after it, and says it is compiling until then."""
+    bars, first_done = [], []
+    make_bar, evaluate = jc._calibrate._bar, jc._calibrate._evaluate
+
+    def recorded_bar(total, progress):
+        bars.append(make_bar(total, progress))
+        assert bars[-1].desc == "calibrate (compiling)"
+        return bars[-1]
+
+    def timed_evaluate(*args):
+        out = evaluate(*args)
+        first_done.append(time.time())
+        return out
+
+    monkeypatch.setattr(jc._calibrate, "_bar", recorded_bar)
+    monkeypatch.setattr(jc._calibrate, "_evaluate", timed_evaluate)
+    jc.calibrate(vertical_records, {"specific_drag": 1.0}, optimizer=optax.adam(0.05), max_steps=3, progress=True)
+    (bar,) = bars
+    assert "compiling" not in bar.desc and bar.n == 3 and bar.total == 3
+    assert bar.start_t >= first_done[0]
 
 
 @pytest.mark.slow
