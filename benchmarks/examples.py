@@ -86,7 +86,9 @@ def report(path: Path) -> None:
         if name == "calibrate":
             result = ", ".join(f"{k} {v:.5g} (truth {entry['truth'][k]:g})" for k, v in entry["fitted"].items())
         else:
-            result = warm["summary"].split("; ", 1)[-1]
+            # The summary's motion line (its last line splits the wall time since 2026-11-24).
+            motion = next((line for line in warm["output"] if line.startswith("simulated")), warm["summary"])
+            result = motion.split("; ", 1)[-1]
         status = f"{cold['status']}/{warm['status']}"
         load = f"{cold['load_before']:.1f} → {warm['load_after']:.1f}"
         print(f"| {name} | {cold['wall_s']:.1f} | {warm['wall_s']:.1f} | {status} | {warnings} | {load} | {result} |")

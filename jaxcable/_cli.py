@@ -591,6 +591,7 @@ def _calibrate(args) -> int:
             "loss": result.loss.tolist(),
             "iterations": result.iterations,
             "converged": result.converged,
+            "stalled": result.stalled,
             "noise": [{"record": r, "observable": o, "sigma": s} for (r, o), s in result.noise.items()],
             "records": [r.name for r in result.records],
             "success": result.success,

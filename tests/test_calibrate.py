@@ -130,6 +130,32 @@ def test_adam_also_recovers_specific_drag(vertical_records):
     within(result, "specific_drag", 0.05)
 
 
+def test_an_optimizer_that_takes_no_step_is_a_stall_not_convergence(vertical_records):
+    """An update that leaves the coefficients where they were (here an optimizer with
+    a zero learning rate; in practice a line search that finds no lower loss along an
+    inaccurate gradient) stops the fit as stalled, with a warning, instead of
+    evaluating the same point again and calling the unchanged loss convergence."""
+    with pytest.warns(UserWarning, match=r"the optimizer stalled after 1 iteration\(s\)"):
+        result = jc.calibrate(
+            vertical_records, {"specific_drag": 1.0}, optimizer=optax.sgd(0.0), max_steps=5, progress=False
+        )
+    assert result.stalled and not result.converged and result.iterations == 1
+    assert result.values["specific_drag"] == 1.0
+    assert "stalled: no step lowered the loss" in result.summary()
+
+
+def test_linear_gain_is_zero_at_a_least_squares_minimum():
+    """The stall check's measure: the share of the squared residuals one Gauss–Newton
+    step removes. At the least-squares solution of a linear model it is zero (to
+    rounding); for residuals that lie in the Jacobian's column space, one."""
+    rng = np.random.default_rng(0)
+    jacobian, data = rng.normal(size=(200, 2)), rng.normal(size=200)
+    solution = np.linalg.lstsq(jacobian, data, rcond=None)[0]
+    assert jc._calibrate._linear_gain(jacobian, jacobian @ solution - data) < 1e-20
+    assert jc._calibrate._linear_gain(jacobian, jacobian @ np.array([1.0, -2.0])) == pytest.approx(1.0)
+    assert 0.0 < jc._calibrate._linear_gain(jacobian, jacobian @ (solution + 0.1) - data) < 1.0
+
+
 def test_progress_bar_times_iterations_after_the_compiling_one(vertical_records, monkeypatch):
     """The first iteration compiles the simulations; the bar starts its clock (and so its
     estimate of the time left) only after it, and says it is compiling until then."""

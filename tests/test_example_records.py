@@ -26,7 +26,7 @@ def test_bundled_records_load_with_their_rigs():
     for name, record in zip(NAMES, records):
         assert record.name == f"{name}.csv"
         assert record.conditions["rig"] == "horizontal_tow"
-        assert set(record.columns) == {"speed", "tension", "depth", "layback"}
+        assert set(record.columns) == {"speed", "tow_load", "depth", "layback"}
         np.testing.assert_allclose(record.times, np.linspace(0.0, 20.0, 101), rtol=0, atol=1e-12)
         # Written in knots and kN, read back in SI: 1 kn = 1852/3600 m/s.
         np.testing.assert_allclose(record.columns["speed"][[0, -1]], [1.0, 2.0], rtol=1e-12)
@@ -72,7 +72,7 @@ def test_records_are_the_rigs_at_the_truth_with_two_percent_noise():
         truth = rig.with_coefficients(make_records.TRUTH).predict(record.times, inputs)
         default = rig.predict(record.times, inputs)
         misses = []
-        for key in ("tension", "depth", "layback"):
+        for key in ("tow_load", "depth", "layback"):
             measured, expected = record.columns[key], np.asarray(truth[key])
             sigma = make_records.NOISE * np.sqrt(np.mean(expected**2))
             spread = np.std(measured - expected)

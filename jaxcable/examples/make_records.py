@@ -7,15 +7,19 @@ drag coefficients (`TRUTH`) and 2 % Gaussian noise on every observable
 ([`jaxcable.calibration.synthetic_record`][]), so that a fit can be seen to recover them:
 
 - `depressor`: 100 m of the default armoured tow cable (17.3 mm, EA = 2e6 N here) in 4
-  segments, a 100 kg depressor at its end. The cable hangs steeply and its tension is
-  mostly the depressor's weight and the cable's normal drag: it pins K_n.
+  segments, a 100 kg depressor at its end. The cable hangs steeply and its tow-point
+  load is mostly the depressor's weight and the cable's normal drag: it pins K_n.
 - `streamer`: the same length of a nearly neutral cable (5 % heavier than the water it
-  displaces) on a small drogue. It streams almost along the flow, so its tension is
-  mostly tangential drag: it pins K_τ.
+  displaces) on a small drogue. It streams almost along the flow, so its tow-point load
+  is mostly tangential drag: it pins K_τ.
 
 Both start in steady tow at 1 m/s and are stepped to 2 m/s over 3 s from t = 6 s, as
 seed 002's towing tests were; each is 20 s long, sampled every 0.2 s (101 samples),
-and written in the units a towing tank would log (speed in knots, tension in kN).
+and written in the units a towing tank would log (speed in knots, the load cell's
+`tow_load` in kN). Each records what instruments read: the tow-point load, the body's
+depth and layback, all at nodes, so a fit at another segment count measures the same
+things (not `tension`, the first segment's at its middle, which moves with the
+segments).
 
 The headers give each rig as `rig_from_conditions` reads it, but not the two drag
 coefficients: those are what the records are for. A fit that leaves one of them out
@@ -39,7 +43,7 @@ TIMES = np.round(np.linspace(0.0, 20.0, 101), 9)  # s, rounded so that the file 
 SPEED = np.interp(TIMES, [0.0, 6.0, 9.0, 20.0], [1.0, 1.0, 2.0, 2.0])  # m/s
 CABLE = dict(cable_length=100.0, cable_axial_stiffness=2e6, cable_axial_damping=5e3)  # m, N, N·s
 SEGMENTS = 4
-UNITS = {"speed": "kn", "tension": "kN"}
+UNITS = {"speed": "kn", "tow_load": "kN"}
 FOLDER = Path(__file__).parent / "records"
 
 
