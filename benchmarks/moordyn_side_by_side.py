@@ -2,7 +2,9 @@
 256-case wave-steepness sweep against 256 sequential MoorDyn runs.
 
 The scene is `jaxcable.examples.seed003_line(n_segments=20, quadratic_ratio=0,
-mass_matrix="lumped")`: lumped mass and a linear elastic law, as MoorDyn has, with
+mass_matrix="lumped", hydrodynamics="nodes")`: lumped mass, drag and added mass lumped
+at the nodes, and a linear elastic law, as MoorDyn has (the same equations, so that
+the errors compare the two engines' integration, not their models), with
 jaxcable's slack switch narrowed to `--slack-width` (1e-6 of strain, 30 N of tension,
 by default; MoorDyn's switch is sharp). The MoorDyn v2 input is generated from that
 model (`moordyn_input`): the line type's d, m, EA, BA = 0 (seed 003 has no internal
@@ -163,10 +165,12 @@ def parse():
 
 def scene(slack_width: float, segments: int = SEGMENTS):
     """Seed 003's line as compared here: 20 segments (or `segments`), linear elastic,
-    lumped mass."""
+    lumped mass and MoorDyn's nodal hydrodynamics."""
     from jaxcable.examples import seed003_line
 
-    return seed003_line(segments, quadratic_ratio=0.0, mass_matrix="lumped", slack_width=slack_width)
+    return seed003_line(
+        segments, quadratic_ratio=0.0, mass_matrix="lumped", slack_width=slack_width, hydrodynamics="nodes"
+    )
 
 
 def moordyn_input(model, env, dtm: float, depth_margin: float = 100.0) -> str:

@@ -18,8 +18,8 @@ Rows (`--only` takes these names):
   generation, stepping, saving its results). Cold: `JAX_COMPILATION_CACHE_DIR` pointed
   at a new, empty folder, with `JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS=0` so that
   every program is cached; warm: a second process with the same folder.
-- `seed003`: seed 003's line (`moordyn_side_by_side.scene`: lumped, linear EA, slack
-  band 1e-6) at each `--segments`, `--duration` (60 s) simulated, at matched error.
+- `seed003`: seed 003's line (`moordyn_side_by_side.scene`: lumped, nodal
+  hydrodynamics as MoorDyn's, linear EA, slack band 1e-6) at each `--segments`, `--duration` (60 s) simulated, at matched error.
   The error is the RMS top-tension difference from a Dopri8 reference at rtol = atol =
   1e-12, relative to its peak, over t ≤ 3 s: the line's tension can be converged
   pointwise only up to its first slack event (see `moordyn_side_by_side.py`). Short

@@ -444,7 +444,7 @@ def _info(args) -> int:
         )
     print(
         f"model: {model.n_nodes} nodes ({model.free_nodes.size} free), {model.n_segments} segments, "
-        f"{model.mass_matrix} mass matrix"
+        f"{model.mass_matrix} mass matrix, hydrodynamics at the {model.hydrodynamics}"
     )
     print("line types:")
     for t in scene.line_types:

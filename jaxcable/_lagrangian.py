@@ -200,14 +200,33 @@ def contact_area(model: CableNetwork) -> Float[Array, " nodes"]:
     return _scatter(model, jnp.broadcast_to(half, (model.n_segments,)), jnp.broadcast_to(half, (model.n_segments,)))
 
 
+def _submerged_fraction(model: CableNetwork, env: Environment, positions) -> Float[Array, "*segments"]:
+    """The fraction of each segment below z = 0 with the free surface; 1 without."""
+    if not env.free_surface:
+        return jnp.ones(())
+    a, b = submerged_interval(*_ends(model, positions[2]))
+    return b - a
+
+
 def _displaced_mass(model: CableNetwork, env: Environment, positions) -> Float[Array, "*segments"]:
     """ρ F (kg/m) per unit length of each segment; with the free surface, times the
     submerged fraction, so that added mass is spread along the segment as the rest."""
-    added = env.water_density * model.line.area
-    if env.free_surface:
-        a, b = submerged_interval(*_ends(model, positions[2]))
-        added = added * (b - a)
-    return added
+    return env.water_density * model.line.area * _submerged_fraction(model, env, positions)
+
+
+def _station_directions(model: CableNetwork, positions) -> Float[Array, "3 stations"]:
+    """The unit direction of each node station (`Topology`'s), for
+    `hydrodynamics="nodes"`: MoorDyn's `q`, from one neighbour to the other inside a
+    line, along the segment at a line's end."""
+    chord = model.topology.station_chord
+    d = take(positions, chord[1]) - take(positions, chord[0])
+    return d / jnp.sqrt(dot(d, d))
+
+
+def _to_stations(model: CableNetwork, per_segment) -> Float[Array, " stations"]:
+    """Half of each segment's `per_segment` to each of its ends' node stations, summed."""
+    half = jnp.broadcast_to(0.5 * per_segment, (model.n_segments,))
+    return sum_into(jnp.concatenate([half, half]), model.topology.station_sums)
 
 
 def _mass_per_length(model: CableNetwork, env: Environment, positions, tangent) -> Float[Array, "3 3 segments"]:
@@ -255,8 +274,12 @@ def _body_mass(model: CableNetwork, env: Environment, positions) -> Float[Array,
 
 
 def _inertial_forces(model: CableNetwork, env: Environment, positions, accelerations) -> Float[Array, "3 nodes"]:
-    weights = _SHAPE_WEIGHTS[model.mass_matrix]
     _, tangent, _ = _geometry(model, positions)
+    if model.hydrodynamics == "nodes":
+        isotropic, axial, directions, plan = _lumped_terms(model, env, positions, tangent)
+        along = axial * dot(directions, take(accelerations, model.topology.station_node)) * directions
+        return isotropic * accelerations + sum_into(along, plan)
+    weights = _SHAPE_WEIGHTS[model.mass_matrix]
     mu = _mass_per_length(model, env, positions, tangent) * model.segment_length
     start, end = _ends(model, accelerations)
     at_start, at_end = matvec(mu, start), matvec(mu, end)
@@ -275,31 +298,48 @@ def inertial_forces(model: CableNetwork, env: Environment, positions, accelerati
 
 
 def _lumped_blocks(model: CableNetwork, env: Environment, positions, tangent) -> Float[Array, "3 3 nodes"]:
+    eye = np.eye(3)[:, :, None]
+    if model.hydrodynamics == "nodes":
+        isotropic, axial, directions, plan = _lumped_terms(model, env, positions, tangent)
+        return isotropic * eye + sum_into(axial * directions[:, None] * directions[None, :], plan)
     half = 0.5 * _mass_per_length(model, env, positions, tangent) * model.segment_length
-    return _scatter(model, half, half) + _body_mass(model, env, positions) * np.eye(3)[:, :, None]
+    return _scatter(model, half, half) + _body_mass(model, env, positions) * eye
 
 
-def _lumped_terms(model: CableNetwork, env: Environment, positions) -> tuple[Array, Array]:
-    """The lumped blocks as `a I + Σ_k b_k τ_k τ_kᵀ`, the sum over the segments k that
-    meet at a node: `(a, b)`, the isotropic mass `a` (kg) per node, shape `(nodes,)`,
-    and each segment's axial excess `b = ½ L ρ F (C_aτ − C_a)` (kg), shape
-    `(segments,)`, from `μ = (m + ρ F C_a) I + ρ F (C_aτ − C_a) ττᵀ`. `b` is negative
-    where C_aτ < C_a (MoorDyn's default), and zero for isotropic added mass."""
+def _lumped_terms(model: CableNetwork, env: Environment, positions, tangent) -> tuple[Array, Array, Array, np.ndarray]:
+    """The lumped blocks as `a I + Σ_k b_k τ_k τ_kᵀ`: `(a, b, τ, plan)`, the isotropic
+    mass `a` (kg) per node, shape `(nodes,)`, and the axial excess `b` (kg) along each
+    direction `τ` (shape `(3, k)`), summed onto nodes by `plan`
+    (`jaxcable._indexing.sum_into`), from `μ = (m + ρ F C_a) I + ρ F (C_aτ − C_a) ττᵀ`
+    per length. The directions are the segments' (`b = ½ L ρ F (C_aτ − C_a)`, both
+    ends), or with `hydrodynamics="nodes"` the node stations' (each station's share of
+    its segments). `b` is negative where C_aτ < C_a (MoorDyn's default), and zero for
+    isotropic added mass."""
     line = model.line
     added = _displaced_mass(model, env, positions)
-    half = 0.5 * model.segment_length
-    isotropic = half * (line.mass_per_length + added * line.normal_added_mass)
-    axial = half * added * (line.tangential_added_mass - line.normal_added_mass)
-    return _scatter(model, isotropic, isotropic) + _body_mass(model, env, positions), axial
+    isotropic = model.segment_length * (line.mass_per_length + added * line.normal_added_mass)
+    axial = model.segment_length * added * (line.tangential_added_mass - line.normal_added_mass)
+    isotropic = _scatter(model, 0.5 * isotropic, 0.5 * isotropic) + _body_mass(model, env, positions)
+    if model.hydrodynamics == "nodes":
+        return (
+            isotropic,
+            _to_stations(model, axial),
+            _station_directions(model, positions),
+            model.topology.node_stations,
+        )
+    # The plan indexes segments' starts, then ends: both ends take their segment's term.
+    plan = np.where(model.topology.node_sums < 0, -1, model.topology.node_sums % model.n_segments)
+    return isotropic, 0.5 * axial, tangent, plan
 
 
 def _lumped_solve(model: CableNetwork, env: Environment, positions, tangent, rhs) -> Float[Array, "3 free"]:
     """`M_ff⁻¹ rhs` for the lumped matrix, one block per free node, `rhs` of shape
     `(3, free)`.
 
-    Where no free node joins more than two segments (a line, or a network without
-    junctions among its free nodes; the topology is static, so this is known when
-    tracing), each block is `a I + b₁ τ₁τ₁ᵀ + b₂ τ₂τ₂ᵀ`, and Woodbury's identity with
+    Where no free node joins more than two directions (segments, or node stations with
+    `hydrodynamics="nodes"`: a line, or a network without junctions among its free
+    nodes; the topology is static, so this is known when tracing), each block is
+    `a I + b₁ τ₁τ₁ᵀ + b₂ τ₂τ₂ᵀ`, and Woodbury's identity with
     the 2 × 2 capacitance matrix solves it in closed form, about a quarter of the
     arithmetic of forming the 3 × 3 blocks and Cramer's rule (`benchmarks/README.md`,
     *Where an evaluation's time goes*):
@@ -311,18 +351,18 @@ def _lumped_solve(model: CableNetwork, env: Environment, positions, tangent, rhs
     definite. A free node at a junction takes the 3 × 3 blocks and Cramer's rule.
     """
     free = model.free_nodes
-    plan = model.topology.node_sums[free]
+    isotropic, axial, directions, plan = _lumped_terms(model, env, positions, tangent)
+    plan = plan[free]
     if plan.shape[1] > _CLOSED_FORM_SEGMENTS:
         blocks = take(_lumped_blocks(model, env, positions, tangent), free)
         return _solve_3x3(blocks, rhs)
-    isotropic, axial = _lumped_terms(model, env, positions)
     a = take(isotropic, free)
-    # The segments meeting at each free node (the plan indexes segments' starts, then
-    # ends); −1 where a node has fewer than two, whose term `take` makes zero.
-    incident = np.full((free.size, 2), -1)
-    incident[:, : plan.shape[1]] = np.where(plan < 0, -1, plan % model.n_segments)
-    t1, t2 = take(tangent, incident[:, 0]), take(tangent, incident[:, 1])
-    b1, b2 = take(axial, incident[:, 0]), take(axial, incident[:, 1])
+    t1, b1 = take(directions, plan[:, 0]), take(axial, plan[:, 0])
+    if plan.shape[1] == 1:
+        # One direction per node (node stations along lines): Sherman–Morrison.
+        return (rhs - b1 * dot(t1, rhs) / (a + b1) * t1) / a
+    # −1 where a node has fewer than two directions, whose term `take` makes zero.
+    t2, b2 = take(directions, plan[:, 1]), take(axial, plan[:, 1])
     s1, s2, c = dot(t1, rhs), dot(t2, rhs), dot(t1, t2)
     d1, d2 = a + b1, a + b2
     scale = 1.0 / (d1 * d2 - c * c * b1 * b2)
@@ -355,10 +395,48 @@ def _water(field, points: Array, t) -> Array:
 
 
 def _nonconservative_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "3 nodes"]:
-    line, body = model.line, model.body
+    body = model.body
     rho = env.water_density
     stretched, tangent, strain = _geometry(model, positions)
+    if model.hydrodynamics == "nodes":
+        drag_start = drag_end = jnp.zeros_like(tangent)
+        forces = _nodal_hydrodynamic_forces(model, env, t, positions, velocities)
+    else:
+        drag_start, drag_end = _segment_hydrodynamic_forces(model, env, t, positions, velocities, stretched, tangent)
+        forces = 0.0
 
+    law = model.line.tension_law
+    if law.damped:
+        pull = law.viscous_tension(strain, _strain_rate(model, tangent, velocities)) * tangent
+        drag_start, drag_end = drag_start + pull, drag_end - pull
+    forces = forces + _scatter(model, drag_start, drag_end)
+
+    z = positions[2]
+    wet = column_submerged_fraction(z, body.height)
+    if env.waves:
+        # A floating column is wet up to the wave's surface η, not to z = 0: its buoyancy
+        # there is the waves' main heave force on a surface buoy (ρ g A η at the
+        # waterline), which the Morison terms at its centre cannot give. The potential
+        # holds the still-water part; the rest is added here. With the Morison
+        # Froude–Krylov term on the wet volume this is, to first order, the wave
+        # pressure on the column's bottom.
+        still = wet
+        wet = column_submerged_fraction(z - env.surface_elevation(positions[0], positions[1], t), body.height)
+        forces = forces + rho * env.gravity * body.volume * (wet - still) * _UP
+    coefficient = (0.5 * rho * body.drag_area + body.specific_drag * body.organism_mass * env.gravity) * wet
+    forces = forces + body_drag(_water(env.water_velocity, positions, t) - velocities, coefficient)
+    if env.has_fluid_acceleration:
+        forces = forces + rho * body.volume * (1 + body.added_mass) * wet * _water(env.water_acceleration, positions, t)
+    if env.seabed is not None:
+        forces = forces + _seabed_forces(model, env, positions, velocities)
+    return forces
+
+
+def _segment_hydrodynamic_forces(model: CableNetwork, env: Environment, t, positions, velocities, stretched, tangent):
+    """Drag and Morison's inertia force on the lines by quadrature of their virtual
+    work along each segment: what each segment's start and end take, `(3, segments)`
+    each."""
+    line, rho = model.line, env.water_density
     # One quadrature point at a time, rather than an axis of them: a short trailing axis
     # is slow on XLA's CPU backend (see `_hydro.dot`).
     xi, w = gauss_legendre(model.drag_points)
@@ -387,32 +465,35 @@ def _nonconservative_forces(model: CableNetwork, env: Environment, t, positions,
             )
         drag_start = drag_start + stretched * weight * (1 - point) * f
         drag_end = drag_end + stretched * weight * point * f
+    return drag_start, drag_end
 
-    law = line.tension_law
-    if law.damped:
-        pull = law.viscous_tension(strain, _strain_rate(model, tangent, velocities)) * tangent
-        drag_start, drag_end = drag_start + pull, drag_end - pull
-    forces = _scatter(model, drag_start, drag_end)
 
-    z = positions[2]
-    wet = column_submerged_fraction(z, body.height)
-    if env.waves:
-        # A floating column is wet up to the wave's surface η, not to z = 0: its buoyancy
-        # there is the waves' main heave force on a surface buoy (ρ g A η at the
-        # waterline), which the Morison terms at its centre cannot give. The potential
-        # holds the still-water part; the rest is added here. With the Morison
-        # Froude–Krylov term on the wet volume this is, to first order, the wave
-        # pressure on the column's bottom.
-        still = wet
-        wet = column_submerged_fraction(z - env.surface_elevation(positions[0], positions[1], t), body.height)
-        forces = forces + rho * env.gravity * body.volume * (wet - still) * _UP
-    coefficient = (0.5 * rho * body.drag_area + body.specific_drag * body.organism_mass * env.gravity) * wet
-    forces = forces + body_drag(_water(env.water_velocity, positions, t) - velocities, coefficient)
+def _nodal_hydrodynamic_forces(model: CableNetwork, env: Environment, t, positions, velocities):
+    """Drag and Morison's inertia force on the lines, lumped at the nodes as MoorDyn's
+    `Line::getStateDeriv` lumps them, component-major `(3, nodes)`: at each node
+    station, on the water relative to its node, about the station's direction, over
+    its share of the submerged unstretched length (half of each of its segments)."""
+    line, rho = model.line, env.water_density
+    length = model.segment_length * _submerged_fraction(model, env, positions)
+    direction = _station_directions(model, positions)
+    at = model.topology.station_node
+    # The coefficients carry the length here (kg/m), which `line_drag` and
+    # `line_inertia` scale by linearly.
+    f = line_drag(
+        take(_water(env.water_velocity, positions, t) - velocities, at),
+        direction,
+        _to_stations(model, 0.5 * rho * line.normal_drag * line.diameter * length),
+        _to_stations(model, 0.5 * rho * line.tangential_drag * jnp.pi * line.diameter * length),
+    )
     if env.has_fluid_acceleration:
-        forces = forces + rho * body.volume * (1 + body.added_mass) * wet * _water(env.water_acceleration, positions, t)
-    if env.seabed is not None:
-        forces = forces + _seabed_forces(model, env, positions, velocities)
-    return forces
+        displaced = rho * line.area * length
+        f = f + line_inertia(
+            take(_water(env.water_acceleration, positions, t), at),
+            direction,
+            _to_stations(model, displaced * (1 + line.normal_added_mass)),
+            _to_stations(model, displaced * (1 + line.tangential_added_mass)),
+        )
+    return sum_into(f, model.topology.node_stations)
 
 
 def nonconservative_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:

@@ -25,6 +25,7 @@ from ._motion import AbstractMotion
 from ._typing import RealLike
 
 MASS_MATRICES = ("consistent", "lumped")
+HYDRODYNAMICS = ("segments", "nodes")
 
 
 class LineType(eqx.Module):
@@ -215,11 +216,42 @@ class Topology:
     - `n_nodes`: the number of nodes.
     - `segment_nodes`: the two nodes each segment joins, shape `(segments, 2)`.
     - `constrained_nodes`: the constrained nodes, increasing, shape `(constrained,)`.
+    - `line_ends`: nodes where a line ends besides those that join other than two
+        segments and the constrained ones (a point joining two lines, a body), for the
+        node stations below.
+
+    **Node stations** (for `CableNetwork(hydrodynamics="nodes")`, MoorDyn's lumped
+    hydrodynamics): a node inside a line is one station, whose direction is the chord
+    through its two neighbours; at a line's end each segment that meets there is a
+    station of its own, along that segment. `station_node[k]` is station k's node and
+    `station_chord[:, k]` the two nodes whose difference gives its direction; stations
+    run in node order, so that on a chain these are slices. `station_sums` plans the sum
+    of the segments' ends (starts, then ends) onto stations, and `node_stations` that of
+    stations onto nodes (`jaxcable._indexing.sum_into`).
     """
 
-    __slots__ = ("n_nodes", "segment_nodes", "constrained_nodes", "free_nodes", "node_sums", "placement", "_hash")
+    __slots__ = (
+        "n_nodes",
+        "segment_nodes",
+        "constrained_nodes",
+        "free_nodes",
+        "node_sums",
+        "placement",
+        "line_ends",
+        "station_node",
+        "station_chord",
+        "station_sums",
+        "node_stations",
+        "_hash",
+    )
 
-    def __init__(self, n_nodes: int, segment_nodes: np.ndarray, constrained_nodes: np.ndarray):
+    def __init__(
+        self,
+        n_nodes: int,
+        segment_nodes: np.ndarray,
+        constrained_nodes: np.ndarray,
+        line_ends: np.ndarray | Sequence[int] = (),
+    ):
         def frozen(array):
             array = np.array(array, dtype=np.int32)
             array.flags.writeable = False
@@ -233,7 +265,35 @@ class Topology:
         # ends) meet at each node, and where each node sits in (free nodes, constrained).
         self.node_sums = frozen(incidence(self.segment_nodes.T.reshape(-1), self.n_nodes))
         self.placement = frozen(np.argsort(np.concatenate([self.free_nodes, self.constrained_nodes])))
-        self._hash = hash((self.n_nodes, self.segment_nodes.tobytes(), self.constrained_nodes.tobytes()))
+
+        ends_at = self.segment_nodes.T.reshape(-1)  # each segment end's node: starts, then ends
+        degree = np.bincount(ends_at, minlength=self.n_nodes)
+        ends = np.zeros(self.n_nodes, dtype=bool)
+        ends[np.asarray(line_ends, dtype=np.int64)] = True
+        ends[self.constrained_nodes] = True
+        ends |= degree != 2
+        self.line_ends = frozen(np.flatnonzero(ends))
+        far = np.roll(ends_at, ends_at.size // 2)  # the other node of each end's segment
+        # One station per segment end at a line's end, one per node inside a line (its
+        # two ends share it); stable order by node, then by end.
+        order = np.argsort(ends_at, kind="stable")
+        first = np.ones(ends_at.size, dtype=bool)
+        first[1:] = (ends_at[order][1:] != ends_at[order][:-1]) | ends[ends_at[order][1:]]
+        station_of = np.empty(ends_at.size, dtype=np.int64)
+        station_of[order] = np.cumsum(first) - 1
+        n_stations = int(first.sum())
+        self.station_node = frozen(ends_at[order][first])
+        # Direction: at a line's end from the node to its segment's other node; inside
+        # a line from one neighbour to the other (the sign does not matter: every load
+        # uses the direction twice).
+        head = order[first]  # each station's first end
+        tail = order[np.append(np.flatnonzero(first)[1:], ends_at.size) - 1]  # and its last
+        self.station_chord = frozen(np.stack([np.where(ends[ends_at[head]], ends_at[head], far[head]), far[tail]]))
+        self.station_sums = frozen(incidence(station_of, n_stations))
+        self.node_stations = frozen(incidence(self.station_node, self.n_nodes))
+        self._hash = hash(
+            (self.n_nodes, self.segment_nodes.tobytes(), self.constrained_nodes.tobytes(), self.line_ends.tobytes())
+        )
 
     def __hash__(self) -> int:
         return self._hash
@@ -245,6 +305,7 @@ class Topology:
             and self.n_nodes == other.n_nodes
             and np.array_equal(self.segment_nodes, other.segment_nodes)
             and np.array_equal(self.constrained_nodes, other.constrained_nodes)
+            and np.array_equal(self.line_ends, other.line_ends)
         )
 
     def __repr__(self) -> str:
@@ -273,6 +334,18 @@ class CableNetwork(eqx.Module):
     - `mass_matrix`: `"consistent"` (the kinetic energy of the polyline, weights 1/3 and
         1/6, seed 003) or `"lumped"` (half of each segment to each end, as MoorDyn).
     - `drag_points`: Gauss–Legendre points per segment for the drag's virtual work.
+    - `hydrodynamics`: where drag, Morison's inertia force and added mass act.
+        `"segments"` (the default): along each segment, about its direction, drag and
+        inertia by `drag_points`-point quadrature of their virtual work over its
+        stretched length. `"nodes"`: MoorDyn's lumped form (`Line.cpp`), at each node,
+        on the water's velocity relative to the node, about the node's direction (the
+        chord through its two neighbours inside a line, the segment's own at a line's
+        end), on half of each neighbouring segment's unstretched length; it needs
+        `mass_matrix="lumped"`. The two agree as segments shrink; a MoorDyn file is
+        read with `"nodes"`, so that the same file gives MoorDyn's answer.
+    - `line_ends`: nodes where a line ends, for `hydrodynamics="nodes"`, besides those
+        that join other than two segments, the constrained nodes and those with a body
+        (all line ends already). [`CableNetwork.from_branches`][] adds its junctions.
 
     **Raises:**
 
@@ -299,6 +372,7 @@ class CableNetwork(eqx.Module):
     topology: Topology = eqx.field(static=True)
     mass_matrix: str = eqx.field(static=True)
     drag_points: int = eqx.field(static=True)
+    hydrodynamics: str = eqx.field(static=True)
 
     def __init__(
         self,
@@ -310,11 +384,19 @@ class CableNetwork(eqx.Module):
         bodies: Mapping[int, Body] | None = None,
         mass_matrix: str = "consistent",
         drag_points: int = 3,
+        hydrodynamics: str = "segments",
+        line_ends: Sequence[int] = (),
     ):
         self.mass_matrix = checks.option("CableNetwork.mass_matrix", mass_matrix, MASS_MATRICES)
         if not (isinstance(drag_points, int) and drag_points >= 1):
             raise ValueError(f"CableNetwork.drag_points must be a positive integer, got {drag_points!r}")
         self.drag_points = drag_points
+        self.hydrodynamics = checks.option("CableNetwork.hydrodynamics", hydrodynamics, HYDRODYNAMICS)
+        if self.hydrodynamics == "nodes" and self.mass_matrix != "lumped":
+            raise ValueError(
+                "CableNetwork.hydrodynamics='nodes' (MoorDyn's lumped form) needs mass_matrix='lumped', "
+                f"got mass_matrix={mass_matrix!r}"
+            )
 
         self.node_positions = checks.float_array("CableNetwork.node_positions", node_positions)
         if self.node_positions.ndim != 2 or self.node_positions.shape[1] != 3:
@@ -348,7 +430,6 @@ class CableNetwork(eqx.Module):
                 raise ValueError(f"CableNetwork.constraints has node {k}, out of range for {n_nodes} nodes")
             if not isinstance(constraints[k], AbstractMotion):
                 raise ValueError(f"CableNetwork.constraints[{k}] must be a motion, got {constraints[k]!r}")
-        self.topology = Topology(n_nodes, edges, np.asarray(constrained, dtype=np.int32))
         self.motions = tuple(constraints[k] for k in constrained)
 
         bodies = dict(bodies or {})
@@ -358,6 +439,12 @@ class CableNetwork(eqx.Module):
             if not isinstance(b, Body):
                 raise ValueError(f"CableNetwork.bodies[{k}] must be a Body, got {b!r}")
         self.body = _scatter_bodies(bodies, n_nodes)
+
+        ends = sorted({int(k) for k in line_ends} | {int(k) for k in bodies})
+        for k in ends:
+            if not 0 <= k < n_nodes:
+                raise ValueError(f"CableNetwork.line_ends has node {k}, out of range for {n_nodes} nodes")
+        self.topology = Topology(n_nodes, edges, np.asarray(constrained, dtype=np.int32), ends)
 
     def conditions(self) -> list[checks.Condition]:
         """Every float field's requirements, its line's, bodies' and motions': checked
@@ -445,6 +532,7 @@ class CableNetwork(eqx.Module):
             next_node += n - 1
             edges += list(zip(chain[:-1], chain[1:]))
             lengths.append(np.full(n, branch.length / n))
+        line_ends = [*range(junctions.shape[0]), *options.pop("line_ends", ())]
         return cls(
             node_positions=np.concatenate(positions),
             segment_nodes=np.asarray(edges),
@@ -452,6 +540,7 @@ class CableNetwork(eqx.Module):
             line=_stack_lines(branches),
             constraints=constraints,
             bodies=bodies,
+            line_ends=line_ends,
             **options,
         )
 

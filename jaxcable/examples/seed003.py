@@ -58,6 +58,7 @@ def seed003_line(
     period: float = WAVE_PERIOD,
     slack_width: float = 1e-5,
     mass_matrix: str = "consistent",
+    hydrodynamics: str = "segments",
 ) -> tuple[CableNetwork, Environment]:
     """Seed 003's anchored line, driven at its top.
 
@@ -69,6 +70,8 @@ def seed003_line(
     - `period`: T_w (s), the period of the fairlead motion.
     - `slack_width`: the slack switch's smoothing band (strain).
     - `mass_matrix`: `"consistent"` or `"lumped"`.
+    - `hydrodynamics`: `"segments"` or `"nodes"` (MoorDyn's form; with `"lumped"`),
+        see [`jaxcable.CableNetwork`][].
 
     **Returns:**
 
@@ -87,5 +90,6 @@ def seed003_line(
         branches=[Branch(0, 1, line, float(np.linalg.norm(fairlead - anchor)), n_segments)],
         constraints={0: Fixed(), 1: Harmonic(seed003_amplitude(period), period, direction=(1.0, 0.0, 0.0))},
         mass_matrix=mass_matrix,
+        hydrodynamics=hydrodynamics,
     )
     return model, env

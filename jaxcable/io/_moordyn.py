@@ -198,6 +198,7 @@ def read_moordyn(path: str | Path) -> Scene:
     run = RunSettings(
         dt_out=options.get("dtout") or None,
         mass_matrix="lumped",
+        hydrodynamics="nodes",  # MoorDyn lumps drag and added mass at the nodes
         statics="tmaxic" not in options,
         **_stepping(options, notes),
     )

@@ -345,7 +345,9 @@ class RunSettings:
     """How to run a scene: `duration` (s), the output interval `dt_out` (s; `None` for
     0.1 s), the `solver` (a name in [`jaxcable.SOLVERS`][]), its tolerances, a fixed
     step `dt` (s; `None` to step adaptively, as by default), the most steps
-    `max_steps`, the `mass_matrix` (`"consistent"` or `"lumped"`), and whether to solve
+    `max_steps`, the `mass_matrix` (`"consistent"` or `"lumped"`), the
+    `hydrodynamics` (`"segments"`, or MoorDyn's `"nodes"`; see
+    [`jaxcable.CableNetwork`][]), and whether to solve
     `statics` first (otherwise the run starts from the file's geometry at rest, as
     MoorDyn's with `TmaxIC = 0`). Plain data, as a scene file holds it;
     `solver_config()` makes the [`jaxcable.SolverConfig`][] that runs it."""
@@ -358,6 +360,7 @@ class RunSettings:
     dt: float | None = None
     max_steps: int = 1_000_000
     mass_matrix: str = "consistent"
+    hydrodynamics: str = "segments"
     statics: bool = True
 
     def solver_config(self) -> SolverConfig:
@@ -504,6 +507,7 @@ class Scene:
                 constraints=constraints,
                 bodies=bodies,
                 mass_matrix=self.run.mass_matrix,
+                hydrodynamics=self.run.hydrodynamics,
             )
         # `from_branches` keeps point k as node k, then numbers each line's interior
         # nodes and its segments, A to B, line by line.

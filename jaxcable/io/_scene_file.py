@@ -43,6 +43,8 @@ A scene file names its points and line types and lists its lines::
     #                            # with solver = "midpoint", "heun" or "euler", say
     max_steps = 1000000
     mass_matrix = "consistent"   # or "lumped"
+    hydrodynamics = "segments"   # or "nodes": drag and added mass lumped at the
+                                 # nodes, as MoorDyn (needs mass_matrix = "lumped")
     statics = true               # false: start from the points' positions at rest,
                                  # lines as MoorDyn lays them (its TmaxIC = 0)
 
@@ -98,7 +100,7 @@ from typing import Any
 
 from .._config import SOLVERS
 from .._motion import Harmonic, Sampled
-from .._network import MASS_MATRICES, Body
+from .._network import HYDRODYNAMICS, MASS_MATRICES, Body
 from ._motion_file import read_motion_file
 from ._parse import read_text, unique_names
 from ._scene import (
@@ -122,7 +124,18 @@ _WATER = ("density", "gravity", "depth", "current", "current_profile", "free_sur
 _CURRENT_PROFILE = ("heights", "speeds", "heading")
 _WAVE = ("theory", "height", "steepness", "period", "heading", "phase", "wheeler")
 _SEABED = ("stiffness", "damping", "friction", "friction_speed", "friction_damping")
-_SIMULATION = ("duration", "dt_out", "solver", "rtol", "atol", "dt", "max_steps", "mass_matrix", "statics")
+_SIMULATION = (
+    "duration",
+    "dt_out",
+    "solver",
+    "rtol",
+    "atol",
+    "dt",
+    "max_steps",
+    "mass_matrix",
+    "hydrodynamics",
+    "statics",
+)
 _LINE_TYPE_REQUIRED = ("mass_per_length", "diameter", "axial_stiffness")
 _LINE_TYPE_OPTIONAL = (
     "quadratic_stiffness",
@@ -176,13 +189,19 @@ def read_scene(path: str | Path) -> Scene:
         dt=reader.number(simulation, ("simulation", "dt"), None),
         max_steps=reader.integer(simulation, ("simulation", "max_steps"), defaults.max_steps),
         mass_matrix=reader.string(simulation, ("simulation", "mass_matrix"), defaults.mass_matrix),
+        hydrodynamics=reader.string(simulation, ("simulation", "hydrodynamics"), defaults.hydrodynamics),
         statics=reader.boolean(simulation, ("simulation", "statics"), defaults.statics),
     )
-    for key, allowed in (("solver", tuple(SOLVERS)), ("mass_matrix", MASS_MATRICES)):
+    for key, allowed in (("solver", tuple(SOLVERS)), ("mass_matrix", MASS_MATRICES), ("hydrodynamics", HYDRODYNAMICS)):
         if getattr(run, key) not in allowed:
             raise SceneError(
                 f"{reader.where(('simulation', key))}: must be one of {allowed}, got {getattr(run, key)!r}"
             )
+    if run.hydrodynamics == "nodes" and run.mass_matrix != "lumped":
+        raise SceneError(
+            f'{reader.where(("simulation", "hydrodynamics"))}: "nodes" (MoorDyn\'s lumped form) needs '
+            f'mass_matrix = "lumped", got {run.mass_matrix!r}'
+        )
     for key in ("dt_out", "rtol", "atol", "dt", "max_steps"):
         value = getattr(run, key)
         if value is not None and not value > 0:
