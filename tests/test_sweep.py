@@ -157,6 +157,21 @@ def test_shared_steps_agree_with_own_steps_to_the_tolerance(swept):
     assert np.max(np.abs(np.asarray(shared.simulation.tension[0]) - np.asarray(swept.simulation.tension[0]))) > 1e-3
 
 
+def test_default_chunks_are_two_a_core_where_each_keeps_sixteen_cases(monkeypatch):
+    """On a CPU the default gives each core two chunks once every chunk would hold at
+    least 16 cases, and one chunk a core below that (padding to a multiple of the
+    chunks wastes up to a chunk's share less one); one chunk on other devices."""
+    monkeypatch.setattr(jc._sweep, "_cores", lambda: 2)
+    cpu = jax.devices("cpu")[:1]
+    assert [jc._sweep._check_chunks(None, cpu, n) for n in (1, 6, 63, 64, 256)] == [2, 2, 2, 4, 4]
+    assert jc._sweep._check_chunks(3, cpu, 256) == 3
+
+    class Accelerator:
+        platform = "gpu"
+
+    assert jc._sweep._check_chunks(None, [Accelerator()], 256) == 1
+
+
 def test_chunks_equal_one_batch(swept, monkeypatch):
     """Chunks run on threads change where the cases run, not what they give: six cases
     in four chunks (padded to eight) equal the batch of `swept` (two chunks by default
