@@ -64,6 +64,20 @@ STALLED = (
 """The warning of a stalled fit (measured: 40 segments of the sample records' 2e6 N cable,
 where the tow-point load's forward-mode derivative was 3,000 times its central
 difference at rtol = atol = 1e-6, and within 5e-6 of it at 1e-9)."""
+TANGENT_TOLERANCE = 0.05
+"""The largest difference, per coefficient, between the residuals' forward-mode
+derivative and their central difference (as a share of the difference's norm) that a
+fit accepts. Forward-mode tangents ride along with the simulation, whose step-size
+controller sees only the states' error, so at a loose tolerance they can be far off
+while the states are right; [`jaxcable.calibrate`][] then tightens the tolerance 100-fold
+until they agree, down to `TIGHTEST_TOLERANCE`."""
+TIGHTEST_TOLERANCE = 1e-10
+# The central differences' step in each log coefficient, 1 %: large enough that a solve's
+# own error hardly moves the difference (on the sample records at rtol = 1e-6 the
+# forward-mode derivatives differed from it by 2.8 % and 5.4 % with a 0.1 % step, from
+# the solves' noise over the step, and by 0.26 % and 0.42 % with 1 %), small enough that
+# its truncation error (~1e-4 of the derivative) is not.
+_DIFFERENCE_STEP = 1e-2
 STALL_GAIN = 0.01
 """A fit whose loss settled is called stalled, not converged, when one Gauss–Newton
 step with its own Jacobian would still remove more than this share of the squared
@@ -119,6 +133,11 @@ class CalibrationResult(NamedTuple):
     - `jacobian`: for each record, by observable, the derivative of the prediction in
         the log of each coefficient at the fitted values (SI units of the observable),
         shape `(samples, coefficients)`, coefficients in the order of `values`.
+    - `tangent_error`: by coefficient, how far the residuals' forward-mode derivative at
+        the start lay from their central difference, as a share of the difference's
+        norm, at the tolerance the fit ran at (`TANGENT_TOLERANCE`).
+    - `tolerances`: `(rtol, atol)` the simulations ran at: the solver's own, or
+        tighter where the tangents needed it; `None` for fixed steps.
     """
 
     values: dict[str, float]
@@ -141,6 +160,8 @@ class CalibrationResult(NamedTuple):
     inflation: dict[str, float]
     rigs: list[AbstractTowingRig]
     jacobian: list[dict[str, np.ndarray]]
+    tangent_error: dict[str, float]
+    tolerances: tuple[float, float] | None
 
     def summary(self) -> str:
         """A table of the fitted values with their uncertainties, then the warnings."""
@@ -163,6 +184,12 @@ class CalibrationResult(NamedTuple):
             else "stopped at the iteration limit"
         )
         lines.append(f"{self.iterations} iterations ({state}); loss {self.loss[0]:.4g} -> {self.loss[-1]:.4g}")
+        if self.tangent_error:
+            worst = max(self.tangent_error.values())
+            lines.append(
+                f"derivatives within {100 * worst:.2g} % of central differences at the start "
+                f"({_stepping(self.tolerances)})"
+            )
         failed = [r.name for r, ok in zip(self.records, self.success) if not ok]
         if failed:
             lines.append(f"simulations that failed: {', '.join(failed)}")
@@ -393,10 +420,13 @@ def calibrate(
         raise ValueError(f"calibrate: solver must be a jaxcable.SolverConfig, got {solver!r}")
     problem, pairs = _problem(tests, names, solver)
     log_values = jnp.log(jnp.array([start[n] for n in names], dtype=float))
+    problem, tangent_error = _trusted_tangents(problem, log_values)
     log_values, losses, converged, stalled, steps, (jacobian, r, successes) = _optimise(
         problem, log_values, optax.with_extra_args_support(optimizer), max_steps, tolerance, progress
     )
-    return _report(problem, start, log_values, losses, steps, converged, stalled, pairs, r, jacobian, successes)
+    return _report(
+        problem, start, log_values, losses, steps, converged, stalled, pairs, r, jacobian, successes, tangent_error
+    )
 
 
 def _caveats(pairs) -> list[str]:
@@ -654,6 +684,68 @@ def _optimise(problem, log_values, opt, max_steps, tolerance, progress):
     )
 
 
+def _tolerances(problem: _Problem) -> tuple[float, float] | None:
+    """The fit's step-size controller's `(rtol, atol)`; `None` if it has none (fixed
+    steps)."""
+    controller = problem.forward.stepsize_controller
+    if not isinstance(controller, diffrax.PIDController):
+        return None
+    return float(controller.rtol), float(controller.atol)
+
+
+def _stepping(tolerances: tuple[float, float] | None) -> str:
+    return "fixed steps" if tolerances is None else "rtol = {:g}, atol = {:g}".format(*tolerances)
+
+
+def _tangent_error(problem: _Problem, log_values) -> np.ndarray:
+    """Per coefficient, `‖J_k − D_k‖ / ‖D_k‖`: the residuals' forward-mode derivative
+    `J` against their central difference `D` in the log coefficient. The differences
+    come out of the Jacobian's own compiled program, so the check compiles nothing."""
+    jacobian, (r, successes) = _jacobian(log_values, problem)
+    errors = []
+    for k in range(len(problem.names)):
+        step = jnp.zeros_like(log_values).at[k].set(_DIFFERENCE_STEP)
+        _, (plus, ok_plus) = _jacobian(log_values + step, problem)
+        _, (minus, ok_minus) = _jacobian(log_values - step, problem)
+        if not all(bool(jnp.all(ok)) for ok in (*successes, *ok_plus, *ok_minus)):
+            raise RuntimeError("calibrate: a simulation failed at the starting values; check the rigs and records")
+        difference = (np.asarray(plus) - np.asarray(minus)) / (2 * _DIFFERENCE_STEP)
+        scale = float(np.linalg.norm(difference))
+        gap = float(np.linalg.norm(np.asarray(jacobian)[:, k] - difference))
+        errors.append(gap / scale if scale > 0 else (0.0 if gap == 0 else math.inf))
+    return np.asarray(errors)
+
+
+def _trusted_tangents(problem: _Problem, log_values) -> tuple[_Problem, dict[str, float]]:
+    """`problem` at a solver tolerance where its forward-mode derivatives agree with
+    central differences within `TANGENT_TOLERANCE` at `log_values`, tightening rtol
+    and atol 100-fold at a time down to `TIGHTEST_TOLERANCE` (the tolerances are data:
+    nothing recompiles); and the agreement reached, by coefficient. Where it cannot
+    be reached, the fit goes on at the tolerance that came closest, and the report warns."""
+    errors = _tangent_error(problem, log_values)
+    tried = [(float(errors.max()), problem, errors)]
+    while errors.max() > TANGENT_TOLERANCE and (tolerances := _tolerances(problem)) is not None:
+        if tolerances[0] <= TIGHTEST_TOLERANCE:
+            break
+        rtol, atol = (max(t / 100, TIGHTEST_TOLERANCE) for t in tolerances)
+        problem = eqx.tree_at(
+            lambda p: (
+                p.solver.stepsize_controller.rtol,
+                p.solver.stepsize_controller.atol,
+                p.forward.stepsize_controller.rtol,
+                p.forward.stepsize_controller.atol,
+            ),
+            problem,
+            tuple(jnp.asarray(x) for x in (rtol, atol, rtol, atol)),
+        )
+        errors = _tangent_error(problem, log_values)
+        tried.append((float(errors.max()), problem, errors))
+    # Tighter is not always better: on the sample records the derivatives at rtol = 1e-9
+    # were 1.4 and 33 times off where 1e-8's were within 0.05 %.
+    _, problem, errors = min(tried, key=lambda t: t[0])
+    return problem, {n: float(e) for n, e in zip(problem.names, errors)}
+
+
 def _linear_gain(jacobian: np.ndarray, r: np.ndarray) -> float:
     """The share of the squared residuals `r` that one Gauss–Newton step with
     `jacobian` would remove, `gᵀ (JᵀJ)⁺ g / rᵀr` with `g = Jᵀr`: zero at a least-squares
@@ -672,7 +764,9 @@ def _bar(total, progress):
     return tqdm(total=total, desc="calibrate (compiling)", unit="it")
 
 
-def _report(problem, start, log_values, losses, steps, converged, stalled, pairs, r, jacobian, successes):
+def _report(
+    problem, start, log_values, losses, steps, converged, stalled, pairs, r, jacobian, successes, tangent_error
+):
     """Unpad the predictions and residuals, estimate the noise, and form the
     Gauss–Newton covariance and the warnings."""
     names, groups = problem.names, problem.groups
@@ -733,8 +827,21 @@ def _report(problem, start, log_values, losses, steps, converged, stalled, pairs
     sensitivity = np.sqrt(np.sum((weighted * math.log(1.1)) ** 2, axis=0) / rows)
     with np.errstate(invalid="ignore", divide="ignore"):
         inflation = np.where(white > 0, spread / white, 1.0)
+    worst = max(tangent_error, key=tangent_error.__getitem__)
+    rough = (
+        [
+            f"the derivatives of the residuals in {worst} differ from their central difference by "
+            f"{100 * tangent_error[worst]:.3g} % at the start, at "
+            + _stepping(_tolerances(problem))
+            + f" (more than {100 * TANGENT_TOLERANCE:g} %): the fit's steps and its uncertainties rest on them. "
+            "Use an adaptive solver, or one with tighter tolerances, or more samples in the records"
+        ]
+        if tangent_error[worst] > TANGENT_TOLERANCE
+        else []
+    )
     messages = (
         ([STALLED.format(iterations=steps)] if stalled else [])
+        + rough
         + _caveats(pairs)
         + _discrepancy(checks)
         + _warnings(names, values, spread, correlation, sensitivity, weighted.T @ weighted)
@@ -762,6 +869,8 @@ def _report(problem, start, log_values, losses, steps, converged, stalled, pairs
         inflation={n: float(f) for n, f in zip(names, inflation)},
         rigs=[rig for rig, _ in pairs],
         jacobian=derivatives,
+        tangent_error=tangent_error,
+        tolerances=_tolerances(problem),
     )
 
 

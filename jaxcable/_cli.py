@@ -592,6 +592,8 @@ def _calibrate(args) -> int:
             "iterations": result.iterations,
             "converged": result.converged,
             "stalled": result.stalled,
+            "tangent_error": result.tangent_error,
+            "tolerances": result.tolerances,
             "noise": [{"record": r, "observable": o, "sigma": s} for (r, o), s in result.noise.items()],
             "records": [r.name for r in result.records],
             "success": result.success,
