@@ -171,7 +171,9 @@ def test_derivatives_that_never_agree_are_warned_of(vertical_records, monkeypatc
     tried = []
 
     def far_off(problem, log_values):
-        rtol = jc._calibrate._tolerances(problem)[0]
+        tolerances = jc._calibrate._tolerances(problem)
+        assert tolerances is not None
+        rtol = tolerances[0]
         tried.append(rtol)
         return np.array([0.5 if rtol > 1e-9 else 0.8])
 
