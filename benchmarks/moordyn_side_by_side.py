@@ -727,12 +727,14 @@ def sweep_pair(rows) -> dict | None:
 def solver_setting(setting: dict, max_steps: int):
     """A `jc.SolverConfig` from a setting: `{"solver": "Dopri5", "tol": 1e-4}` for an
     adaptive step at rtol = atol = tol, or `{"solver": "Bosh3", "dt": 5e-3}` for a fixed
-    step of dt (s), as MoorDyn steps at its dtM; `solver` names a diffrax solver."""
+    step of dt (s), as MoorDyn steps at its dtM; `solver` names a diffrax solver, or
+    jaxcable's `RK4`."""
     import diffrax
 
     import jaxcable as jc
 
-    solver = getattr(diffrax, setting["solver"])()
+    solver = getattr(diffrax, setting["solver"], None) or getattr(jc, setting["solver"])
+    solver = solver()
     if "dt" in setting:
         return jc.SolverConfig(
             solver, dt0=setting["dt"], stepsize_controller=diffrax.ConstantStepSize(), max_steps=max_steps

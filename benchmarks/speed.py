@@ -19,16 +19,17 @@ Rows (`--only` takes these names):
   at a new, empty folder, with `JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS=0` so that
   every program is cached; warm: a second process with the same folder.
 - `seed003`: seed 003's line (`moordyn_side_by_side.scene`: lumped, nodal
-  hydrodynamics as MoorDyn's, linear EA, slack band 1e-6) at each `--segments`, `--duration` (60 s) simulated, at matched error.
-  The error is the RMS top-tension difference from a Dopri8 reference at rtol = atol =
-  1e-12, relative to its peak, over t ≤ 3 s: the line's tension can be converged
+  hydrodynamics as MoorDyn's, linear EA, slack band 1e-6) at each `--segments`,
+  `--duration` (60 s) simulated, at matched error. The error is the RMS top-tension
+  difference from a Dopri8 reference at rtol = atol = 1e-12, relative to its peak,
+  over t ≤ 3 s: the line's tension can be converged
   pointwise only up to its first slack event (see `moordyn_side_by_side.py`). Short
   runs (4 s) of MoorDyn at several dtM and of jaxcable's settings find, for each engine,
   the cheapest setting within `--level` (1e-3) and the next cheaper one; those are timed
   over the whole duration and each engine's time at the level interpolated in log-log
   between them (`moordyn_side_by_side.wall_at`). jaxcable's settings come in families,
   each bracketed and interpolated on its own, and the fastest family's time is the
-  row's: Dopri5 at `--tols`, and each of `--fixed` (Bosh3, Tsit5) at fixed steps
+  row's: Dopri5 at `--tols`, and each of `--fixed` (Bosh3, RK4, Tsit5) at fixed steps
   `--fixed-dt` (scaled by 20/N as MoorDyn's dtM is), the way a MoorDyn user picks dtM.
   A step beyond a method's stability limit shows as an infinite error and is not picked.
 - `sweep`: `moordyn_side_by_side.part_sweep`: 256 wave steepnesses as one
@@ -110,14 +111,15 @@ def parse(argv=None):
     parser.add_argument(
         "--fixed",
         nargs="*",
-        default=["Bosh3", "Tsit5"],
-        help="diffrax explicit solvers also tried at fixed steps (`--fixed-dt`), beside Dopri5's tolerances",
+        default=["Bosh3", "RK4", "Tsit5"],
+        help="explicit solvers (diffrax's, or jaxcable's RK4) also tried at fixed steps (`--fixed-dt`), beside "
+        "Dopri5's tolerances",
     )
     parser.add_argument(
         "--fixed-dt",
         type=float,
         nargs="+",
-        default=[6e-3, 5e-3, 4.5e-3, 4e-3, 3e-3, 2e-3, 1e-3],
+        default=[9e-3, 8e-3, 7e-3, 6e-3, 5e-3, 4.5e-3, 4e-3, 3e-3, 2e-3, 1e-3],
         help="jaxcable's fixed steps (s) at N = 20, scaled by 20/N for other N (and rounded to divide 0.05 s)",
     )
     parser.add_argument(

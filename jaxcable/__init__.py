@@ -62,6 +62,7 @@ if TYPE_CHECKING:
     from ._network import CableNetwork as CableNetwork
     from ._network import LineType as LineType
     from ._picard import PicardTrapezoid as PicardTrapezoid
+    from ._rk4 import RK4 as RK4
     from ._simulate import SimulationResult as SimulationResult
     from ._simulate import simulate as simulate
     from ._state import State as State
@@ -116,6 +117,7 @@ _NAMES = {
     "CableNetwork": "._network",
     "LineType": "._network",
     "PicardTrapezoid": "._picard",
+    "RK4": "._rk4",
     "SimulationResult": "._simulate",
     "simulate": "._simulate",
     "State": "._state",

@@ -3,7 +3,19 @@ without it): the solvers, the motion tables' interpolations, and the kinds of ph
 a MoorDyn file may ask for that jaxcable leaves out. Plain data, importing nothing;
 the modules that use them import them from here."""
 
-SOLVER_NAMES = ("dopri5", "tsit5", "bosh3", "dopri8", "midpoint", "heun", "euler", "kvaerno5", "kencarp4", "picard")
+SOLVER_NAMES = (
+    "dopri5",
+    "tsit5",
+    "bosh3",
+    "rk4",
+    "dopri8",
+    "midpoint",
+    "heun",
+    "euler",
+    "kvaerno5",
+    "kencarp4",
+    "picard",
+)
 """The keys of [`jaxcable.SOLVERS`][], in its order (a test holds them equal)."""
 
 INTERPOLATIONS = ("cubic", "pchip", "linear")

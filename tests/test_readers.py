@@ -426,7 +426,8 @@ def test_moordyn_file_with_nothing_left_out_reads_without_warnings(tmp_path):
         ("heun", "heun", True),
         ("Euler", "euler", True),
         ("midpoint5", "midpoint", False),
-        ("RK4", "midpoint", False),
+        ("RK4", "rk4", True),
+        ("RK3", "midpoint", False),
     ],
 )
 def test_moordyn_dtm_and_tscheme_are_fixed_steps(tmp_path, scheme, solver, honoured):
@@ -1333,7 +1334,7 @@ def test_run_notes_a_line_out_of_the_water(tmp_path):
 @pytest.mark.parametrize(
     "old, new, key",
     [
-        ("dt_out = 0.5", 'dt_out = 0.5\nsolver = "rk4"', "simulation.solver"),
+        ("dt_out = 0.5", 'dt_out = 0.5\nsolver = "rk5"', "simulation.solver"),
         ("dt_out = 0.5", 'dt_out = 0.5\nmass_matrix = "diagonal"', "simulation.mass_matrix"),
         ("dt_out = 0.5", "dt_out = -0.5", "simulation.dt_out"),
         ("duration = 10.0", "duration = -1.0", "simulation.duration"),

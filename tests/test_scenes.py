@@ -526,8 +526,8 @@ def test_run_settings_name_a_solver_configuration():
     assert isinstance(config.solver, diffrax.Kvaerno5)
     assert float(config.stepsize_controller.rtol) == 1e-7 and float(config.stepsize_controller.atol) == 1e-8
     scene = jc.read_scene(examples.scene_path("seed003_line"))
-    bad = scene.replace(run=dataclasses.replace(scene.run, solver="rk4"))
-    with pytest.raises(jc.io.SceneError, match=r"solver must be one of \('dopri5'.*, got 'rk4'"):
+    bad = scene.replace(run=dataclasses.replace(scene.run, solver="rk5"))
+    with pytest.raises(jc.io.SceneError, match=r"solver must be one of \('dopri5'.*, got 'rk5'"):
         jc.run_scene(bad, duration=0.1)
 
 

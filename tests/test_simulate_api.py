@@ -7,6 +7,7 @@ import pytest
 from helpers import compilations
 
 import jaxcable as jc
+from jaxcable._stability import stability_function
 from jaxcable.examples import seed003_line
 
 
@@ -165,6 +166,37 @@ def test_bad_values_are_named_eagerly_and_under_jit(driven_line):
         eqx.filter_jit(lambda t1: jc.simulate(model, env, t1, ts=[0.0], initial=static.state))(0.0)
     with pytest.raises(ValueError, match=r"simulate: ts must lie within \[t0, t1\], got 2.0 at index 1"):
         jc.simulate(model, env, 1.0, ts=[0.0, 2.0], initial=static.state)
+
+
+def test_rk4_is_the_classical_method(driven_line):
+    """`SOLVERS["rk4"]` (MoorDyn's `RK4`) at fixed steps: halving the step divides the
+    error by about 2⁴ = 16; its stability function is the fourth-degree Taylor
+    polynomial of exp, so its imaginary-axis interval reaches 2√2; and adaptively its
+    midpoint-rule estimate steers it to a requested tolerance."""
+    model, env, static = driven_line
+    ts = np.linspace(0.0, 0.5, 11)
+
+    def top_tension(config):
+        run = jc.simulate(model, env, 0.5, ts=ts, initial=static.state, solver=config)
+        return np.asarray(run.tension[:, -1])
+
+    reference = top_tension(jc.SOLVERS["dopri8"](rtol=1e-12, atol=1e-12))
+    errors = []
+    for dt in (4e-3, 2e-3, 1e-3):
+        fixed = jc.SOLVERS["rk4"](dt0=dt, stepsize_controller=diffrax.ConstantStepSize())
+        errors.append(np.max(np.abs(top_tension(fixed) - reference)))
+    ratios = np.array(errors[:-1]) / np.array(errors[1:])
+    np.testing.assert_allclose(ratios, 16.0, rtol=0.25)
+
+    z = np.array([0.3 + 0.1j, -1.0, 2.0j])
+    taylor = 1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24
+    np.testing.assert_allclose(stability_function(jc.RK4(), z), taylor, rtol=1e-14)
+    edge = stability_function(jc.RK4(), np.array([2.8j, 2.9j]))
+    assert abs(edge[0]) <= 1.0 < abs(edge[1])
+
+    scale = np.max(np.abs(reference))
+    adaptive = top_tension(jc.SOLVERS["rk4"](rtol=1e-8, atol=1e-8))
+    assert np.max(np.abs(adaptive - reference)) < 1e-6 * scale
 
 
 def test_bosh3_fixed_steps_converge_at_third_order(driven_line):

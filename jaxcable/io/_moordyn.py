@@ -109,7 +109,7 @@ _COSMETIC = {"echo", "writelog", "writeunits", "disableoutput", "disableouttime"
 # the explicit method of the same name where it has one, and otherwise with the
 # midpoint method, MoorDyn's default RK2.
 _STEP, _SCHEME = ("dtm", "dt"), "tscheme"
-_SCHEMES = {"rk2": "midpoint", "heun": "heun", "euler": "euler"}
+_SCHEMES = {"rk2": "midpoint", "rk4": "rk4", "heun": "heun", "euler": "euler"}
 # Numeric options jaxcable uses, by lower-case name, and the values each may take.
 _USED = {
     "g": "positive",
