@@ -25,13 +25,11 @@ every output time ends a step. diffrax would check the given `dt0` with a callba
 these steps are not taken through `diffeqsolve`.
 """
 
-import functools
 import math
 from collections.abc import Callable
 from typing import Any
 
 import diffrax
-import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -41,6 +39,7 @@ from . import _checks as checks
 from ._config import SolverConfig
 from ._environment import Environment
 from ._network import CableNetwork, network_conditions
+from ._programs import Program, program
 from ._simulate import SimulationResult, as_config, failure_message, for_model, result_of, terms_for
 from ._state import State
 
@@ -86,13 +85,6 @@ def simulate_in_blocks(
     configuration's `max_steps`.
     """
     config = for_model(as_config("simulate_in_blocks", solver), model)
-    fixed = isinstance(config.stepsize_controller, diffrax.ConstantStepSize)
-    if fixed and config.dt0 is None:
-        raise ValueError("simulate_in_blocks: a fixed step (diffrax.ConstantStepSize) needs the solver's dt0")
-    if not fixed and config.dt0 is not None:
-        raise ValueError(
-            "simulate_in_blocks: an adaptive solver's dt0 must be None (diffrax checks a first step with a callback)"
-        )
     ts = np.asarray(ts, dtype=float)
     if ts.ndim != 1 or ts.size < 2:
         raise ValueError(f"simulate_in_blocks: ts must be 1-D with at least 2 times, got shape {ts.shape}")
@@ -104,28 +96,15 @@ def simulate_in_blocks(
             checks.finite("simulate_in_blocks: initial.velocities", initial.velocities),
         ]
     )
-    if fixed:
-        substeps = substeps_per_interval(ts, float(np.asarray(config.dt0)))
-        if substeps * (ts.size - 1) > config.max_steps:
-            raise ValueError(
-                f"simulate_in_blocks: a fixed step of {float(np.asarray(config.dt0)):g} s takes "
-                f"{substeps * (ts.size - 1)} steps from {ts[0]:g} to {ts[-1]:g} s, more than the solver's "
-                f"max_steps = {config.max_steps}"
-            )
-        block = functools.partial(_fixed_block, substeps=substeps)
-        carry, first = _fixed_start(model, env, (initial.positions, initial.velocities), ts[0], ts[1], config)
-    else:
-        block = _block
-        carry, first = _start(model, env, (initial.positions, initial.velocities), ts[0], ts[1], config)
-    starts, ends = ts[:-1], ts[1:]
-    pad = -len(starts) % BLOCK
-    # Padding intervals (zero length, at the end) are skipped inside the block.
-    starts, ends = np.append(starts, np.full(pad, ts[-1])), np.append(ends, np.full(pad, ts[-1]))
-    active = np.arange(len(starts)) < len(ts) - 1
+    start, block, options = _programs_for(config, ts)
+    carry, first = start(model, env, (initial.positions, initial.velocities), ts[0], ts[1], config)
+    starts, ends, active = _intervals(ts)
     blocks, steps = [], np.zeros(3, dtype=np.int64)
     for k in range(0, len(starts), BLOCK):
         part = slice(k, k + BLOCK)
-        carry, saved, counts, result = block(model, env, carry, starts[part], ends[part], active[part], config)
+        carry, saved, counts, result = block(
+            model, env, carry, starts[part], ends[part], active[part], config, **options
+        )
         blocks.append(saved)
         steps += np.asarray(counts)
         # `max_steps` bounds each interval's solve; the run as a whole is held to it here.
@@ -137,13 +116,62 @@ def simulate_in_blocks(
         np.concatenate([np.asarray(f)] + [np.asarray(b[i]) for b in blocks])[: len(ts)] for i, f in enumerate(first)
     ]
     stats: dict[str, Any] = dict(zip(("num_steps", "num_accepted_steps", "num_rejected_steps"), map(int, steps)))
-    positions, velocities, strain, tension, reactions = map(jnp.asarray, columns)
+    # `device_put`, not `jnp.asarray`, which compiles a program of its own for each shape.
+    positions, velocities, strain, tension, reactions = map(jax.device_put, columns)
     return SimulationResult(
         jnp.asarray(ts), positions, velocities, strain, tension, reactions, stats, diffrax.RESULTS.successful
     )
 
 
-@eqx.filter_jit
+def prepare(
+    model: CableNetwork, env: Environment, ts: Float[np.ndarray, " times"], solver: SolverConfig | None = None
+) -> None:
+    """Start compiling the programs that [`simulate_in_blocks`][] will run with these
+    arguments (and an initial state of `model.node_positions`' shape), in a background
+    thread, where the command line keeps programs (`jaxcable._programs`): they compile
+    while the caller does other work, statics say. Nothing otherwise."""
+    config = for_model(as_config("simulate_in_blocks", solver), model)
+    ts = np.asarray(ts, dtype=float)
+    start, block, options = _programs_for(config, ts)
+    initial = (model.node_positions, jnp.zeros_like(model.node_positions))
+    start.prepare(model, env, initial, ts[0], ts[1], config)
+    carry, _ = start.output_shapes(model, env, initial, ts[0], ts[1], config)
+    starts, ends, active = (x[:BLOCK] for x in _intervals(ts))
+    block.prepare(model, env, carry, starts, ends, active, config, **options)
+
+
+def _programs_for(config: SolverConfig, ts: np.ndarray) -> tuple[Program, Program, dict[str, int]]:
+    """The start and block programs for `config`, and the block's options: a fixed
+    step's, with the number of substeps an interval takes, or an adaptive solve's."""
+    fixed = isinstance(config.stepsize_controller, diffrax.ConstantStepSize)
+    if fixed and config.dt0 is None:
+        raise ValueError("simulate_in_blocks: a fixed step (diffrax.ConstantStepSize) needs the solver's dt0")
+    if not fixed and config.dt0 is not None:
+        raise ValueError(
+            "simulate_in_blocks: an adaptive solver's dt0 must be None (diffrax checks a first step with a callback)"
+        )
+    if not fixed:
+        return _start, _block, {}
+    substeps = substeps_per_interval(ts, float(np.asarray(config.dt0)))
+    if substeps * (ts.size - 1) > config.max_steps:
+        raise ValueError(
+            f"simulate_in_blocks: a fixed step of {float(np.asarray(config.dt0)):g} s takes "
+            f"{substeps * (ts.size - 1)} steps from {ts[0]:g} to {ts[-1]:g} s, more than the solver's "
+            f"max_steps = {config.max_steps}"
+        )
+    return _fixed_start, _fixed_block, {"substeps": substeps}
+
+
+def _intervals(ts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each interval's start and end time and whether it is one, padded to whole
+    blocks with zero-length intervals at the end, which the blocks skip."""
+    starts, ends = ts[:-1], ts[1:]
+    pad = -len(starts) % BLOCK
+    starts, ends = np.append(starts, np.full(pad, ts[-1])), np.append(ends, np.full(pad, ts[-1]))
+    return starts, ends, np.arange(len(starts)) < len(ts) - 1
+
+
+@program
 def _start(model, env, initial, t0, t1, config: SolverConfig):
     """The carry at `t0`: the free state, diffrax's solver state, the controller's state
     and `made_jump`, as `diffeqsolve` makes them for a solve from `t0` towards `t1`;
@@ -177,7 +205,7 @@ def _outputs_at(model, env, t, y):
     return first.positions, first.velocities, first.strain, first.tension, first.reactions
 
 
-@eqx.filter_jit
+@program
 def _block(
     model,
     env,
@@ -247,7 +275,7 @@ def substeps_per_interval(ts: Float[np.ndarray, " times"], dt: float) -> int:
     return max(1, math.ceil(longest / dt * (1 - 1e-9)))
 
 
-@eqx.filter_jit
+@program
 def _fixed_start(model, env, initial, t0, t1, config: SolverConfig):
     """As `_start`, for a fixed step: the carry is the free state, the solver's state
     and `made_jump`."""
@@ -259,7 +287,7 @@ def _fixed_start(model, env, initial, t0, t1, config: SolverConfig):
     return carry, _outputs_at(model, env, t0, y0)
 
 
-@eqx.filter_jit
+@program
 def _fixed_block(
     model,
     env,

@@ -147,7 +147,7 @@ def raise_if(x, failed, message: str):
     """
     if traced(failed):
         return eqx.error_if(x, failed, message)
-    if bool(jnp.any(failed)):
+    if np.any(np.asarray(failed)):
         raise eqx.EquinoxRuntimeError(message)
     return x
 

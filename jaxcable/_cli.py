@@ -54,11 +54,13 @@ def main(argv: list[str] | None = None) -> int:
     # Only now the engine, and JAX with it: --help and `examples` need neither.
     import jax
 
+    from . import _programs
     from .io import SceneError
 
     # The command owns its process, so it may set JAX's global configuration, which
     # the library itself never does.
     jax.config.update("jax_enable_x64", True)
+    kept = _programs.folder()
     _use_compilation_cache()
     _one_kernel_thread()  # every command runs one scene or calibration at a time
     try:
@@ -75,6 +77,8 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into `head` and the like: stop quietly
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+    finally:
+        _programs.use_folder(kept)  # for a caller that runs the command in its own process
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
@@ -110,19 +114,26 @@ def _use_compilation_cache() -> None:
 
     The folder is `$JAXCABLE_CACHE_DIR`, or `jaxcable/xla` under `$XDG_CACHE_HOME`
     (`~/.cache` by default); `JAXCABLE_CACHE_DIR=""` turns the cache off. A folder set
-    for JAX itself (`JAX_COMPILATION_CACHE_DIR`) is left alone.
+    for JAX itself (`JAX_COMPILATION_CACHE_DIR`) is used instead. JAX keeps its programs
+    there, keyed by their lowered code; jaxcable keeps its main programs (statics', the
+    run's) in its `jaxcable-programs` folder, keyed by the scene's structure, so that
+    they load without being traced first (`jaxcable._programs`).
     """
     import jax
 
-    if "JAX_COMPILATION_CACHE_DIR" in os.environ:
-        return
-    folder = os.environ.get("JAXCABLE_CACHE_DIR")
+    from . import _programs
+
+    folder = os.environ.get("JAX_COMPILATION_CACHE_DIR")
     if folder is None:
-        folder = str(Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "jaxcable" / "xla")
-    if folder:
-        jax.config.update("jax_compilation_cache_dir", folder)
-        # Every program of a run is worth keeping: the small ones add up to seconds.
-        jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.1)
+        folder = os.environ.get("JAXCABLE_CACHE_DIR")
+        if folder is None:
+            folder = str(Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "jaxcable" / "xla")
+        if folder:
+            jax.config.update("jax_compilation_cache_dir", folder)
+            # Every program of a run is worth keeping: the small ones (an eager operation
+            # compiles in 15-30 ms, and loads in 5) add up to seconds.
+            jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+    _programs.use_folder(Path(folder) / "jaxcable-programs" if folder else None)
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -228,6 +228,7 @@ class Sampled(AbstractMotion):
         return checks.Condition("Sampled.displacements", bad, excess, "overshoots", detail)
 
 
+@jax.jit  # one program, not a few dozen eager operations, for a table given eagerly
 def _natural_spline_slopes(times: Array, values: Array) -> Array:
     """First derivatives at the knots of the natural cubic spline through `values`
     (shape `(samples, 3)`): the curvatures M from the tridiagonal system of the C²
@@ -249,6 +250,7 @@ def _natural_spline_slopes(times: Array, values: Array) -> Array:
     return jnp.concatenate([left, last])
 
 
+@jax.jit
 def _monotone_slopes(times: Array, values: Array) -> Array:
     """Fritsch–Carlson slopes at the knots (SciPy's `PchipInterpolator`): zero where the
     secants on either side differ in sign, their weighted harmonic mean otherwise; at

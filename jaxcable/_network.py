@@ -298,6 +298,16 @@ class Topology:
     def __hash__(self) -> int:
         return self._hash
 
+    def __program_key__(self) -> tuple:
+        """What defines the topology, as builtin values that are the same in every process
+        (`__hash__` is not: Python salts the hash of bytes), for `jaxcable._programs`."""
+        return (
+            self.n_nodes,
+            self.segment_nodes.tobytes(),
+            self.constrained_nodes.tobytes(),
+            self.line_ends.tobytes(),
+        )
+
     def __eq__(self, other) -> bool:
         return (
             isinstance(other, Topology)

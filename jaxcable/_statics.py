@@ -29,6 +29,7 @@ from . import _lagrangian as lag
 from ._environment import Environment
 from ._jacobian import NetworkJacobian
 from ._network import CableNetwork, check_held, network_conditions
+from ._programs import program
 from ._state import State
 from ._typing import RealScalarLike
 
@@ -214,9 +215,10 @@ def _check_geometry(model: CableNetwork, start, t) -> None:
     unstretched chain of segments between them. Concrete values only."""
     if checks.traced((start, model.segment_length, model.motions, t)):
         return
+    needed, pair, distance, chain, held = (np.asarray(x) for x in _required_strain(model, t))
     positions = np.asarray(start, dtype=float).copy()
     constrained = np.asarray(model.constrained_nodes)
-    positions[constrained] = np.asarray(lag.constrained_motion(model, t)[0])
+    positions[constrained] = held
     ends = np.asarray(model.segment_nodes)
     length = np.asarray(model.segment_length)
     chord = np.linalg.norm(positions[ends[:, 1]] - positions[ends[:, 0]], axis=1)
@@ -229,7 +231,6 @@ def _check_geometry(model: CableNetwork, start, t) -> None:
             f"{positions[i].tolist()} m, so the direction of its tension is undefined. Both ends of a line at "
             "one point? Give the line ends apart, or an initial shape with its nodes apart"
         )
-    needed, pair, distance, chain = (np.asarray(x) for x in _required_strain(model, t))
     if needed > MAX_REQUIRED_STRAIN:
         i, j = constrained[pair]
         raise ValueError(
@@ -240,13 +241,14 @@ def _check_geometry(model: CableNetwork, start, t) -> None:
         )
 
 
-@eqx.filter_jit
+@program
 def _required_strain(model: CableNetwork, t):
     """The largest mean strain (–) that a chain of segments between two constrained
     nodes needs to reach from one to the other at time `t`: their distance over the
     shortest such chain's unstretched length, less 1; −1 where no two are joined.
     Also that pair (indices into `constrained_nodes`, shape `(2,)`), their distance
-    (m) and the chain's length (m). Traceable, so that a sweep's case is judged too."""
+    (m), the chain's length (m), and the constrained nodes' positions (m, shape
+    `(constrained, 3)`). Traceable, so that a sweep's case is judged too."""
     constrained = model.constrained_nodes
     ends = model.segment_nodes
     length = jnp.broadcast_to(model.segment_length, (model.n_segments,))
@@ -265,10 +267,11 @@ def _required_strain(model: CableNetwork, t):
     joined = jnp.isfinite(chain) & ~np.eye(count, dtype=bool)
     strain = jnp.where(joined, distance / jnp.where(joined, chain, 1.0) - 1.0, -1.0)
     worst = jnp.argmax(strain)  # `check_held` has made sure of a constrained node
-    return jnp.max(strain), jnp.stack(jnp.divmod(worst, count)), jnp.ravel(distance)[worst], jnp.ravel(chain)[worst]
+    pair = jnp.stack(jnp.divmod(worst, count))
+    return jnp.max(strain), pair, jnp.ravel(distance)[worst], jnp.ravel(chain)[worst], held
 
 
-@eqx.filter_jit
+@program
 def _equilibrium(model, env, start, t, max_steps, force_tolerance) -> StaticSolution:
     """The whole solve, compiled once per topology and option set."""
     free = model.free_nodes

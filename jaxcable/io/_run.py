@@ -2,6 +2,7 @@
 
 import os
 import sys
+import threading
 import time
 import warnings
 from collections.abc import Callable, Iterator
@@ -12,7 +13,9 @@ from pathlib import Path
 import diffrax
 import numpy as np
 
+from .. import _programs as programs
 from .._advice import STABLE_STEP, stiffest_axial_mode
+from .._blocks import prepare as prepare_blocks
 from .._blocks import simulate_in_blocks, substeps_per_interval
 from .._config import SolverConfig
 from .._motion import Sampled
@@ -250,7 +253,7 @@ def run_scene(
     for point in scene.points:
         motion = point.motion
         if isinstance(motion, Sampled):
-            first, last = float(motion.times[0]), float(motion.times[-1])
+            first, last = (float(t) for t in np.asarray(motion.times)[[0, -1]])
             if first > 0 or last < duration:
                 raise SceneError(
                     f"{point.where}: point {point.name}'s motion table covers {first:g} to {last:g} s, "
@@ -261,6 +264,19 @@ def run_scene(
     for warning in check_size(built, duration, dt_out, solver):
         warnings.warn(warning, stacklevel=2)
     statics = settings.statics if statics is None else statics
+
+    with _compile_meter() as prepare_meter:
+        start = time.perf_counter()
+        ts = output_times(duration, dt_out)
+        blocks = False
+        if duration > 0:
+            solver, stepping_notes = _feasible(solver, built, ts)
+            blocks = solver.dt0 is None or isinstance(solver.stepsize_controller, diffrax.ConstantStepSize)
+            if blocks:
+                # Where programs are kept (the command line), the run's compile in the
+                # background while statics' compile here.
+                prepare_blocks(model, env, ts, solver)
+        prepare_seconds = time.perf_counter() - start
 
     start_notes: tuple[str, ...] = ()
     with _compile_meter() as statics_meter:
@@ -302,9 +318,7 @@ def run_scene(
 
     with _compile_meter() as dynamics_meter:
         start = time.perf_counter()
-        ts = output_times(duration, dt_out)
-        solver, stepping_notes = _feasible(solver, built, ts)
-        if solver.dt0 is None or isinstance(solver.stepsize_controller, diffrax.ConstantStepSize):
+        if blocks:
             # Interval by interval, so that the compiled solve has no host callback and
             # a second run loads it from JAX's persistent cache (see `jaxcable._blocks`).
             with _progress_bar(duration, progress) as bar:
@@ -315,7 +329,7 @@ def run_scene(
             # diffrax's own progress bar.
             result = simulate(model, env, duration, ts=ts, initial=initial, solver=solver, progress=progress)
         positions = np.asarray(result.positions)
-        dynamics_seconds = time.perf_counter() - start
+        dynamics_seconds = prepare_seconds + time.perf_counter() - start
     return SceneRun(
         built,
         static,
@@ -330,9 +344,9 @@ def run_scene(
         dynamics_seconds,
         start_notes + stepping_notes + _water_notes(built, positions),
         statics_compile=statics_meter.seconds,
-        dynamics_compile=dynamics_meter.seconds,
-        cache_hits=statics_meter.hits + dynamics_meter.hits,
-        cache_misses=statics_meter.misses + dynamics_meter.misses,
+        dynamics_compile=prepare_meter.seconds + dynamics_meter.seconds,
+        cache_hits=prepare_meter.hits + statics_meter.hits + dynamics_meter.hits,
+        cache_misses=prepare_meter.misses + statics_meter.misses + dynamics_meter.misses,
     )
 
 
@@ -350,30 +364,34 @@ def _at_rest(built: BuiltScene, positions: np.ndarray) -> tuple[np.ndarray, np.n
 
 
 class _CompileMeter:
-    """What JAX's compile events report while it is open: the wall time (s) spent
-    tracing, lowering and compiling programs (or loading them from the persistent
-    cache), and the cache's hits and misses.
+    """What JAX's compile events report while it is open: the wall time (s) this thread
+    spent tracing, lowering and compiling programs (or loading them from a cache, or
+    waiting for their compilation in the background, `jaxcable._programs`), and the
+    caches' hits and misses (from every thread).
 
     The time is the union of the events' spans: a program traced inside another's
     trace reports its own span within the outer one, and summing them would count it
-    twice."""
+    twice. A background compilation's spans are not this thread's time, except where
+    it waits for one."""
 
     EVENTS = (
         "/jax/core/compile/jaxpr_trace_duration",
         "/jax/core/compile/jaxpr_to_mlir_module_duration",
         "/jax/core/compile/backend_compile_duration",
+        programs.WAIT_EVENT,
     )
 
     def __init__(self):
         self.spans: list[tuple[float, float]] = []
         self.hits, self.misses = 0, 0
+        self.thread = threading.get_ident()
 
     def span(self, event: str, start_time: float, end_time: float, **kwargs: str | int) -> None:
-        if event in self.EVENTS:
+        if event in self.EVENTS and threading.get_ident() == self.thread:
             self.spans.append((start_time, end_time))
 
     def event(self, event: str, **kwargs: str | int) -> None:
-        if event == "/jax/compilation_cache/cache_hits":
+        if event in ("/jax/compilation_cache/cache_hits", programs.LOADED_EVENT):
             self.hits += 1
         elif event == "/jax/compilation_cache/cache_misses":
             self.misses += 1

@@ -1,0 +1,204 @@
+"""Programs kept on disk by their arguments' structure (`jaxcable._programs`): loaded
+without tracing, told apart by everything their trace depends on, and never in the way
+of a traced call."""
+
+import os
+import subprocess
+import sys
+import textwrap
+import threading
+from pathlib import Path
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxcable as jc
+from jaxcable import _programs
+from jaxcable.io._run import load_scene
+
+TRACES: list[str] = []
+
+
+def _kernel(x, count, options):
+    """A program with an array, a static integer and static options, recording each trace."""
+    TRACES.append("traced")
+    return {"y": x * count + options["offset"], "sum": (jnp.sum(x),)}
+
+
+@pytest.fixture
+def folder(tmp_path):
+    """Keep programs in a fresh folder for the test; none afterwards."""
+    kept = _programs.folder()
+    _programs.use_folder(tmp_path / "programs")
+    TRACES.clear()
+    yield tmp_path / "programs"
+    _programs.use_folder(kept)
+
+
+def _files(folder):
+    return sorted(p.name for p in folder.glob("*.program")) if folder.exists() else []
+
+
+def test_a_kept_program_loads_without_tracing(folder):
+    x = jnp.arange(4.0)
+    first = _programs.Program(_kernel)(x, 2, {"offset": 1.5})
+    assert len(TRACES) == 1 and len(_files(folder)) == 1
+    # A new Program over the same function stands for a new process: nothing in memory.
+    again = _programs.Program(_kernel)(x, 2, {"offset": 1.5})
+    assert len(TRACES) == 1
+    assert jax.tree.structure(again) == jax.tree.structure(first)
+    for a, b in zip(jax.tree.leaves(again), jax.tree.leaves(first)):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(again["y"], np.arange(4.0) * 2 + 1.5)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        (jnp.arange(5.0), 2, {"offset": 1.5}),  # another shape
+        (jnp.arange(4, dtype=jnp.int32), 2, {"offset": 1.5}),  # another dtype
+        (jnp.arange(4.0), 3, {"offset": 1.5}),  # another static integer
+        (jnp.arange(4.0), 2, {"offset": 1.5 + 2**-40}),  # a static float, to the last bit
+        (jnp.arange(4.0), 2, {"offset": 1.5, "more": None}),  # another structure
+        (np.arange(4.0), 2.0, {"offset": 1.5}),  # a float where an integer was
+    ],
+)
+def test_the_key_tells_apart_what_changes_the_trace(folder, args):
+    program = _programs.Program(_kernel)
+    program(jnp.arange(4.0), 2, {"offset": 1.5})
+    assert len(TRACES) == 1
+    out = _programs.Program(_kernel)(*args)
+    assert len(TRACES) == 2 and len(_files(folder)) == 2
+    np.testing.assert_array_equal(out["y"], np.asarray(args[0]) * args[1] + args[2]["offset"])
+
+
+def test_a_numpy_array_and_a_jax_array_of_one_type_share_a_program(folder):
+    program = _programs.Program(_kernel)
+    program(jnp.arange(4.0), 2, {"offset": 1.5})
+    program(np.arange(4.0) + 1, 2, {"offset": 1.5})
+    assert len(TRACES) == 1
+
+
+def test_without_a_folder_it_is_filter_jit(folder, tmp_path):
+    _programs.use_folder(None)
+    program = _programs.Program(_kernel)
+    out = program(jnp.arange(4.0), 2, {"offset": 1.5})
+    program(jnp.arange(4.0), 2, {"offset": 1.5})
+    assert len(TRACES) == 1  # equinox's own cache
+    assert not folder.exists()
+    np.testing.assert_array_equal(out["y"], np.arange(4.0) * 2 + 1.5)
+
+
+def test_traced_calls_and_closures_take_filter_jit(folder):
+    program = _programs.Program(_kernel)
+    under_jit = jax.jit(lambda x: program(x, 2, {"offset": 1.5})["y"])(jnp.arange(4.0))
+    batched = jax.vmap(lambda x: program(x, 2, {"offset": 1.5})["y"])(jnp.ones((3, 4)))
+    np.testing.assert_array_equal(under_jit, np.arange(4.0) * 2 + 1.5)
+    np.testing.assert_array_equal(batched, np.full((3, 4), 3.5))
+    assert not _files(folder)
+
+    def scaled(x, f):
+        return f(x)
+
+    offset = 2.0
+    closure = _programs.Program(scaled)(jnp.arange(3.0), lambda x: x + offset)  # a captured value
+    np.testing.assert_array_equal(closure, np.arange(3.0) + 2.0)
+    assert not _files(folder)
+
+
+def test_an_unreadable_file_is_compiled_again(folder):
+    _programs.Program(_kernel)(jnp.arange(4.0), 2, {"offset": 1.5})
+    (path,) = folder.glob("*.program")
+    path.write_bytes(b"not a program")
+    out = _programs.Program(_kernel)(jnp.arange(4.0), 2, {"offset": 1.5})
+    assert len(TRACES) == 2
+    np.testing.assert_array_equal(out["y"], np.arange(4.0) * 2 + 1.5)
+    assert path.read_bytes() != b"not a program"  # written again
+
+
+def test_prepare_compiles_in_the_background_for_the_call(folder):
+    program = _programs.Program(_kernel)
+    spec = jax.ShapeDtypeStruct((4,), jnp.float64)
+    program.prepare(spec, 2, {"offset": 1.5})
+    assert len(TRACES) == 1
+    shapes = program.output_shapes(spec, 2, {"offset": 1.5})
+    assert shapes["y"].shape == (4,) and shapes["sum"][0].shape == ()
+    out = program(jnp.arange(4.0), 2, {"offset": 1.5})
+    assert len(TRACES) == 1
+    np.testing.assert_array_equal(out["y"], np.arange(4.0) * 2 + 1.5)
+    assert len(_files(folder)) == 1
+
+
+def test_compilation_in_the_background_leaves_python_running(folder):
+    """XLA compiles without Python's lock, which is what lets statics go on meanwhile."""
+
+    def heavy(x):
+        for _ in range(200):
+            x = jnp.sin(x) * 1.0001 + jnp.cos(x[::-1])
+        return x
+
+    program = _programs.Program(heavy)
+    done = threading.Event()
+    program.prepare(jax.ShapeDtypeStruct((64,), jnp.float64))
+    future = next(iter(program._programs.values()))
+    future.add_done_callback(lambda _: done.set())
+    ticks = 0
+    while not done.is_set():
+        ticks += 1
+    assert ticks > 1000
+    np.testing.assert_allclose(program(jnp.zeros(64)), heavy(jnp.zeros(64)))
+
+
+_KEY_SCRIPT = textwrap.dedent(
+    """
+    import jax
+    jax.config.update("jax_enable_x64", True)
+    from jaxcable import _programs, _statics
+    from jaxcable.examples import seed003_line
+    model, env = seed003_line(6)
+    _programs.use_folder("unused")
+    key, _ = _statics._equilibrium._program((model, env, model.node_positions, 0.0, 100, 1e-6), {})
+    print(key)
+    """
+)
+
+
+def test_keys_are_the_same_in_every_process():
+    """Python salts the hash of strings and bytes per process (`PYTHONHASHSEED`): a key
+    must not depend on it (the network's topology hashes its arrays' bytes)."""
+    keys = set()
+    for seed in ("1", "2"):
+        env = {**os.environ, "PYTHONHASHSEED": seed, "JAX_PLATFORMS": "cpu"}
+        out = subprocess.run([sys.executable, "-c", _KEY_SCRIPT], capture_output=True, text=True, env=env, check=True)
+        keys.add(out.stdout.strip())
+    assert len(keys) == 1 and len(keys.pop()) == 64
+
+
+def test_statics_and_a_run_load_their_programs_bitwise(folder):
+    """The engine's own programs, through `run_scene`: a second run in a new "process"
+    (programs forgotten in memory) loads all of them and gives the same bits."""
+    from jaxcable import _blocks, _statics
+
+    scene = load_scene(Path(jc.examples.__file__).parent / "scenes" / "seed003_line.toml")
+    first = jc.run_scene(scene, duration=0.5, dt_out=0.1)
+    names = {p.split("-")[0] for p in _files(folder)}
+    assert {"_equilibrium", "_required_strain"} <= names and names & {"_start", "_fixed_start"}
+    programs = (_statics._equilibrium, _statics._required_strain)
+    for program in programs + (_blocks._start, _blocks._block, _blocks._fixed_start, _blocks._fixed_block):
+        program._programs.clear()
+        program._shapes.clear()
+    loaded = []
+
+    def listen(event, **_):
+        loaded.append(event)
+
+    jax.monitoring.register_event_listener(listen)
+    try:
+        second = jc.run_scene(scene, duration=0.5, dt_out=0.1)
+    finally:
+        jax.monitoring.unregister_event_listener(listen)
+    assert loaded.count(_programs.LOADED_EVENT) == len(names)
+    np.testing.assert_array_equal(second.positions, first.positions)
+    np.testing.assert_array_equal(second.tension, first.tension)
