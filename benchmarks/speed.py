@@ -527,8 +527,13 @@ def rows_ll(args) -> list[dict]:
 
 
 def cached_programs(folder: Path) -> list[tuple[str, int]]:
-    """The programs in JAX's persistent cache `folder`, (name, bytes), largest first."""
+    """The programs in JAX's persistent cache `folder` and in jaxcable's own beside it
+    (`jaxcable-programs`, keyed by the scene's structure, named `jaxcable:...`),
+    (name, bytes), largest first."""
     entries = [(p.name.rsplit("-", 2)[0], p.stat().st_size) for p in folder.iterdir() if p.name.endswith("-cache")]
+    kept = folder / "jaxcable-programs"
+    if kept.is_dir():
+        entries += [("jaxcable:" + p.name.rsplit("-", 1)[0], p.stat().st_size) for p in kept.glob("*.program")]
     return sorted(entries, key=lambda e: -e[1])
 
 

@@ -219,6 +219,7 @@ class Program:
             out_tree.append(out)
             return outputs
 
+        flat.__name__ = flat.__qualname__ = self.fn.__name__  # JAX's logs and cache name it so
         dynamic = [_abstract(leaf) for leaf, m in zip(leaves, mask) if m]
         lowered = jax.jit(flat).lower(*dynamic)
         return lowered, out_tree[0]
