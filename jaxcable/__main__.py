@@ -1,7 +1,5 @@
 """`python -m jaxcable`: the same as the `jaxcable` command."""
 
-import sys
+from ._cli import command
 
-from ._cli import main
-
-sys.exit(main())
+command()

@@ -25,6 +25,7 @@ every output time ends a step. diffrax would check the given `dt0` with a callba
 these steps are not taken through `diffeqsolve`.
 """
 
+import functools
 import math
 from collections.abc import Callable
 from typing import Any
@@ -97,14 +98,13 @@ def simulate_in_blocks(
         ]
     )
     start, block, options = _programs_for(config, ts)
-    carry, first = start(model, env, (initial.positions, initial.velocities), ts[0], ts[1], config)
+    carry = start(model, env, (initial.positions, initial.velocities), ts[0], ts[1], config)
     starts, ends, active = _intervals(ts)
     blocks, steps = [], np.zeros(3, dtype=np.int64)
     for k in range(0, len(starts), BLOCK):
         part = slice(k, k + BLOCK)
-        carry, saved, counts, result = block(
-            model, env, carry, starts[part], ends[part], active[part], config, **options
-        )
+        carry, ys, counts, failure = block(model, env, carry, starts[part], ends[part], active[part], config, **options)
+        saved, result = _outputs(model, env, ends[part], ys, failure)
         blocks.append(saved)
         steps += np.asarray(counts)
         # `max_steps` bounds each interval's solve; the run as a whole is held to it here.
@@ -112,14 +112,12 @@ def simulate_in_blocks(
         checks.raise_if(None, code != diffrax.RESULTS.successful, failure_message(code))
         if on_block is not None:
             on_block(float(ends[part][active[part]][-1]))
-    columns = [
-        np.concatenate([np.asarray(f)] + [np.asarray(b[i]) for b in blocks])[: len(ts)] for i, f in enumerate(first)
-    ]
+    columns = [np.concatenate([np.asarray(b[i]) for b in blocks])[: len(ts)] for i in range(len(blocks[0]))]
     stats: dict[str, Any] = dict(zip(("num_steps", "num_accepted_steps", "num_rejected_steps"), map(int, steps)))
     # `device_put`, not `jnp.asarray`, which compiles a program of its own for each shape.
     positions, velocities, strain, tension, reactions = map(jax.device_put, columns)
     return SimulationResult(
-        jnp.asarray(ts), positions, velocities, strain, tension, reactions, stats, diffrax.RESULTS.successful
+        checks.on_device(ts), positions, velocities, strain, tension, reactions, stats, diffrax.RESULTS.successful
     )
 
 
@@ -133,11 +131,13 @@ def prepare(
     config = for_model(as_config("simulate_in_blocks", solver), model)
     ts = np.asarray(ts, dtype=float)
     start, block, options = _programs_for(config, ts)
-    initial = (model.node_positions, jnp.zeros_like(model.node_positions))
+    initial = (model.node_positions, checks.on_device(np.zeros(model.node_positions.shape)))
     start.prepare(model, env, initial, ts[0], ts[1], config)
-    carry, _ = start.output_shapes(model, env, initial, ts[0], ts[1], config)
+    carry = start.output_shapes(model, env, initial, ts[0], ts[1], config)
     starts, ends, active = (x[:BLOCK] for x in _intervals(ts))
     block.prepare(model, env, carry, starts, ends, active, config, **options)
+    _, ys, _, failure = block.output_shapes(model, env, carry, starts, ends, active, config, **options)
+    _outputs.prepare(model, env, ends, ys, failure)
 
 
 def _programs_for(config: SolverConfig, ts: np.ndarray) -> tuple[Program, Program, dict[str, int]]:
@@ -163,20 +163,22 @@ def _programs_for(config: SolverConfig, ts: np.ndarray) -> tuple[Program, Progra
 
 
 def _intervals(ts: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Each interval's start and end time and whether it is one, padded to whole
-    blocks with zero-length intervals at the end, which the blocks skip."""
-    starts, ends = ts[:-1], ts[1:]
+    """Each interval's start and end time and whether it is one: a zero-length one at
+    `ts[0]` first, which the blocks skip but whose outputs are the initial state's (so
+    that no program of its own computes them), then those between output times, padded
+    to whole blocks with zero-length intervals at the end."""
+    starts, ends = np.append(ts[0], ts[:-1]), ts
     pad = -len(starts) % BLOCK
     starts, ends = np.append(starts, np.full(pad, ts[-1])), np.append(ends, np.full(pad, ts[-1]))
-    return starts, ends, np.arange(len(starts)) < len(ts) - 1
+    index = np.arange(len(starts))
+    return starts, ends, (index > 0) & (index < len(ts))
 
 
 @program
 def _start(model, env, initial, t0, t1, config: SolverConfig):
     """The carry at `t0`: the free state, diffrax's solver state, the controller's state
-    and `made_jump`, as `diffeqsolve` makes them for a solve from `t0` towards `t1`;
-    and the outputs at `t0` `(positions, velocities, strain, tension, reactions)`, each
-    with a leading axis of one time."""
+    and `made_jump`, as `diffeqsolve` makes them for a solve from `t0` towards `t1`.
+    (The outputs at `t0` are the first block's, from its leading zero-length interval.)"""
     free = model.free_nodes
     y0 = (initial[0][free], initial[1][free])
     terms, solver = terms_for(config.solver), config.solver
@@ -187,22 +189,7 @@ def _start(model, env, initial, t0, t1, config: SolverConfig):
     # As arrays, the types `_block` returns: the controller's initial state holds a
     # Python bool, which `eqx.filter_jit` would take for a static argument and compile
     # the first block apart from the rest.
-    carry = jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), carry)
-    return carry, _outputs_at(model, env, t0, y0)
-
-
-def _outputs_at(model, env, t, y):
-    """The outputs `(positions, velocities, strain, tension, reactions)` of the free
-    state `y` at time `t`, each with a leading axis of one time."""
-    first = result_of(
-        model,
-        env,
-        jnp.asarray(t, dtype=float)[None],
-        jax.tree.map(lambda x: x[None], y),
-        {},
-        diffrax.RESULTS.successful,
-    )
-    return first.positions, first.velocities, first.strain, first.tension, first.reactions
+    return jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), carry)
 
 
 @program
@@ -216,9 +203,9 @@ def _block(
     config: SolverConfig,
 ):
     """`BLOCK` intervals, each one `diffeqsolve` continuing the last: the carry after
-    them, the outputs at their ends `(positions, velocities, strain, tension,
-    reactions)`, the step counts `(steps, accepted, rejected)` summed, and the first
-    failure's result code (successful if none)."""
+    them, the free state `(positions, velocities)` at their ends (each with a leading
+    axis of the block's intervals), the step counts `(steps, accepted, rejected)`
+    summed, and the first failure's result code (successful if none)."""
     terms, solver = terms_for(config.solver), config.solver
     saveat = diffrax.SaveAt(t1=True, solver_state=True, controller_state=True, made_jump=True)
 
@@ -261,10 +248,20 @@ def _block(
         return (carry, first_failure), (carry[0], counts)
 
     (carry, failure), (ys, counts) = jax.lax.scan(interval, (carry, diffrax.RESULTS.successful), (starts, ends, active))
-    # Without a failed solve, `result_of` still reports a state gone non-finite.
+    return carry, ys, jnp.sum(counts, axis=0), failure
+
+
+# Not in the blocks' programs: run once an output time, its kernels gain nothing from XLA's
+# CPU fusion emitters, which doubled its compile (Low & Langley file, quiet: the block's
+# program 2.6 s of CPU with the outputs, 1.4 s without; the outputs alone 0.5 s
+# without the emitters). See `jaxcable._statics._equilibrium`.
+@functools.partial(program, compiler_options={"xla_cpu_use_fusion_emitters": False})
+def _outputs(model, env, ends: Float[ArrayLike, " block"], ys, failure):
+    """The outputs `(positions, velocities, strain, tension, reactions)` at a block's
+    interval ends from its free states `ys`, and the block's result: its first failure,
+    or `nonfinite` where a state is not finite though no solve failed."""
     outputs = result_of(model, env, ends, ys, {}, failure)
-    saved = (outputs.positions, outputs.velocities, outputs.strain, outputs.tension, outputs.reactions)
-    return carry, saved, jnp.sum(counts, axis=0), outputs.result
+    return (outputs.positions, outputs.velocities, outputs.strain, outputs.tension, outputs.reactions), outputs.result
 
 
 def substeps_per_interval(ts: Float[np.ndarray, " times"], dt: float) -> int:
@@ -283,8 +280,7 @@ def _fixed_start(model, env, initial, t0, t1, config: SolverConfig):
     y0 = (initial[0][free], initial[1][free])
     terms, solver = terms_for(config.solver), config.solver
     carry = (y0, solver.init(terms, t0, t1, y0, (model, env)), False)
-    carry = jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), carry)
-    return carry, _outputs_at(model, env, t0, y0)
+    return jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), carry)
 
 
 @program
@@ -325,7 +321,5 @@ def _fixed_block(
         return (carry, failure), (carry[0], counts)
 
     (carry, failure), (ys, counts) = jax.lax.scan(interval, (carry, diffrax.RESULTS.successful), (starts, ends, active))
-    outputs = result_of(model, env, ends, ys, {}, failure)
-    saved = (outputs.positions, outputs.velocities, outputs.strain, outputs.tension, outputs.reactions)
     steps = jnp.sum(counts, axis=0)
-    return carry, saved, jnp.concatenate([steps, jnp.zeros(1, jnp.int64)]), outputs.result
+    return carry, ys, jnp.concatenate([steps, jnp.zeros(1, jnp.int64)]), failure

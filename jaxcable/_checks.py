@@ -67,6 +67,24 @@ def _on_host(value: ArrayLike) -> tuple[Any, Any]:
     return np.asarray(value), np
 
 
+def on_host(value: ArrayLike) -> Any:
+    """`value` as a numpy array where it is concrete, as it is where it is traced: for
+    arithmetic at construction that must not compile an XLA program of its own for each
+    operation and shape (see `_on_host`)."""
+    return _on_host(value)[0]
+
+
+def on_device(value: RealLike, dtype: Any = float) -> Array:
+    """`value` as a JAX array of `dtype`, compiling nothing where it is concrete.
+
+    `jnp.asarray` compiles a small program (10–20 ms) for a Python number, or for a numpy
+    array without a `dtype` (JAX 0.10); a numpy array of the requested dtype is only
+    copied to the device."""
+    if traced(value):
+        return jnp.asarray(value, dtype=dtype)
+    return jnp.asarray(np.asarray(value, dtype=dtype), dtype=dtype)
+
+
 def finite(name: str, value: ArrayLike) -> Condition:
     value, xp = _on_host(value)
     return Condition(name, ~xp.isfinite(value), value, "must be finite")
@@ -195,12 +213,11 @@ def float_array(name: str, value: RealLike, shape: tuple[int, ...] | None = None
     except (TypeError, ValueError):  # a string, None, a ragged list: numpy's message names no field
         raise ValueError(f"{name} must be a number or an array of numbers, got {value!r}") from None
     enforce([finite(name, concrete)])
-    array = jnp.asarray(concrete, dtype=float)
     if shape is not None:
-        if array.ndim != 0 and array.shape != shape:
-            raise ValueError(f"{name} must have shape {shape} (or be a scalar), got shape {array.shape}")
-        array = jnp.broadcast_to(array, shape)
-    return array
+        if np.ndim(concrete) != 0 and np.shape(concrete) != shape:
+            raise ValueError(f"{name} must have shape {shape} (or be a scalar), got shape {np.shape(concrete)}")
+        concrete = (jnp if traced(concrete) else np).broadcast_to(concrete, shape)
+    return on_device(concrete)
 
 
 def positive(name: str, value: Array, allow_zero: bool = False) -> None:

@@ -42,6 +42,34 @@ OPTIMIZERS = ("lbfgs", "adam")
 """The `calibrate` command's optimizers by name (`_optimizer`)."""
 
 
+def command() -> None:
+    """The `jaxcable` executable and `python -m jaxcable`: [`main`][] on the process's
+    arguments, then the process ends.
+
+    A command that succeeded ends at once (`os._exit`), once its output is flushed and
+    every program compiling in the background is written: the interpreter's own shutdown
+    spends about 0.3 s releasing JAX's compiled programs and backend, a tenth of a warm
+    `jaxcable run` of the Low & Langley file (`benchmarks/README.md`), for nothing the
+    process still needs. A failure exits the usual way."""
+    try:
+        code = main()
+    except BrokenPipeError:  # `jaxcable examples | head`: stop quietly, as `main` does for the others
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.exit(1)
+    if code != 0:
+        sys.exit(code)
+    if "jax" in sys.modules:  # --help and `examples` never imported it
+        from . import _programs
+
+        _programs.finish()
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except BrokenPipeError:  # output piped into `head` and the like
+        os._exit(1)
+    os._exit(0)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the `jaxcable` command; returns the exit status."""
     parser = _parser()

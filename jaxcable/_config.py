@@ -130,7 +130,7 @@ class SolverConfig(eqx.Module):
                 [
                     checks.Condition(
                         "SolverConfig.rtol",
-                        rtol < SMALLEST_RTOL,
+                        checks.on_host(rtol) < SMALLEST_RTOL,
                         rtol,
                         f"must be at least {SMALLEST_RTOL:g}, below which float64 rounding (ε = 2.2e-16) "
                         "exceeds the error the controller allows and the step shrinks without end",

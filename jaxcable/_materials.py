@@ -91,7 +91,7 @@ class AbstractTensionLaw(eqx.Module):
         C_E ≥ 0, checked on its own; at the far end `C_E1 ≥ −C_E / (2 ε_max)`. A law
         that fell would make a stretched segment soften and then push (a negative
         tension), which a rope cannot. `name` prefixes the message ("LineType.tension_law")."""
-        c_e, c_e1 = self.axial_stiffness, self.quadratic_stiffness()
+        c_e, c_e1 = checks.on_host(self.axial_stiffness), checks.on_host(self.quadratic_stiffness())
         slope = c_e + 2 * c_e1 * CHECKED_STRAIN
 
         def detail() -> str:
@@ -217,8 +217,8 @@ class LinearElastic(AbstractTensionLaw):
     damped: ClassVar[bool] = False
 
     def __init__(self, axial_stiffness: RealLike, slack_width: RealLike = 1e-5):
-        self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
-        self.slack_width = jnp.asarray(slack_width, dtype=float)
+        self.axial_stiffness = checks.on_device(axial_stiffness)
+        self.slack_width = checks.on_device(slack_width)
 
     def quadratic_stiffness(self):
         return jnp.zeros_like(self.axial_stiffness)
@@ -245,9 +245,9 @@ class NonlinearElastic(AbstractTensionLaw):
     damped: ClassVar[bool] = False
 
     def __init__(self, axial_stiffness: RealLike, quadratic_stiffness: RealLike, slack_width: RealLike = 1e-5):
-        self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
-        self.quadratic_coefficient = jnp.asarray(quadratic_stiffness, dtype=float)
-        self.slack_width = jnp.asarray(slack_width, dtype=float)
+        self.axial_stiffness = checks.on_device(axial_stiffness)
+        self.quadratic_coefficient = checks.on_device(quadratic_stiffness)
+        self.slack_width = checks.on_device(slack_width)
 
     def quadratic_stiffness(self):
         return self.quadratic_coefficient
@@ -287,10 +287,10 @@ class KelvinVoigt(AbstractTensionLaw):
         slack_width: RealLike = 1e-5,
         slack_damping: bool = False,
     ):
-        self.axial_stiffness = jnp.asarray(axial_stiffness, dtype=float)
-        self.quadratic_coefficient = jnp.asarray(quadratic_stiffness, dtype=float)
-        self.axial_damping = jnp.asarray(axial_damping, dtype=float)
-        self.slack_width = jnp.asarray(slack_width, dtype=float)
+        self.axial_stiffness = checks.on_device(axial_stiffness)
+        self.quadratic_coefficient = checks.on_device(quadratic_stiffness)
+        self.axial_damping = checks.on_device(axial_damping)
+        self.slack_width = checks.on_device(slack_width)
         self.slack_damping = bool(slack_damping)
 
     def viscous_tension(

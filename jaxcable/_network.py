@@ -15,7 +15,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, ArrayLike, Float, Int
+from jaxtyping import Array, ArrayLike, Bool, Float, Int
 
 from . import _checks as checks
 from ._environment import Environment
@@ -79,7 +79,10 @@ class LineType(eqx.Module):
             raise ValueError(f"LineType.tension_law must be a jaxcable tension law, got {tension_law!r}")
         self.mass_per_length = checks.float_array("LineType.mass_per_length", mass_per_length)
         self.diameter = checks.float_array("LineType.diameter", diameter)
-        self.area = jnp.pi * self.diameter**2 / 4 if area is None else checks.float_array("LineType.area", area)
+        if area is None:
+            self.area = checks.on_device(np.pi * checks.on_host(self.diameter) ** 2 / 4)
+        else:
+            self.area = checks.float_array("LineType.area", area)
         self.tension_law = tension_law
         self.normal_drag = checks.float_array("LineType.normal_drag", normal_drag)
         self.tangential_drag = checks.float_array("LineType.tangential_drag", tangential_drag)
@@ -536,7 +539,7 @@ class CableNetwork(eqx.Module):
                     raise ValueError(f"branches[{b}].{name} = {k} is out of range for {junctions.shape[0]} junctions")
             checks.positive(f"branches[{b}].length", checks.float_array(f"branches[{b}].length", branch.length))
             n = branch.segments
-            start, end = np.asarray(junctions[branch.start]), np.asarray(junctions[branch.end])
+            start, end = positions[0][branch.start], positions[0][branch.end]
             positions.append(_initial_chain(start, end, n, float(branch.length))[1:-1])
             chain = [branch.start, *range(next_node, next_node + n - 1), branch.end]
             next_node += n - 1
@@ -632,27 +635,40 @@ def _stack_lines(branches: Sequence[Branch]) -> LineType:
     if len(slack) > 1:
         raise ValueError("all branches' tension laws must share one slack_damping (KelvinVoigt), got both")
     counts = [branch.segments for branch in branches]
-    return jax.tree.map(
-        lambda *xs: jnp.concatenate([jnp.broadcast_to(jnp.asarray(x, dtype=float), (n,)) for x, n in zip(xs, counts)]),
-        *(branch.line for branch in branches),
-    )
+
+    def stack(*xs):
+        xp = jnp if checks.traced(xs) else np  # numpy compiles nothing for concrete lines
+        return checks.on_device(
+            xp.concatenate([xp.broadcast_to(xp.asarray(x, dtype=float), (n,)) for x, n in zip(xs, counts)])
+        )
+
+    return jax.tree.map(stack, *(branch.line for branch in branches))
 
 
 def _scatter_bodies(bodies: Mapping[int, Body], n_nodes: int) -> Body:
     zero = Body()
     if not bodies:
-        return jax.tree.map(lambda x: jnp.zeros((n_nodes, *x.shape)), zero)
-    nodes = jnp.asarray(sorted(bodies), dtype=jnp.int32)
-    stacked = jax.tree.map(lambda *xs: jnp.stack(xs), *[bodies[k] for k in sorted(bodies)])
-    return jax.tree.map(lambda x: jnp.zeros((n_nodes, *x.shape[1:])).at[nodes].set(x), stacked)
+        return jax.tree.map(lambda x: checks.on_device(np.zeros((n_nodes, *x.shape))), zero)
+    nodes = np.asarray(sorted(bodies), dtype=np.int32)
+    given = [bodies[k] for k in sorted(bodies)]
+    if checks.traced(given):
+        stacked = jax.tree.map(lambda *xs: jnp.stack(xs), *given)
+        return jax.tree.map(lambda x: jnp.zeros((n_nodes, *x.shape[1:])).at[nodes].set(x), stacked)
+
+    def scatter(*xs):  # in numpy, which compiles nothing for concrete bodies
+        out = np.zeros((n_nodes, *np.shape(xs[0])))
+        out[nodes] = np.stack([np.asarray(x) for x in xs])
+        return checks.on_device(out)
+
+    return jax.tree.map(scatter, *given)
 
 
-def below_seabed(heights: Float[ArrayLike, "*points"], depth: Float[ArrayLike, ""]) -> Array:
+def below_seabed(heights: Float[ArrayLike, "*points"], depth: Float[ArrayLike, ""]) -> Bool[ArrayLike, "*points"]:
     """Which `heights` z (m) are below a seabed at z = −`depth` (m) by more than 0.1 % of
     the depth. A support may rest pressed into the penalty bed, as a chain lying on it
     does by its wet weight over k d (millimetres for MoorDyn's default bed); one metres
     below it is an input error."""
-    return jnp.asarray(heights) < -jnp.asarray(depth) * (1 + 1e-3)
+    return checks.on_host(heights) < -checks.on_host(depth) * (1 + 1e-3)
 
 
 def network_conditions(model: CableNetwork, env: Environment) -> list[checks.Condition]:
@@ -667,8 +683,8 @@ def network_conditions(model: CableNetwork, env: Environment) -> list[checks.Con
     if env.seabed is None or env.depth is None:
         return out
     nodes = model.constrained_nodes
-    heights = model.node_positions[nodes, 2]
-    depth = env.depth
+    heights = checks.on_host(model.node_positions)[nodes, 2]
+    depth = checks.on_host(env.depth)
     bed = -depth
     below = below_seabed(heights, depth)
 

@@ -101,10 +101,15 @@ class Program:
     being the same executable.
     """
 
-    def __init__(self, fn: Callable):
+    def __init__(self, fn: Callable, compiler_options: dict[str, Any] | None = None):
         self.fn = fn
         self.name = f"{fn.__module__}.{fn.__qualname__}"
+        self.compiler_options = dict(compiler_options or {})
         self._jit = eqx.filter_jit(fn)
+        # JAX takes compiler options on a top-level program only, not on one traced into
+        # another (the caller's `jit`, a sweep).
+        jit_options: dict[str, Any] = {"compiler_options": self.compiler_options}
+        self._top = eqx.filter_jit(fn, **jit_options) if compiler_options else self._jit
         self._programs: dict[str, Any] = {}  # key → (executable, output tree) or a Future of it
         self._shapes: dict[str, Any] = {}  # key → the outputs' shapes, from the lowering
         functools.update_wrapper(self, fn)
@@ -116,7 +121,8 @@ class Program:
     def __call__(self, *args, **kwargs):
         found = self._program(args, kwargs)
         if found is None:
-            return self._jit(*args, **kwargs)
+            traced = any(isinstance(leaf, Tracer) for leaf in jax.tree.leaves((args, kwargs)))
+            return (self._jit if traced else self._top)(*args, **kwargs)
         key, dynamic = found
         executable, tree = self._obtain(key, args, kwargs)
         return jax.tree.unflatten(tree, executable(*dynamic))
@@ -175,6 +181,7 @@ class Program:
             digest.update(_encode([(name, str(getattr(jax.config, name))) for name in _CONFIG]))
             digest.update(os.environ.get("XLA_FLAGS", "").encode())
             digest.update(self.name.encode())
+            digest.update(_encode(sorted(self.compiler_options.items())))
             digest.update(_encode(_describe_tree(tree)))
             dynamic = []
             for leaf in leaves:
@@ -225,7 +232,7 @@ class Program:
         return lowered, out_tree[0]
 
     def _compile(self, key: str, lowered, tree):
-        executable = lowered.compile()
+        executable = lowered.compile(self.compiler_options or None)
         self._save(key, executable, tree)
         return executable, tree
 
@@ -270,9 +277,10 @@ class Program:
             return
 
 
-def program(fn: Callable) -> Program:
-    """Decorate `fn` as a [`Program`][]."""
-    return Program(fn)
+def program(fn: Callable, compiler_options: dict[str, Any] | None = None) -> Program:
+    """Decorate `fn` as a [`Program`][]; `compiler_options` are XLA's options for this
+    program alone (`jax.jit`'s), as `@functools.partial(program, compiler_options=...)`."""
+    return Program(fn, compiler_options)
 
 
 def _sentinels() -> dict[str, object]:
@@ -308,11 +316,24 @@ def _loads(data: bytes):
     return Unpickler(io.BytesIO(data)).load()
 
 
+def finish() -> None:
+    """Wait for every compilation started in the background (each then written to the
+    folder): a process may end at once after this."""
+    with _lock:
+        executor = _executor
+    if executor is not None:
+        executor.shutdown(wait=True)
+
+
 def _background() -> concurrent.futures.ThreadPoolExecutor:
     global _executor
     with _lock:
-        if _executor is None:
-            _executor = concurrent.futures.ThreadPoolExecutor(max_workers=1, thread_name_prefix="jaxcable-compile")
+        if _executor is None or _executor._shutdown:
+            # Two: statics' program and the run's compile side by side, each on about a
+            # core and a half of XLA's threads, while the caller traces the next.
+            _executor = concurrent.futures.ThreadPoolExecutor(
+                max_workers=int(os.environ.get("JC_WORKERS", "2")), thread_name_prefix="jaxcable-compile"
+            )
         return _executor
 
 

@@ -15,6 +15,7 @@ networks are first solved softened, then stiffened stage by stage (see
 """
 
 import dataclasses
+import functools
 
 import equinox as eqx
 import jax
@@ -172,6 +173,22 @@ def solve_statics(
     return eqx.tree_at(lambda s: s.residual, solution, residual)
 
 
+def prepare(
+    model: CableNetwork,
+    env: Environment,
+    *,
+    t: RealScalarLike = 0.0,
+    max_steps: int = MAX_STEPS,
+    force_tolerance: float = FORCE_TOLERANCE,
+) -> None:
+    """Start compiling the programs of `solve_statics(model, env, t=t, ...)` from the
+    model's own start, in a background thread, where the command line keeps programs
+    (`jaxcable._programs`): statics' compile while the caller traces the run's. Nothing
+    otherwise."""
+    _required_strain.prepare(model, t)
+    _equilibrium.prepare(model, env, model.node_positions, t, max_steps, force_tolerance)
+
+
 def failure_message(
     solution: StaticSolution, force_tolerance: float = FORCE_TOLERANCE, max_steps: int = MAX_STEPS
 ) -> str:
@@ -271,7 +288,11 @@ def _required_strain(model: CableNetwork, t):
     return jnp.max(strain), pair, jnp.ravel(distance)[worst], jnp.ravel(chain)[worst], held
 
 
-@program
+# XLA's CPU fusion emitters (its default) make kernels that run no faster here, where
+# the solve runs once and its compile is most of the time, and they compile slower:
+# the Low & Langley file's statics compiled in 2.9 s of CPU instead of 4.1 s, and ran in
+# 11.7 ms against 11.3 ms (quiet, `benchmarks/README.md`, *The cold process*).
+@functools.partial(program, compiler_options={"xla_cpu_use_fusion_emitters": False})
 def _equilibrium(model, env, start, t, max_steps, force_tolerance) -> StaticSolution:
     """The whole solve, compiled once per topology and option set."""
     free = model.free_nodes

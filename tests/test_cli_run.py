@@ -429,6 +429,26 @@ def test_help_and_examples_do_not_import_jax():
     assert "--no-statics" in result.stdout and "seed003_line" in result.stdout
 
 
+def test_the_command_ends_its_process_with_everything_written(tmp_path):
+    """`python -m jaxcable` ends a successful run at once (`os._exit`, skipping the
+    interpreter's shutdown): its summary is still printed in full, its output file and
+    its kept programs written; a failure exits the usual way, with its status."""
+    root = Path(jc.__file__).parent.parent
+    cache = tmp_path / "cache"
+    env = {**os.environ, "PYTHONPATH": str(root), "JAXCABLE_CACHE_DIR": str(cache)}
+    out = tmp_path / "run.csv"
+    argv = [sys.executable, "-m", "jaxcable", "run", "seed003_line", "--segments", "4", "--duration", "0"]
+    result = subprocess.run(
+        [*argv, "--out", str(out), "--channels", "FairTen1"], capture_output=True, text=True, env=env
+    )
+    assert result.returncode == 0, result.stderr
+    assert "equilibrium:" in result.stdout and result.stdout.endswith("\n")
+    assert np.genfromtxt(out, delimiter=",", names=True)["FairTen1"] > 0
+    assert not list(cache.rglob("*.partial")) and len(list(cache.rglob("*.program"))) == 2  # statics' two
+    failed = subprocess.run([*argv, "--dt-out", "0"], capture_output=True, text=True, env=env)
+    assert failed.returncode == 2 and "--dt-out must be a positive number" in failed.stderr
+
+
 def test_lazy_names_are_the_modules_own():
     """`jaxcable.X` imports X on first use; it is the defining module's object, and
     the command line's plain lists match the engine's."""

@@ -108,6 +108,22 @@ def test_traced_calls_and_closures_take_filter_jit(folder):
     assert not _files(folder)
 
 
+def test_compiler_options_are_part_of_the_key_and_left_out_under_jit(folder):
+    """A program's own XLA options (`compiler_options`) key it apart from the same function
+    without them, and a call traced into another program, which JAX refuses options
+    for, still runs."""
+    options = {"xla_cpu_use_fusion_emitters": False}
+    plain, tuned = _programs.Program(_kernel), _programs.Program(_kernel, compiler_options=options)
+    args = (jnp.arange(4.0), 2, {"offset": 1.5})
+    assert plain._program(args, {})[0] != tuned._program(args, {})[0]
+    np.testing.assert_array_equal(tuned(*args)["y"], plain(*args)["y"])
+    assert len(_files(folder)) == 2
+    under_jit = jax.jit(lambda x: tuned(x, 2, {"offset": 1.5})["y"])(jnp.arange(4.0))
+    np.testing.assert_array_equal(under_jit, np.arange(4.0) * 2 + 1.5)
+    _programs.use_folder(None)
+    np.testing.assert_array_equal(tuned(*args)["y"], np.arange(4.0) * 2 + 1.5)  # `filter_jit` with the options
+
+
 def test_an_unreadable_file_is_compiled_again(folder):
     _programs.Program(_kernel)(jnp.arange(4.0), 2, {"offset": 1.5})
     (path,) = folder.glob("*.program")
@@ -186,7 +202,8 @@ def test_statics_and_a_run_load_their_programs_bitwise(folder):
     names = {p.split("-")[0] for p in _files(folder)}
     assert {"_equilibrium", "_required_strain"} <= names and names & {"_start", "_fixed_start"}
     programs = (_statics._equilibrium, _statics._required_strain)
-    for program in programs + (_blocks._start, _blocks._block, _blocks._fixed_start, _blocks._fixed_block):
+    run = (_blocks._start, _blocks._block, _blocks._fixed_start, _blocks._fixed_block, _blocks._outputs)
+    for program in programs + run:
         program._programs.clear()
         program._shapes.clear()
     loaded = []

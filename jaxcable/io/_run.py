@@ -23,6 +23,7 @@ from .._simulate import simulate
 from .._stability import STABLE_GROWTH, fixed_step_growth
 from .._state import State
 from .._statics import StaticSolution, solve_statics
+from .._statics import prepare as prepare_statics
 from . import _channels
 from ._initial_shape import initial_positions
 from ._moordyn import read_moordyn
@@ -265,21 +266,25 @@ def run_scene(
         warnings.warn(warning, stacklevel=2)
     statics = settings.statics if statics is None else statics
 
-    with _compile_meter() as prepare_meter:
-        start = time.perf_counter()
-        ts = output_times(duration, dt_out)
-        blocks = False
-        if duration > 0:
-            solver, stepping_notes = _feasible(solver, built, ts)
-            blocks = solver.dt0 is None or isinstance(solver.stepsize_controller, diffrax.ConstantStepSize)
-            if blocks:
-                # Where programs are kept (the command line), the run's compile in the
-                # background while statics' compile here.
-                prepare_blocks(model, env, ts, solver)
-        prepare_seconds = time.perf_counter() - start
-
+    ts = output_times(duration, dt_out)
+    blocks = False
+    if duration > 0:
+        solver, stepping_notes = _feasible(solver, built, ts)
+        blocks = solver.dt0 is None or isinstance(solver.stepsize_controller, diffrax.ConstantStepSize)
+    # Where programs are kept (the command line), statics' and then the run's programs
+    # are traced here and compile in the background while the next is traced.
     start_notes: tuple[str, ...] = ()
     with _compile_meter() as statics_meter:
+        start = time.perf_counter()
+        if statics:
+            prepare_statics(model, env.without_waves())
+        statics_seconds = time.perf_counter() - start
+    with _compile_meter() as prepare_meter:
+        start = time.perf_counter()
+        if blocks:
+            prepare_blocks(model, env, ts, solver)
+        prepare_seconds = time.perf_counter() - start
+    with _compile_meter(statics_meter):
         start = time.perf_counter()
         if statics:
             # The run starts from still water (the current only): the waves' drag and
@@ -290,7 +295,7 @@ def run_scene(
             static = None
             positions, start_notes = initial_positions(built)
             initial = State(positions, np.zeros_like(positions))
-        statics_seconds = time.perf_counter() - start
+        statics_seconds += time.perf_counter() - start
     if duration == 0:
         positions = np.asarray(initial.positions)[None]
         velocities = np.asarray(initial.velocities)[None]
@@ -408,12 +413,13 @@ class _CompileMeter:
 
 
 @contextmanager
-def _compile_meter() -> Iterator[_CompileMeter]:
-    """A [`_CompileMeter`][] listening to JAX's monitoring events for the block only
-    (its listeners are removed on the way out, so nothing outlives the run)."""
+def _compile_meter(meter: _CompileMeter | None = None) -> Iterator[_CompileMeter]:
+    """A [`_CompileMeter`][] (a new one, or `meter` to go on adding to it) listening to
+    JAX's monitoring events for the block only (its listeners are removed on the way
+    out, so nothing outlives the run)."""
     from jax import monitoring
 
-    meter = _CompileMeter()
+    meter = _CompileMeter() if meter is None else meter
     monitoring.register_event_time_span_listener(meter.span)
     monitoring.register_event_listener(meter.event)
     try:
