@@ -331,9 +331,7 @@ def _background() -> concurrent.futures.ThreadPoolExecutor:
         if _executor is None or _executor._shutdown:
             # Two: statics' program and the run's compile side by side, each on about a
             # core and a half of XLA's threads, while the caller traces the next.
-            _executor = concurrent.futures.ThreadPoolExecutor(
-                max_workers=int(os.environ.get("JC_WORKERS", "2")), thread_name_prefix="jaxcable-compile"
-            )
+            _executor = concurrent.futures.ThreadPoolExecutor(max_workers=2, thread_name_prefix="jaxcable-compile")
         return _executor
 
 
