@@ -319,8 +319,9 @@ def _loads(data: bytes):
 def finish() -> None:
     """Wait for every compilation started in the background (each then written to the
     folder): a process may end at once after this."""
+    global _executor
     with _lock:
-        executor = _executor
+        executor, _executor = _executor, None
     if executor is not None:
         executor.shutdown(wait=True)
 
@@ -328,7 +329,7 @@ def finish() -> None:
 def _background() -> concurrent.futures.ThreadPoolExecutor:
     global _executor
     with _lock:
-        if _executor is None or _executor._shutdown:
+        if _executor is None:
             # Two: statics' program and the run's compile side by side, each on about a
             # core and a half of XLA's threads, while the caller traces the next.
             _executor = concurrent.futures.ThreadPoolExecutor(max_workers=2, thread_name_prefix="jaxcable-compile")
