@@ -432,10 +432,13 @@ def test_help_and_examples_do_not_import_jax():
 def test_the_command_ends_its_process_with_everything_written(tmp_path):
     """`python -m jaxcable` ends a successful run at once (`os._exit`, skipping the
     interpreter's shutdown): its summary is still printed in full, its output file and
-    its kept programs written; a failure exits the usual way, with its status."""
+    its kept programs written; a failure exits the usual way, with its status. With the
+    caller's XLA flags, not the suite's: a user's process compiles with XLA's defaults."""
+    from conftest import DEFAULT_XLA_FLAGS
+
     root = Path(jc.__file__).parent.parent
     cache = tmp_path / "cache"
-    env = {**os.environ, "PYTHONPATH": str(root), "JAXCABLE_CACHE_DIR": str(cache)}
+    env = {**os.environ, "PYTHONPATH": str(root), "JAXCABLE_CACHE_DIR": str(cache), "XLA_FLAGS": DEFAULT_XLA_FLAGS}
     out = tmp_path / "run.csv"
     argv = [sys.executable, "-m", "jaxcable", "run", "seed003_line", "--segments", "4", "--duration", "0"]
     result = subprocess.run(
