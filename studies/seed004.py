@@ -1135,7 +1135,8 @@ def underprediction_markdown(rows: list[dict]) -> str:
     """`underprediction_table` as markdown: per cell, the range of Airy/cnoidal − 1 (%) and
     the number of cases."""
     bins = rows[0]["bins"]
-    head = [f"U {lo:.0f}–{hi:.0f}" if np.isfinite(hi) else f"U ≥ {lo:.0f}" for lo, hi, *_ in bins]
+    # Read back from JSON, the last bin's infinite end is None.
+    head = [f"U {lo:.0f}–{hi:.0f}" if hi is not None and np.isfinite(hi) else f"U ≥ {lo:.0f}" for lo, hi, *_ in bins]
     lines = ["| structure | load | side | " + " | ".join(head) + " |", "|---|---|---|" + "---|" * len(head)]
     for row in rows:
         cells = [f"{100 * lo:+.0f} to {100 * hi:+.0f} % ({n})" if n else "–" for *_, lo, hi, n in row["bins"]]
@@ -1512,7 +1513,7 @@ def plot_ratios(study: Seed004Study, which: str = "force", axes=None):
         )
         ax.axvline(ADVICE_URSELL, color="0.4", ls=":", label="jaxcable.advise: cnoidal above U ≈ 26")
         ax.axhline(1, color="k", lw=0.5)
-        ax.axhline(1 + UNDER_PREDICTION, color="0.5", lw=0.5, ls="--")
+        ax.axhline(1 + UNDER_PREDICTION, color="0.5", lw=0.5, ls="--", label="cnoidal 10 % above Airy")
         ax.set_xscale("log")
         ax.set_xlabel("Ursell number U = Hλ²/d³ of the cnoidal wave (–)")
         name = "F" if which == "force" else "M"
