@@ -1197,10 +1197,11 @@ def claims(study: Seed004Study, superposition: SuperpositionStudy, limit: dict) 
             "Cnoidal waves load a vertical cylinder substantially more than linear theory; at small ka, where "
             "the inertia force dominates, the ratio R of the maximum forces rises markedly, from the large "
             "accelerations under steep crests (Fig. 1, from ref. [7])",
-            f"R = cnoidal/Airy peak force on the inertia-only column (the small-ka limit of [7]'s diffraction "
-            f"theory) {ratio[pot[0]]:.2f} at λ̄ = {lam[pot[0]]:g} (U = {study.ursell[pot[0]]:.0f}) rising to "
+            "R = cnoidal/Airy peak force on the inertia-only column (Morison's potential-flow part, the "
+            f"small-ka limit of linear diffraction) {ratio[pot[0]]:.2f} at λ̄ = {lam[pot[0]]:g} "
+            f"(U = {study.ursell[pot[0]]:.0f}) rising to "
             f"{ratio[pot[-1]]:.2f} at λ̄ = {lam[pot[-1]]:g} (U = {study.ursell[pot[-1]]:.0f}); against linear "
-            f"shallow-water theory, [7]'s reference, {shallow[0]:.2f} to {shallow[-1]:.2f}. With drag: {others}",
+            f"shallow-water theory, Fig. 1's reference, {shallow[0]:.2f} to {shallow[-1]:.2f}. With drag: {others}",
             "yes" if rising and significant else "no",
             "the inertia load follows ∂u/∂t, and the cnoidal wave's peak ∂u/∂t, on the steep front of its "
             "crest, grows like (4K/π) max(sn cn dn), about √U, against the sinusoid's; Airy's is lower still, "
