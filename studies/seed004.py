@@ -20,17 +20,22 @@ integrated by jaxcable's quadrature along each segment: the force F(t) and the
 overturning moment M(t) about the base. The paper's structures are rigid and fixed, and
 its Fig. 1 is the force on a fixed cylinder: a held column gives exactly that quantity,
 where a taut line of free segments would add its own response (deflection, relative
-velocity) that the paper does not have. Two diameters span Morison's two regimes: a pile
-of D = 1 m (drag dominates, KC ≈ 40) and a column of D = 8 m (inertia dominates, KC ≈ 5,
-the paper's "small ka" case; D/λ < 0.05, so diffraction is negligible at the first
-harmonic).
+velocity) that the paper does not have. Three cylinders (`STRUCTURES`): a pile of D = 1 m
+(drag dominates, KC ≈ 40 at the shelf wave), a column of D = 8 m (inertia dominates,
+KC ≈ 5) and that column without drag, Morison's potential-flow part alone, the small-ka
+limit of linear diffraction (the paper's Fig. 1 quantity); D/λ < 0.05, so diffraction is
+negligible at the first harmonic. The cnoidal cases run as one `jaxcable.sweep`; the Airy
+cases and the harmonic study evaluate the same generalised forces directly
+(`column_loads`), which compiles in seconds.
 
 Open choices (the paper gives no Morison coefficients, no structure in the Morison range,
 and no height): C_D = 1, C_a = 1 (C_M = 2, the small-ka limit of MacCamy–Fuchs'
-diffraction theory, which the paper's ref. [7] uses); the loads are integrated to the
-still-water level z = 0, as jaxcable wets a line and as linear diffraction theory does,
-not to the moving surface η; the water is 35 m deep, the middle of the paper's 30–40 m;
-T = 14–50 s and H = 2–20 m (H/d up to 0.57) span U = 2–580.
+diffraction theory); the loads are integrated to the still-water level z = 0, as
+jaxcable wets a line and as linear diffraction theory does, not to the moving surface η
+(`surface_sensitivity` measures the difference); the local acceleration ∂u/∂t, not the
+material one; the water is 35 m deep, the middle of the paper's 30–40 m; T = 14–50 s and
+H = 2–20 m (H/d up to 0.57, where first-order theory's O(H/d) error is large) span
+U = 2–580.
 
 Every load and kinematic number is checked against an independent computation written
 here with SciPy (`ReferenceCnoidal`, `ReferenceAiry`, `reference_loads`): m solved by
