@@ -391,7 +391,11 @@ class Cnoidal(AbstractWave):
         return self._horizontal(du, dw)
 
     def harmonic_series(
-        self, position: Float[Array | np.ndarray, "*batch 3"], t, count: int
+        self,
+        position: Float[Array | np.ndarray, "*batch 3"],
+        t,
+        count: int,
+        weights: Float[ArrayLike, " count"] | None = None,
     ) -> tuple[Float[Array, "*batch"], Float[Array, "*batch 3"], Float[Array, "*batch 3"]]:
         """The elevation, velocity and local acceleration as `count` phase-locked
         harmonics (seed 004 §7.2), aₙ from [`jaxcable.cnoidal_coefficients`][]:
@@ -403,13 +407,16 @@ class Cnoidal(AbstractWave):
         (and linear) profiles of first-order theory, not each with its own linear
         dispersion. They equal the closed forms to the series' truncation error, qⁿ at
         n = `count` + 1 ([`jaxcable.Cnoidal.nome`][]). Outside the water column as for
-        `velocity`.
+        `velocity`, with η the series' own.
 
         **Arguments:**
 
         - `position`: (m), shape `(..., 3)`.
         - `t`: time (s).
         - `count`: the number of harmonics.
+        - `weights`: a factor on each harmonic's amplitude, shape `(count,)`: 1 for
+            the wave, one 1 among 0s for a single harmonic (the paper's harmonic
+            superposition takes the harmonics one at a time). All 1 by default.
 
         **Returns:**
 
@@ -421,6 +428,8 @@ class Cnoidal(AbstractWave):
         phase = n * self._theta(x, y, t)[..., None]
         cos, sin = jnp.cos(phase), jnp.sin(phase)
         a = cnoidal_coefficients(self.m, count, self.m1)
+        if weights is not None:
+            a = a * jnp.asarray(weights, dtype=float)
         eta = self.height * jnp.sum(a * cos, axis=-1)
         rate = jnp.sqrt(self.gravity / self.depth)  # c₀/d (1/s)
         wavenumber, frequency = 2 * jnp.pi / self.wavelength, 2 * jnp.pi / self.period

@@ -211,6 +211,23 @@ def test_series_equals_closed_form(height, period):
     np.testing.assert_allclose(acceleration, w.acceleration(points, 0.3), rtol=0, atol=1e-13 * scale)
 
 
+def test_series_weights_take_harmonics_one_at_a_time():
+    # The sum is linear in the aₙ: the single harmonics' kinematics add up to the
+    # series' (below the trough, where no single harmonic's own surface clamps w), and
+    # weights of 1 are no weights.
+    w = Cnoidal(2.0, 12.0, 10.0)
+    count = 24
+    points = column(w)[:128]  # 90 % and 50 % of the depth
+    whole = w.harmonic_series(points, 0.3, count)
+    ones = w.harmonic_series(points, 0.3, count, jnp.ones(count))
+    singles = [w.harmonic_series(points, 0.3, count, jnp.eye(count)[n]) for n in range(count)]
+    scale = float(w.height) * np.sqrt(G / 10.0) * 4 * float(w.K)
+    for k, part in enumerate(whole):
+        atol = 1e-14 * (float(w.height) if k == 0 else scale)
+        np.testing.assert_array_equal(ones[k], part)
+        np.testing.assert_allclose(sum(s[k] for s in singles), part, rtol=0, atol=atol)
+
+
 # ---------------------------------------------------------------------------------------
 # The surface and the limits.
 # ---------------------------------------------------------------------------------------
