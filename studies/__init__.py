@@ -9,4 +9,6 @@ repository root on `sys.path` (pytest does it through `pythonpath` in `pyproject
 - `seed002`: the towed trawl's speed steps (seed 002).
 - `seed002_net`: the moored net of buoys in waves (seed 002).
 - `seed003`: the anchored line's slack and snap loads in waves (seed 003).
+- `linear_buoy`: a tethered buoy, a linear oscillator, in an irregular sea, and its
+  closed form (issue 21).
 """
