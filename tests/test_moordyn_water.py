@@ -107,7 +107,7 @@ def test_a_realised_sea_state_reaches_moordyn(tmp_path):
     )
     jc.io.write_wave_frequencies(tmp_path / "wave_frequencies.txt", sea)
     path = write_moordyn(tmp_path, options=options("7 WaveKin", "0.002 dtM"))
-    read = jc.read_moordyn(path).build().environment.waves[0]
+    read = jc.read_moordyn(path).water.waves[0].wave(150.0, 9.81)
     assert read.wheeler
     omega = 2 * np.pi / np.asarray(sea.periods)
     np.testing.assert_allclose(2 * np.pi / np.asarray(read.periods), omega, rtol=1e-15)

@@ -506,6 +506,17 @@ def test_cli_info_on_the_sea(capsys):
     diameter = data["line_types"]["chain"]["diameter"]
     assert f"KC = uT/D = {speed * period / diameter:.3g}" in out and "drag dominates" in out
     assert "fluid_inertia = false" in out and "no slack quasi-statically" in out
+    # The chain's natural periods, and the wave near one of them: an undamped
+    # oscillator's amplification 1/|1 − (T_n/T)²| from the periods it prints.
+    listed = re.search(r"natural periods of the mooring about its mean equilibrium \(.*?\): ([0-9., ]+) s", out)
+    assert listed is not None
+    periods = [float(p) for p in listed[1].split(", ")]
+    nearest = max(periods, key=lambda p: 1 / abs(1 - (p / period) ** 2))
+    gain = 1 / abs(1 - (nearest / period) ** 2)
+    near = re.search(r"is near the natural period ([0-9.]+) s: .*?= ([0-9.]+) times", out)
+    assert gain >= 2 and near is not None and float(near[1]) == nearest
+    assert float(near[2]) == pytest.approx(gain, rel=0.02)  # from periods printed to 3 digits
+    assert "design check's most probable maximum tension needs an irregular sea" in out
 
 
 def test_cli_statics_only(runs, tmp_path, capsys):
