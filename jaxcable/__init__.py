@@ -5,9 +5,11 @@ global setting: enable JAX's float64 once, before building a model, with
 `jax.config.update("jax_enable_x64", True)` or `JAX_ENABLE_X64=1` in the environment.
 A model built without it raises [`jaxcable.Float64Error`][], which says so.
 
-The names here are the ones a user needs day to day: the model and the sea, the motions
-of supports, the entry points (simulate, solve_statics, sweep, calibrate, advise, and
-reading and running scenes) with their results, and the solvers. The rest is grouped in
+The names here are the ones a user needs day to day: the model and the sea (regular
+waves, and irregular ones realised from a spectrum), the motions of supports, the entry
+points (simulate, solve_statics, sweep, calibrate, advise, and reading and running
+scenes) with their results, the extremes of a response over realisations, and the
+solvers. The rest is grouped in
 public modules:
 
 - `jaxcable.io`: scene specs, the scene runner's result, output files, motion tables and
@@ -46,6 +48,8 @@ if TYPE_CHECKING:
     from ._environment import CurrentProfile as CurrentProfile
     from ._environment import Environment as Environment
     from ._environment import Seabed as Seabed
+    from ._extremes import ExtremeStatistics as ExtremeStatistics
+    from ._extremes import extreme_statistics as extreme_statistics
     from ._irregular import WaveComponents as WaveComponents
     from ._jacobian import NetworkJacobian as NetworkJacobian
     from ._materials import AbstractTensionLaw as AbstractTensionLaw
@@ -65,6 +69,7 @@ if TYPE_CHECKING:
     from ._rk4 import RK4 as RK4
     from ._simulate import SimulationResult as SimulationResult
     from ._simulate import simulate as simulate
+    from ._spectrum import Jonswap as Jonswap
     from ._state import State as State
     from ._statics import StaticSolution as StaticSolution
     from ._statics import solve_statics as solve_statics
@@ -101,6 +106,8 @@ _NAMES = {
     "CurrentProfile": "._environment",
     "Environment": "._environment",
     "Seabed": "._environment",
+    "ExtremeStatistics": "._extremes",
+    "extreme_statistics": "._extremes",
     "WaveComponents": "._irregular",
     "NetworkJacobian": "._jacobian",
     "AbstractTensionLaw": "._materials",
@@ -120,6 +127,7 @@ _NAMES = {
     "RK4": "._rk4",
     "SimulationResult": "._simulate",
     "simulate": "._simulate",
+    "Jonswap": "._spectrum",
     "State": "._state",
     "StaticSolution": "._statics",
     "solve_statics": "._statics",

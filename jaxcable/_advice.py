@@ -42,6 +42,18 @@ for each moving support (slack). The criteria, and where they come from:
   likely than this: a line falls sideways no faster than its terminal speed
   √(2 w / (ρ K_n d)) (wet weight w per length against drag), and a support moving
   faster than that outruns it and loads it by snap.
+- **Irregular seas.** A regular wave loads a mooring at one period; near one of the
+  mooring's natural periods T_n its response hinges on damping. The natural periods
+  come from the stiffness K = −∂Q/∂x of the free nodes at the mean equilibrium (still
+  water, supports held) against their mass matrix M (added mass included): the
+  generalised eigenvalues ω² of K v = ω² M v, undamped. A linear oscillator forced at
+  period T amplifies 1/|1 − (T_n/T)²| (undamped), at least twice when
+  0.71 T ≤ T_n ≤ 1.22 T: such a wave is near resonance, and a sea of the same energy,
+  spread over periods, loads it differently. And a design check's most probable
+  maximum needs an irregular sea, over several seeds, in any case. An irregular sea
+  on equal frequency steps Δω repeats after 2π/Δω
+  ([`repeat_period`][jaxcable._irregular.repeat_period]): a longer run repeats its
+  statistics.
 - **Explicit step.** Explicit Runge–Kutta methods of order 4–5 are stable for |λ Δt|
   up to about 3, with |λ| the fastest of the lines' axial mode
   ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode]) and, where lines
@@ -59,9 +71,12 @@ import jax.numpy as jnp
 import lineax as lx
 import numpy as np
 import optimistix as optx
+import scipy.linalg
 
 from ._cnoidal import Cnoidal
 from ._environment import Environment
+from ._irregular import WaveComponents, repeat_period
+from ._lagrangian import generalised_forces, inertial_forces
 from ._motion import Fixed, Harmonic, Sampled
 from ._network import CableNetwork
 from ._state import State
@@ -84,6 +99,11 @@ SLACK_FRACTION = 0.01
 # 3–4 only where drag damps it (ω_n ≤ 235 rad/s). The lower figure is the safe one.
 STABLE_STEP = 1.7
 DEFAULT_TOLERANCE = 0.01  # of each line's length
+# A wave is near resonance where an undamped oscillator amplifies it at least this much.
+RESONANT_AMPLIFICATION = 2.0
+# The natural periods the advice lists, and the largest model (free nodes × 3) whose
+# dense eigenproblem it solves.
+NATURAL_PERIODS, MODAL_UNKNOWNS = 6, 1500
 
 
 @dataclass(frozen=True)
@@ -236,6 +256,10 @@ class WaveFit:
     - `fits`: `"airy"`, `"cnoidal"` or `"none"`
         (between the theories jaxcable has).
     - `reason`: why, in words.
+    - `irregular`: whether the wave is an irregular sea of Airy components
+        ([`jaxcable.WaveComponents`][]); `height` is then its H_s, `period` its most
+        energetic component's, and `repeat_period` (s) the time after which it repeats
+        (`inf` for a regular wave).
     """
 
     index: int
@@ -251,6 +275,8 @@ class WaveFit:
     regime: str
     fits: str
     reason: str
+    irregular: bool = False
+    repeat_period: float = float("inf")
 
     @property
     def uses_fitting_theory(self) -> bool:
@@ -356,6 +382,9 @@ class Advice:
     - `slack`: a [`SlackCheck`][jaxcable._advice.SlackCheck] per extreme of each moving
         support.
     - `statics_error`: why the mean equilibrium was not found, or `None`.
+    - `natural_periods`: (s) the mooring's longest natural periods about the mean
+        equilibrium ([`natural_periods`][jaxcable._advice.natural_periods]), with
+        waves only; empty otherwise.
     """
 
     omega: float
@@ -374,6 +403,7 @@ class Advice:
     rest_max_tension: float | None
     slack: tuple[SlackCheck, ...]
     statics_error: str | None
+    natural_periods: tuple[float, ...] = ()
 
     @property
     def drag_dominates(self) -> bool | None:
@@ -429,7 +459,9 @@ def wave_fit(wave: AbstractWave, index: int = 0) -> WaveFit:
             "U > 26 but λ < 8d: a higher-order Stokes or stream-function wave fits, which jaxcable does not have; "
             "Airy understates the crest's kinematics, and cnoidal's long-wave approximation is weak"
         )
-    theory = "cnoidal" if isinstance(wave, Cnoidal) else "airy" if isinstance(wave, Airy) else type(wave).__name__
+    irregular = isinstance(wave, WaveComponents)
+    kinds = ((Cnoidal, "cnoidal"), (Airy, "airy"), (WaveComponents, "airy"))
+    theory = next((name for kind, name in kinds if isinstance(wave, kind)), type(wave).__name__)
     return WaveFit(
         index,
         theory,
@@ -444,7 +476,54 @@ def wave_fit(wave: AbstractWave, index: int = 0) -> WaveFit:
         regime,
         fits,
         reason,
+        irregular,
+        repeat_period(wave) if irregular else float("inf"),
     )
+
+
+def natural_periods(model: CableNetwork, env: Environment, positions, count: int = NATURAL_PERIODS) -> np.ndarray:
+    """The mooring's `count` longest natural periods (s) about `positions` (m, an
+    equilibrium of every node, shape `(nodes, 3)`): 2π/ω from the generalised
+    eigenvalues ω² of K v = ω² M v, K = −∂Q_f/∂x_f the free nodes' stiffness (forces
+    at rest in `env` without its waves, supports held where `model` has them) and M the
+    mass matrix on them, added mass included. Undamped; eigenvalues that are not real
+    and positive (a mechanism, a slack line) are left out. Empty for a model of more
+    than `MODAL_UNKNOWNS` unknowns, whose dense eigenproblem would cost more than the
+    advice."""
+    free = np.asarray(model.free_nodes)
+    n = 3 * free.size
+    if n == 0 or n > MODAL_UNKNOWNS:
+        return np.zeros(0)
+    matrices = _modal_matrices(model, _without_waves(env), jnp.asarray(positions))
+    stiffness, mass = (np.asarray(m) for m in matrices)
+    squared = scipy.linalg.eigvals(stiffness, mass)
+    real, imaginary = np.real(squared), np.imag(squared)
+    oscillating = np.isfinite(squared) & (real > 0) & (np.abs(imaginary) <= 1e-6 * np.abs(squared))
+    return np.sort(2 * np.pi / np.sqrt(real[oscillating]))[::-1][:count]
+
+
+@eqx.filter_jit
+def _modal_matrices(model: CableNetwork, still: Environment, positions):
+    """K = −∂Q_f/∂x_f at rest and M_ff, each of shape `(3 free, 3 free)`: compiled once
+    per model structure."""
+    free = model.free_nodes
+    n = 3 * free.size
+
+    def forces(q):
+        at = positions.at[free].set(q)
+        return generalised_forces(model, still, 0.0, at, jnp.zeros_like(at))[free]
+
+    def inertia(a):
+        return inertial_forces(model, still, positions, jnp.zeros_like(positions).at[free].set(a))[free]
+
+    q = positions[free]
+    return -jax.jacfwd(forces)(q).reshape(n, n), jax.jacfwd(inertia)(jnp.zeros_like(q)).reshape(n, n)
+
+
+def resonant_amplification(natural_period: float, period: float) -> float:
+    """1/|1 − (T_n/T)²|: how much an undamped linear oscillator of natural period T_n
+    (s) amplifies a force of period T (s) over its static response."""
+    return 1.0 / abs(1.0 - (natural_period / period) ** 2)
 
 
 def particle_speed(wave: AbstractWave, position, samples: int = 720) -> float:
@@ -564,6 +643,8 @@ def advise(
         tension = np.asarray(static.tension)
         rest_min, rest_max = float(tension.min()), float(tension.max())
         slack = _slack(model, held, still, labels, chains, static, rest_max)
+    # The modes matter only to waves, and cost a Jacobian's compile: not without them.
+    periods = natural_periods(held, still, positions) if env.waves and statics_error is None else np.zeros(0)
     return Advice(
         omega,
         magnitude,
@@ -581,6 +662,7 @@ def advise(
         rest_max,
         slack,
         statics_error,
+        tuple(float(p) for p in periods),
     )
 
 

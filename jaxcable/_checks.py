@@ -97,6 +97,12 @@ def sign(name: str, value: Array | np.ndarray, allow_zero: bool = False) -> Cond
     return Condition(name, ~kept, value, "must be " + ("non-negative" if allow_zero else "positive"))
 
 
+def at_least(name: str, value: Array | np.ndarray, minimum: float) -> Condition:
+    """Entries of at least `minimum`; NaN breaks it too."""
+    value, _ = _on_host(value)
+    return Condition(name, ~(value >= minimum), value, f"must be at least {minimum:g}")
+
+
 def increasing(name: str, values: Float[ArrayLike, " samples"]) -> Condition:
     """Strictly increasing along the last axis: an entry breaks it if it is not above
     the one before."""

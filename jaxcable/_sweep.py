@@ -43,6 +43,7 @@ from jaxtyping import Array, Bool, Float
 from . import _checks as checks
 from ._config import SolverConfig
 from ._environment import Environment
+from ._extremes import ExtremeStatistics, extreme_statistics
 from ._network import CableNetwork, network_conditions
 from ._simulate import IMEX_SOLVERS, SimulationResult, _simulate, as_config, for_model, result_of, vector_field
 from ._state import State
@@ -120,6 +121,41 @@ class SweepResult(eqx.Module):
         if not -self.n_cases <= index < self.n_cases:
             raise IndexError(f"SweepResult.case: index {index} is out of range for {self.n_cases} cases")
         return jax.tree.map(lambda x: x[index], self.simulation)
+
+    def tension_extremes(
+        self, start: float | None = None, *, segments: RealLike | None = None, duration: float | None = None
+    ) -> ExtremeStatistics:
+        """The most probable maximum tension and its distribution, taking each case as
+        one realisation of one sea state (a sweep over seeds):
+        [`jaxcable.extreme_statistics`][] of each case's largest tension (N) over
+        `segments` at each output time.
+
+        **Arguments:**
+
+        - `start`: the first output time (s) kept, to leave out the start-up transient;
+            the first by default.
+        - `segments`: the segments' indices (an int or an array); all by default.
+        - `duration`: D (s) the maximum is for; the kept record's length by default.
+
+        **Raises:**
+
+        `ValueError` if any case failed (naming them) or the sweep has one case.
+
+        For several sea states, seeds in each, reshape the tension of a
+        [`jaxcable.sweep_grid`][] (its last axis varies fastest) and call
+        [`jaxcable.extreme_statistics`][] on it.
+        """
+        if self.failed.size:
+            raise ValueError(
+                f"SweepResult.tension_extremes: cases {self.failed.tolist()} failed ({self.status[self.failed[0]]}); "
+                "extremes over realisations need every one"
+            )
+        tension = self.simulation.tension
+        if segments is not None:
+            tension = tension[:, :, jnp.atleast_1d(jnp.asarray(segments))]
+        return extreme_statistics(
+            jnp.max(tension, axis=-1), np.asarray(self.simulation.times[0]), start=start, duration=duration
+        )
 
     def summary(self) -> str:
         """A markdown table: one row per case with its parameters, peak tension (kN) and

@@ -11,4 +11,6 @@ repository root on `sys.path` (pytest does it through `pythonpath` in `pyproject
 - `seed003`: the anchored line's slack and snap loads in waves (seed 003).
 - `seed004`: wave loads on a fixed vertical cylinder in shallow water, cnoidal against
   Airy, and the cnoidal wave's harmonic superposition (seed 004).
+- `linear_buoy`: a tethered buoy, a linear oscillator, in an irregular sea, and its
+  closed form (issue 21).
 """

@@ -1,7 +1,9 @@
 """MoorDyn's wave and current files (`WaveKin`, `Currents`) read into jaxcable's water:
 each against the closed form MoorDyn's own sources give for it (a component's
-elevation, the profile's values), and each refusal named with its file and line."""
+elevation, the profile's values), and each refusal named with its file and line; and a
+sea state's realisation written for MoorDyn, against MoorDyn's own kinematics."""
 
+import jax.numpy as jnp
 import numpy as np
 import pytest
 from test_readers import OPTIONS, write_moordyn
@@ -92,3 +94,43 @@ def test_bad_water_files_are_located(tmp_path, option, name, text, message):
     with pytest.raises(SceneError, match=message) as error:
         jc.read_moordyn(write_moordyn(tmp_path, options=options(option)))
     assert "system.txt, line" in str(error.value)
+
+
+def test_a_realised_sea_state_reaches_moordyn(tmp_path):
+    """MoorDyn has no spectrum: a JONSWAP realisation reaches it as the components of
+    `WaveKin = 7`. Written by jaxcable, read back by jaxcable, and computed by MoorDyn
+    itself (its elevation and velocity at a point, at its own times), it is one sea:
+    jaxcable's with Wheeler stretching, as MoorDyn sums it."""
+    moordyn = pytest.importorskip("moordyn")
+    sea = jc.WaveComponents.from_spectrum(
+        jc.Jonswap(2.0, 9.0), 150.0, seed=4, components=60, frequencies=(0.4, 3.0), heading=15.0, spreading=4.0
+    )
+    jc.io.write_wave_frequencies(tmp_path / "wave_frequencies.txt", sea)
+    path = write_moordyn(tmp_path, options=options("7 WaveKin", "0.002 dtM"))
+    read = jc.read_moordyn(path).water.waves[0].wave(150.0, 9.81)
+    assert read.wheeler
+    omega = 2 * np.pi / np.asarray(sea.periods)
+    np.testing.assert_allclose(2 * np.pi / np.asarray(read.periods), omega, rtol=1e-15)
+    np.testing.assert_allclose(read.amplitudes, sea.amplitudes, rtol=1e-15)
+    np.testing.assert_allclose(np.cos(np.asarray(read.phases) - np.asarray(sea.phases)), 1.0, rtol=1e-14)
+    np.testing.assert_allclose(read.headings, sea.headings, rtol=1e-14)
+
+    stretched = jc.WaveComponents(
+        sea.amplitudes, sea.periods, 150.0, headings=sea.headings, phases=sea.phases, wheeler=True
+    )
+    point = (12.0, -30.0, -8.0)
+    system = moordyn.Create(str(path))
+    try:
+        moordyn.Init(system, [200.0, 0.0, 0.0], [0.0, 0.0, 0.0])
+        waves, floor = moordyn.GetWaves(system), moordyn.GetSeafloor(system)
+        # MoorDyn solves the dispersion relation to its own tolerance, and its time is
+        # a sum of steps: agreement to 1e-8 m and m/s (of H_s = 2 m).
+        t = 0.0
+        for _ in range(3):
+            moordyn.Step(system, [200.0, 0.0, 0.0], [0.0, 0.0, 0.0], t, 0.6)
+            t += 0.6
+            velocity, _, elevation, _ = moordyn.GetWavesKin(waves, *point, floor)
+            assert float(stretched.elevation(point[0], point[1], t)) == pytest.approx(elevation, abs=1e-8)
+            np.testing.assert_allclose(stretched.velocity(jnp.array(point), t), velocity, rtol=0, atol=1e-8)
+    finally:
+        moordyn.Close(system)

@@ -1054,6 +1054,69 @@ def test_toml_sea_errors_are_located(tmp_path, text, fragment, words):
     assert_located(error, path, fragment, *words)
 
 
+SEA_STATE = """
+[[waves]]
+spectrum = "jonswap"
+significant_height = 2.5
+peak_period = 9.0
+peak_enhancement = 2.0
+components = 120
+frequencies = [0.4, 3.2]
+seed = 7
+heading = 20.0
+spreading = 6.0
+"""
+
+
+def test_toml_sea_state_is_the_engines_realisation(tmp_path):
+    scene = jc.read_scene(write_scene(tmp_path, SCENE + SEA_STATE))
+    (spec,) = scene.water.waves
+    assert isinstance(spec, jc.io.SeaStateSpec)
+    assert (spec.spectrum, spec.significant_height, spec.peak_period, spec.peak_enhancement) == (
+        "jonswap",
+        2.5,
+        9.0,
+        2.0,
+    )
+    assert (spec.components, spec.frequencies, spec.seed, spec.heading, spec.spreading) == (
+        120,
+        (0.4, 3.2),
+        7,
+        20.0,
+        6.0,
+    )
+    assert "repeating after 269.3 s" in spec.describe()  # 2π · 120 / 2.8 rad/s
+    sea = spec.wave(150.0, 9.81)  # as the scene builds it
+    expected = jc.WaveComponents.from_spectrum(
+        jc.Jonswap(2.5, 9.0, 2.0), 150.0, seed=7, components=120, frequencies=(0.4, 3.2), heading=20.0, spreading=6.0
+    )
+    for field in ("amplitudes", "periods", "phases", "headings"):
+        np.testing.assert_array_equal(getattr(sea, field), getattr(expected, field), err_msg=field)
+    # Pierson–Moskowitz: γ = 1, long-crested without a spreading.
+    text = SCENE + SEA_STATE.replace('"jonswap"', '"pierson-moskowitz"').replace("peak_enhancement = 2.0\n", "")
+    (pm,) = jc.read_scene(write_scene(tmp_path, text.replace("spreading = 6.0\n", ""))).water.waves
+    assert float(pm.sea_state().peak_enhancement) == 1.0 and pm.spreading is None
+
+
+@pytest.mark.parametrize(
+    "old, new, fragment, words",
+    [
+        ('"jonswap"', '"bretschneider"', "spectrum =", ("waves[0].spectrum", "unknown spectrum", "jonswap")),
+        ("components = 120", "components = 12.5", "components =", ("waves[0].components", "integer")),
+        ("seed = 7", "seed = -1", "seed =", ("waves[0].seed", "from 0 to")),
+        ("[0.4, 3.2]", "[3.2, 0.4]", "frequencies =", ("waves[0].frequencies", "ω_min < ω_max")),
+        ("spreading = 6.0", "spreading = 0.0", "spreading =", ("waves[0].spreading", "positive")),
+        ('"jonswap"', '"pierson-moskowitz"', "peak_enhancement", ("waves[0].peak_enhancement", "has none")),
+        ("peak_enhancement = 2.0", "peak_enhancement = 0.5", "[[waves]]", ("waves[0]", "at least 1")),
+        # The band holds too little of m₀: the engine's check, located at the table.
+        ("[0.4, 3.2]", "[0.6, 1.2]", "[[waves]]", ("waves[0]", "% of the spectrum's m₀", "widen frequencies")),
+    ],
+)
+def test_toml_sea_state_errors_are_located(tmp_path, old, new, fragment, words):
+    error, path = read_scene_error(tmp_path, SCENE + SEA_STATE.replace(old, new))
+    assert_located(error, path, fragment, *words)
+
+
 def test_toml_low_ursell_cnoidal_wave_is_a_note(tmp_path):
     # A cnoidal wave of Ursell number below 5: the engine warns that Airy fits better;
     # the reader keeps it as a note on the wave's line.

@@ -37,6 +37,16 @@ from jaxcable import examples
 from jaxcable._cli import main
 
 NAMES = examples.scene_names()
+# irregular_buoy's run compiles a sea of 128 components on top of the scene: its checks
+# here run with the slow suite, its sea's own in test_irregular*.py.
+SLOW_SCENES = {"irregular_buoy"}
+
+
+def cases(names: list[str]) -> list:
+    """`names` as parameters, those of `SLOW_SCENES` marked slow."""
+    return [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_SCENES else n for n in names]
+
+
 DURATION = 1.0  # s
 # The same as y_branch.toml's own dt_out, so that the command-line test on y_branch,
 # which runs 1 s at the file's interval, reuses the compiled solve.
@@ -118,7 +128,7 @@ def expected_channels(name: str, run: jc.io.SceneRun) -> dict[str, np.ndarray]:
     return values
 
 
-@pytest.mark.parametrize("name", NAMES)
+@pytest.mark.parametrize("name", cases(NAMES))
 def test_round_trip_through_every_format(name, runs, tmp_path):
     run = runs(name)
     expected = expected_channels(name, run)
@@ -176,7 +186,7 @@ def test_round_trip_through_every_format(name, runs, tmp_path):
             np.testing.assert_array_equal(f.variables[channel][:], expected[channel], err_msg=channel)
 
 
-@pytest.mark.parametrize("name", NAMES)
+@pytest.mark.parametrize("name", cases(NAMES))
 def test_run_starts_from_equilibrium_and_supports_follow_their_motions(name, runs):
     """The first output is the statics, and each support is where the file says: an
     anchor at its position, a coupled point at position + A sin(2πt/T + φ) e."""
@@ -268,7 +278,7 @@ def total_wet_weight(data: dict) -> float:
 CALM = [n for n in NAMES if calm(toml(n))]
 
 
-@pytest.mark.parametrize("name", CALM)
+@pytest.mark.parametrize("name", cases(CALM))
 def test_statics_global_balance(name, runs):
     """The supports carry the wet weight of everything, less the current's drag."""
     data = toml(name)
@@ -287,7 +297,7 @@ def test_statics_global_balance(name, runs):
     np.testing.assert_allclose(reactions.sum(axis=0), [0.0, 0.0, weight] - drag, rtol=0, atol=1e-8 * scale)
 
 
-@pytest.mark.parametrize("name", CALM)
+@pytest.mark.parametrize("name", cases(CALM))
 def test_statics_node_balance(name, runs):
     """Every free node is in equilibrium, and each support's reaction is what holds
     its node, with forces computed from the file's numbers and the positions."""
@@ -303,7 +313,7 @@ def test_statics_node_balance(name, runs):
 STILL_WATER = [n for n in CALM if not np.any(water(toml(n))[2])]
 
 
-@pytest.mark.parametrize("name", STILL_WATER)
+@pytest.mark.parametrize("name", cases(STILL_WATER))
 def test_still_water_lines_are_elastic_catenaries(name, runs):
     """Each line between its equilibrium end points is the continuum's catenary: the
     segment tensions are its tension at mid-segment, the nodes lie on it."""
@@ -335,7 +345,9 @@ def test_still_water_lines_are_elastic_catenaries(name, runs):
             tension[segments], catenary.tension(mid), rtol=0.3 * segment / radius, err_msg=f"line {k + 1}"
         )
         shape = np.array([catenary.position(s) for s in np.arange(n + 1) * segment])
-        along = (x[nodes] - a)[:, :2] @ (across[:2] / span)
+        # A vertical line (irregular_buoy's tether) spans nothing: its nodes lie on the
+        # vertical through its ends.
+        along = (x[nodes] - a)[:, :2] @ (across[:2] / span if span > 0 else np.zeros(2))
         sag = segment**2 / radius
         np.testing.assert_allclose(along, shape[:, 0], rtol=0, atol=0.1 * sag, err_msg=f"line {k + 1}")
         np.testing.assert_allclose(x[nodes, 2] - a[2], shape[:, 1], rtol=0, atol=0.1 * sag, err_msg=f"line {k + 1}")
@@ -494,6 +506,17 @@ def test_cli_info_on_the_sea(capsys):
     diameter = data["line_types"]["chain"]["diameter"]
     assert f"KC = uT/D = {speed * period / diameter:.3g}" in out and "drag dominates" in out
     assert "fluid_inertia = false" in out and "no slack quasi-statically" in out
+    # The chain's natural periods, and the wave near one of them: an undamped
+    # oscillator's amplification 1/|1 − (T_n/T)²| from the periods it prints.
+    listed = re.search(r"natural periods of the mooring about its mean equilibrium \(.*?\): ([0-9., ]+) s", out)
+    assert listed is not None
+    periods = [float(p) for p in listed[1].split(", ")]
+    nearest = max(periods, key=lambda p: 1 / abs(1 - (p / period) ** 2))
+    gain = 1 / abs(1 - (nearest / period) ** 2)
+    near = re.search(r"is near the natural period ([0-9.]+) s: .*?= ([0-9.]+) times", out)
+    assert gain >= 2 and near is not None and float(near[1]) == nearest
+    assert float(near[2]) == pytest.approx(gain, rel=0.02)  # from periods printed to 3 digits
+    assert "design check's most probable maximum tension needs an irregular sea" in out
 
 
 def test_cli_statics_only(runs, tmp_path, capsys):

@@ -29,6 +29,7 @@ from .._records import (
     to_si as to_si,
 )
 from ._advice_text import advice_lines as advice_lines
+from ._moordyn_water import write_wave_frequencies as write_wave_frequencies
 from ._motion_file import read_motion_file as read_motion_file
 from ._output import write as write_output  # noqa: F401 (re-exported under a new name)
 from ._records import read_record as read_record
@@ -61,6 +62,9 @@ from ._scene import (
 )
 from ._scene import (
     SeabedSpec as SeabedSpec,
+)
+from ._scene import (
+    SeaStateSpec as SeaStateSpec,
 )
 from ._scene import (
     Water as Water,

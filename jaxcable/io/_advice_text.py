@@ -3,7 +3,7 @@ whose numbers the engine computes ([`jaxcable.advise`][])."""
 
 import numpy as np
 
-from .._advice import STABLE_STEP, Advice
+from .._advice import RESONANT_AMPLIFICATION, STABLE_STEP, Advice, resonant_amplification
 
 
 def advice_lines(advice: Advice) -> list[str]:
@@ -17,8 +17,13 @@ def advice_lines(advice: Advice) -> list[str]:
             "cnoidal": "cnoidal fits",
             "none": "neither theory fits well",
         }[fit.fits]
+        size = (
+            f"irregular, H_s = {fit.height:.3g} m, its largest component at T = {fit.period:.3g} s"
+            if fit.irregular
+            else f"{fit.theory}, H = {fit.height:.3g} m, T = {fit.period:.3g} s"
+        )
         text.append(
-            f"wave {fit.index + 1} ({fit.theory}, H = {fit.height:.3g} m, T = {fit.period:.3g} s): "
+            f"wave {fit.index + 1} ({size}): "
             f"λ = {fit.wavelength:.4g} m, d/λ = {fit.relative_depth:.3g} ({fit.regime} water), "
             f"U = Hλ²/d³ = {fit.ursell:.3g}, H/d = {fit.height_ratio:.3g}: {fits}"
             + ("" if fit.fits == "none" else f", {uses}")
@@ -38,6 +43,7 @@ def advice_lines(advice: Advice) -> list[str]:
         )
     elif advice.drag_dominates is False and not advice.fluid_inertia:
         text.append("fluid inertia matters on some element: set fluid_inertia = true")
+    text += _sea_lines(advice)
     if advice.statics_error is not None:
         text.append(f"no mean equilibrium, so no check of the segments or of slack: {advice.statics_error}")
     for d in advice.discretisation:
@@ -91,4 +97,49 @@ def advice_lines(advice: Advice) -> list[str]:
             "that step is short: if the run is slow, fewer segments (--segments) lengthen it in proportion, "
             "or an implicit solver (--solver kvaerno5) removes the limit at a higher cost per step"
         )
+    return text
+
+
+def _sea_lines(advice: Advice) -> list[str]:
+    """When the waves call for an irregular sea, and whether an irregular sea's record
+    repeats within the run."""
+    text = []
+    periods = advice.natural_periods
+    if periods:
+        text.append(
+            "natural periods of the mooring about its mean equilibrium (undamped, supports held): "
+            + ", ".join(f"{p:.3g}" for p in periods)
+            + " s"
+        )
+    regular = [fit for fit in advice.waves if not fit.irregular]
+    for fit in regular:
+        if not periods:
+            break
+        nearest = max(periods, key=lambda p: resonant_amplification(p, fit.period))
+        gain = resonant_amplification(nearest, fit.period)
+        if gain >= RESONANT_AMPLIFICATION:
+            text.append(
+                f"wave {fit.index + 1} (T = {fit.period:.3g} s) is near the natural period {nearest:.3g} s: an "
+                f"undamped oscillator amplifies it 1/|1 − (T_n/T)²| = {gain:.3g} times, so the response hinges "
+                "on damping, and a regular wave at one period can over- or understate what a sea of the same "
+                'energy does: check it in an irregular sea ([[waves]] spectrum = "jonswap" at the design H_s and T_p)'
+            )
+    if regular:
+        text.append(
+            "regular waves repeat one response: a design check's most probable maximum tension needs an irregular "
+            "sea over several seeds (a [[waves]] spectrum; in Python, jaxcable.sweep over the seed and "
+            "SweepResult.tension_extremes)"
+        )
+    for fit in advice.waves:
+        if not (fit.irregular and np.isfinite(fit.repeat_period)):
+            continue
+        repeat = f"wave {fit.index + 1} repeats after {fit.repeat_period:.4g} s (2π/Δω)"
+        if advice.duration is not None and advice.duration > fit.repeat_period:
+            more = advice.duration / fit.repeat_period
+            text.append(
+                f"{repeat}, within the run's {advice.duration:g} s: the rest repeats its statistics; for a "
+                f"record of D s give at least (ω_max − ω_min) D/2π components, {more:.3g} times as many here"
+            )
+        elif advice.duration is not None:
+            text.append(f"{repeat}, beyond the run's {advice.duration:g} s: the record does not repeat")
     return text

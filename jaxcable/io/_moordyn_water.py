@@ -25,13 +25,22 @@ interpolates between them; jaxcable evaluates the sum at each node, which is wha
 grid approximates. A mean level (the component at ω = 0) carries no kinematics and is
 left out with a note. Other values (dynamic or 4-D current grids, externally driven or
 unimplemented wave modes) stay refused as physics left out.
+
+MoorDyn v2 has no wave spectrum of its own: its wave inputs are complex amplitudes
+(`WaveKin = 2, 7`) or an elevation record (`3`), and the modes that would take more
+(`4` to `6`) are not implemented (MoorDyn's docs, *Water Kinematics*). So a sea state
+reaches MoorDyn as one realisation: [`write_wave_frequencies`][] writes any
+[`jaxcable.WaveComponents`][] (a JONSWAP realisation from
+[`jaxcable.WaveComponents.from_spectrum`][], say) as the `wave_frequencies.txt` of
+`WaveKin = 7`, which MoorDyn sums with Wheeler stretching and which this reader reads
+back as the same sea.
 """
 
 from pathlib import Path
 
 import numpy as np
 
-from .._irregular import moordyn_phase
+from .._irregular import WaveComponents, moordyn_phase
 from ._scene import CurrentProfileSpec, SceneError, WaveComponentsSpec
 
 CUTOFF = 2 * np.pi * 0.5
@@ -174,3 +183,35 @@ def elevation_record(path: Path, step: float) -> tuple[WaveComponentsSpec, list[
         where=str(path),
     )
     return spec, notes
+
+
+def write_wave_frequencies(path: str | Path, sea: WaveComponents) -> Path:
+    """Write `sea` as MoorDyn's `wave_frequencies.txt` for its summed components
+    (`WaveKin = 7`): a first row at ω = 0, then one row `ω Re(Z) Im(Z) β` (rad/s, m,
+    m, rad) per component in increasing ω, with |Z| = a_i and arg Z = π/2 − θ₀_i
+    (MoorDyn's η = Σ |Z| sin(ωt − k x_β + arg Z) is jaxcable's Σ a_i cos(k x_β − ωt +
+    θ₀_i)), to 17 significant digits. MoorDyn applies Wheeler stretching to these
+    components: the sea it computes is `sea` with `wheeler=True`, which is how
+    [`jaxcable.read_moordyn`][] reads the file back. Give `path` as the file beside the
+    MoorDyn input file, which is where MoorDyn looks for it.
+
+    **Returns:**
+
+    `path`, as a `Path`.
+    """
+    path = Path(path)
+    omega = 2 * np.pi / np.asarray(sea.periods)
+    order = np.argsort(omega, kind="stable")
+    angle = np.pi / 2 - np.asarray(sea.phases)[order]
+    amplitude = np.asarray(sea.amplitudes)[order]
+    rows = np.column_stack(
+        [
+            omega[order],
+            amplitude * np.cos(angle),
+            amplitude * np.sin(angle),
+            np.radians(np.asarray(sea.headings))[order],
+        ]
+    )
+    lines = ["0 0 0 0"] + [" ".join(f"{v:.17g}" for v in row) for row in rows]
+    path.write_text("\n".join(lines) + "\n")
+    return path

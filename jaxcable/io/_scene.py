@@ -24,11 +24,13 @@ from .._irregular import WaveComponents
 from .._materials import KelvinVoigt
 from .._motion import AbstractMotion, Fixed, Sampled
 from .._network import Body, Branch, CableNetwork, LineType, below_seabed
+from .._spectrum import Jonswap
 from .._statics import MAX_REQUIRED_STRAIN
 from .._waves import AbstractWave, Airy
 
 POINT_KINDS = ("fixed", "coupled", "free")
 WAVE_THEORIES = ("airy", "cnoidal")
+SPECTRA = ("jonswap", "pierson-moskowitz")
 
 
 class SceneError(ValueError):
@@ -147,6 +149,71 @@ class WaveComponentsSpec:
 
 
 @dataclass(frozen=True)
+class SeaStateSpec:
+    """An irregular sea realised from a spectrum
+    ([`jaxcable.WaveComponents.from_spectrum`][] of a [`jaxcable.Jonswap`][]).
+
+    - `spectrum`: `"jonswap"` or `"pierson-moskowitz"` (JONSWAP at γ = 1).
+    - `significant_height` H_s (m), `peak_period` T_p (s), `peak_enhancement` γ (–,
+        JONSWAP only).
+    - `components`: N; `frequencies`: (ω_min, ω_max) (rad/s); `seed`: the phases'.
+    - `heading`: the mean direction of travel (degrees); `spreading`: the cos-2s
+        exponent s, or `None` for a long-crested sea.
+    - `wheeler`: Wheeler stretching.
+    """
+
+    spectrum: str
+    significant_height: float
+    peak_period: float
+    components: int
+    frequencies: tuple[float, float]
+    seed: int
+    peak_enhancement: float = 3.3
+    heading: float = 0.0
+    spreading: float | None = None
+    wheeler: bool = False
+    where: str = ""
+
+    def sea_state(self) -> Jonswap:
+        """The engine's [`jaxcable.Jonswap`][]."""
+        if self.spectrum not in SPECTRA:
+            raise SceneError(f"{self.where}: unknown spectrum {self.spectrum!r}; expected one of {SPECTRA}")
+        gamma = 1.0 if self.spectrum == "pierson-moskowitz" else self.peak_enhancement
+        with located(self.where):
+            return Jonswap(self.significant_height, self.peak_period, gamma)
+
+    def wave(self, depth: float, gravity: float) -> WaveComponents:
+        """The engine's [`jaxcable.WaveComponents`][], realised in water of `depth` (m)
+        under `gravity` (m/s²); [`jaxcable.io.SceneError`][] at `where` for a value it
+        rejects (a band that misses the spectrum among them)."""
+        spectrum = self.sea_state()
+        with located(self.where):
+            return WaveComponents.from_spectrum(
+                spectrum,
+                depth,
+                seed=self.seed,
+                components=self.components,
+                frequencies=self.frequencies,
+                heading=self.heading,
+                spreading=self.spreading,
+                gravity=gravity,
+                wheeler=self.wheeler,
+            )
+
+    def describe(self) -> str:
+        """One line for `jaxcable info`."""
+        gamma = "" if self.spectrum == "pierson-moskowitz" else f", γ = {self.peak_enhancement:g}"
+        low, high = self.frequencies
+        spread = "long-crested" if self.spreading is None else f"cos-2s spreading s = {self.spreading:g}"
+        return (
+            f"{self.spectrum}, H_s = {self.significant_height:g} m, T_p = {self.peak_period:g} s{gamma}, heading "
+            f"{self.heading:g}°, {spread}: {self.components} components on {low:g} to {high:g} rad/s, seed "
+            f"{self.seed}, repeating after {2 * np.pi * self.components / (high - low):.4g} s"
+            + (", Wheeler stretching" if self.wheeler else "")
+        )
+
+
+@dataclass(frozen=True)
 class SeabedSpec:
     """A flat seabed at the water's depth ([`jaxcable.Seabed`][]): `stiffness` (Pa/m)
     and `damping` (Pa·s/m) per unit contact area (MoorDyn's `kBot`, `cBot`), the
@@ -176,8 +243,9 @@ class Water:
     - `current`: a uniform current (m/s, a 3-vector); or `current_profile`, a
         [`jaxcable.io.CurrentProfileSpec`][] (then `current` must stay zero).
     - `free_surface`: whether lines are in the water only below z = 0.
-    - `waves`: regular waves, [`jaxcable.io.WaveSpec`][], or linear components,
-        [`jaxcable.io.WaveComponentsSpec`][], superposed.
+    - `waves`: regular waves, [`jaxcable.io.WaveSpec`][], linear components,
+        [`jaxcable.io.WaveComponentsSpec`][], or irregular seas realised from a
+        spectrum, [`jaxcable.io.SeaStateSpec`][], superposed.
     - `seabed`: a [`jaxcable.io.SeabedSpec`][] at z = −depth, or `None`.
     - `fluid_inertia`: whether the waves' acceleration loads lines and bodies.
     - `wave_ramp`: the time (s) over which the waves are switched on from t = 0
@@ -192,7 +260,7 @@ class Water:
     current: tuple[float, float, float] = (0.0, 0.0, 0.0)
     free_surface: bool = False
     current_profile: CurrentProfileSpec | None = None
-    waves: tuple["WaveSpec | WaveComponentsSpec", ...] = ()
+    waves: tuple["WaveSpec | WaveComponentsSpec | SeaStateSpec", ...] = ()
     seabed: SeabedSpec | None = None
     fluid_inertia: bool = True
     wave_ramp: float = 0.0

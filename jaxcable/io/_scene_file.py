@@ -26,6 +26,19 @@ A scene file names its points and line types and lists its lines::
     phase = 0.0                  # rad, 0: a crest at x = 0 at t = 0; optional
     wheeler = false              # Wheeler stretching (airy only); optional
 
+    [[waves]]                    # or an irregular sea, realised from a spectrum
+    spectrum = "jonswap"         # or "pierson-moskowitz" (JONSWAP at γ = 1)
+    significant_height = 3.0     # H_s (m)
+    peak_period = 10.0           # T_p (s)
+    peak_enhancement = 3.3       # γ (jonswap only); optional, 3.3
+    components = 200             # N, on equal frequency steps
+    frequencies = [0.35, 3.0]    # (ω_min, ω_max) (rad/s): must hold H_s²/16 within 1 %
+    seed = 1                     # the random phases'
+    heading = 0.0                # deg, the mean direction of travel; optional
+    spreading = 10.0             # cos-2s exponent s; optional (long-crested without)
+    wheeler = false              # optional
+                                 # the sea repeats after 2π N/(ω_max − ω_min) s
+
     [seabed]                     # a flat bed at z = −depth; all keys optional
     stiffness = 3.0e6            # Pa/m per contact area (MoorDyn's kBot)
     damping = 3.0e5              # Pa·s/m (MoorDyn's cBot)
@@ -88,7 +101,8 @@ A scene file names its points and line types and lists its lines::
 
 Lines are numbered from 1 in the order written, for channels such as `FairTen1`.
 Errors name the file, the line and the key. Waves take the water's depth and gravity;
-see [`jaxcable.Environment`][], [`jaxcable.Airy`][], [`jaxcable.Cnoidal`][] and
+see [`jaxcable.Environment`][], [`jaxcable.Airy`][], [`jaxcable.Cnoidal`][],
+[`jaxcable.Jonswap`][], [`jaxcable.WaveComponents.from_spectrum`][] and
 [`jaxcable.Seabed`][] for the physics.
 """
 
@@ -105,6 +119,7 @@ from ._motion_file import read_motion_file
 from ._parse import read_text, unique_names
 from ._scene import (
     POINT_KINDS,
+    SPECTRA,
     WAVE_THEORIES,
     CurrentProfileSpec,
     LineSpec,
@@ -114,6 +129,7 @@ from ._scene import (
     Scene,
     SceneError,
     SeabedSpec,
+    SeaStateSpec,
     Water,
     WaveSpec,
     located,
@@ -123,6 +139,18 @@ _TOP = ("title", "water", "waves", "seabed", "simulation", "line_types", "points
 _WATER = ("density", "gravity", "depth", "current", "current_profile", "free_surface", "fluid_inertia", "wave_ramp")
 _CURRENT_PROFILE = ("heights", "speeds", "heading")
 _WAVE = ("theory", "height", "steepness", "period", "heading", "phase", "wheeler")
+_SEA_STATE = (
+    "spectrum",
+    "significant_height",
+    "peak_period",
+    "peak_enhancement",
+    "components",
+    "frequencies",
+    "seed",
+    "heading",
+    "spreading",
+    "wheeler",
+)
 _SEABED = ("stiffness", "damping", "friction", "friction_speed", "friction_damping")
 _SIMULATION = (
     "duration",
@@ -330,6 +358,9 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
         keys = ("waves", k)
         if not isinstance(row, dict):
             raise SceneError(f"{reader.where(keys)}: expected a [[waves]] table")
+        if "spectrum" in row:
+            waves.append(_sea_state(reader, row, keys, depth, gravity))
+            continue
         reader.keys(row, keys, _WAVE)
         theory = reader.string(row, (*keys, "theory"))
         if theory not in WAVE_THEORIES:
@@ -398,6 +429,57 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
         wave_ramp=wave_ramp,
         where=reader.where(("water",)),
     )
+
+
+def _sea_state(reader: "_Reader", row: dict, keys: tuple, depth: float | None, gravity: float) -> SeaStateSpec:
+    """A `[[waves]]` table with a `spectrum`: an irregular sea."""
+    reader.keys(row, keys, _SEA_STATE)
+    spectrum = reader.string(row, (*keys, "spectrum"))
+    if spectrum not in SPECTRA:
+        raise SceneError(
+            f"{reader.where((*keys, 'spectrum'))}: unknown spectrum {spectrum!r}; expected one of {SPECTRA}"
+        )
+    if spectrum == "pierson-moskowitz" and "peak_enhancement" in row:
+        raise SceneError(
+            f"{reader.where((*keys, 'peak_enhancement'))}: a Pierson–Moskowitz spectrum has none (γ = 1): "
+            'use spectrum = "jonswap" to give one'
+        )
+    values = {key: reader.number(row, (*keys, key)) for key in ("significant_height", "peak_period")}
+    for key, value in values.items():
+        if not value > 0:
+            raise SceneError(f"{reader.where((*keys, key))}: must be positive, got {value:g}")
+    frequencies = reader.numbers(row, (*keys, "frequencies"))
+    if len(frequencies) != 2 or not 0 < frequencies[0] < frequencies[1]:
+        raise SceneError(
+            f"{reader.where((*keys, 'frequencies'))}: expected [ω_min, ω_max] in rad/s, 0 < ω_min < ω_max, "
+            f"got {list(frequencies)}"
+        )
+    counts = {}
+    for key, lowest in (("components", 1), ("seed", 0)):
+        value = reader.integer(row, (*keys, key))
+        if not (lowest <= value < 2**32):
+            raise SceneError(
+                f"{reader.where((*keys, key))}: expected an integer from {lowest} to 2**32 - 1, got {value}"
+            )
+        counts[key] = value
+    spreading = reader.number(row, (*keys, "spreading"), None)
+    if spreading is not None and not spreading > 0:
+        raise SceneError(f"{reader.where((*keys, 'spreading'))}: must be positive, got {spreading:g}")
+    if depth is None:
+        raise SceneError(f"{reader.where(keys)}: waves need the water depth: give [water] depth")
+    spec = SeaStateSpec(
+        spectrum=spectrum,
+        frequencies=(frequencies[0], frequencies[1]),
+        peak_enhancement=reader.number(row, (*keys, "peak_enhancement"), 3.3),
+        heading=reader.number(row, (*keys, "heading"), 0.0),
+        spreading=spreading,
+        wheeler=reader.boolean(row, (*keys, "wheeler"), False),
+        where=reader.where(keys),
+        **values,
+        **counts,
+    )
+    spec.wave(depth, gravity)  # the engine's checks: γ, breaking, the band against m₀
+    return spec
 
 
 class _Reader:
