@@ -9,6 +9,8 @@ attachment point), and reuse it: the taut lines differ in leaves only, and the
 re-solved equilibria of the differences come out of the same program (its second
 output is `solve_statics`' solution)."""
 
+import dataclasses
+
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -18,8 +20,10 @@ from helpers import Irvine
 from scipy.spatial.transform import Rotation
 
 import jaxcable as jc
+from jaxcable._advice import Labels, advise
 from jaxcable._statics import FORCE_TOLERANCE, MAX_STEPS
 from jaxcable._stiffness import stiffness_and_statics
+from jaxcable.io import advice_lines
 
 MASS, DIAMETER, EA = 80.0, 0.1, 5e8  # kg/m, m, N
 SPAN, RISE, LENGTH = 300.0, 100.0, 350.0  # m: each anchor 300 m out from its attachment point and 100 m down
@@ -266,6 +270,37 @@ def test_body_on_the_turret(turret):
     first = stiffness[1, :, 1, :]
     turned = sum(turn(a) @ first @ turn(a).T for a in TURRET_LINES)
     np.testing.assert_allclose(k6[:3, :3], turned, atol=1e-8 * np.abs(turned).max())
+
+
+# --------------------------------------------------------------------------------------
+# The advice reports a coupled point's stiffness, where asked.
+
+
+def test_advice_reports_a_coupled_points_stiffness(turret):
+    """`advise(..., stiffness=True)` on the turret mooring named as a scene would name
+    it, the turret coupled: its 3 × 3 (the same program's), said in kN/m; without
+    `stiffness`, a line that says how to get it."""
+    model, env, stiffness = turret
+    # `from_branches`' numbering: the junctions, then each line's interior nodes and
+    # segments, anchor to turret.
+    inner = SEGMENTS - 1
+    lines = tuple(
+        (
+            f"line{i}",
+            np.array([1 + i, *range(4 + inner * i, 4 + inner * (i + 1)), 0]),
+            np.arange(SEGMENTS * i, SEGMENTS * (i + 1)),
+        )
+        for i in range(3)
+    )
+    labels = Labels(lines, ("chain",) * 3, ("turret", "anchor0", "anchor1", "anchor2"), coupled=(0,))
+    advice = advise(model, env, labels=labels, stiffness=True)
+    (reported,) = advice.stiffness
+    assert reported.point == "turret" and reported.node == 0
+    np.testing.assert_array_equal(reported.matrix, stiffness[0, :, 0, :])
+    diagonal = ", ".join(f"{x / 1e3:.4g}" for x in np.diag(stiffness[0, :, 0, :]))
+    assert any(f"point turret: stiffness at rest K_xx, K_yy, K_zz = {diagonal} kN/m" in t for t in advice_lines(advice))
+    hint = advice_lines(dataclasses.replace(advice, stiffness=()))
+    assert any(t.startswith("coupled point(s) turret: jaxcable info --stiffness adds") for t in hint)
 
 
 # --------------------------------------------------------------------------------------
