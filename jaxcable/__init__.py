@@ -7,9 +7,9 @@ A model built without it raises [`jaxcable.Float64Error`][], which says so.
 
 The names here are the ones a user needs day to day: the model and the sea (regular
 waves, and irregular ones realised from a spectrum), the motions of supports, the entry
-points (simulate, solve_statics, sweep, calibrate, advise, and reading and running
-scenes) with their results, the extremes of a response over realisations, and the
-solvers. The rest is grouped in
+points (simulate, solve_statics, stiffness, sweep, calibrate, advise, and reading and
+running scenes) with their results, the extremes of a response over realisations, and
+the solvers. The rest is grouped in
 public modules:
 
 - `jaxcable.io`: scene specs, the scene runner's result, output files, motion tables and
@@ -73,6 +73,8 @@ if TYPE_CHECKING:
     from ._state import State as State
     from ._statics import StaticSolution as StaticSolution
     from ._statics import solve_statics as solve_statics
+    from ._stiffness import body_stiffness as body_stiffness
+    from ._stiffness import stiffness as stiffness
     from ._sweep import SweepResult as SweepResult
     from ._sweep import sweep as sweep
     from ._sweep import sweep_grid as sweep_grid
@@ -131,6 +133,8 @@ _NAMES = {
     "State": "._state",
     "StaticSolution": "._statics",
     "solve_statics": "._statics",
+    "body_stiffness": "._stiffness",
+    "stiffness": "._stiffness",
     "SweepResult": "._sweep",
     "sweep": "._sweep",
     "sweep_grid": "._sweep",

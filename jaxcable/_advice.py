@@ -54,6 +54,11 @@ for each moving support (slack). The criteria, and where they come from:
   on equal frequency steps Δω repeats after 2π/Δω
   ([`repeat_period`][jaxcable._irregular.repeat_period]): a longer run repeats its
   statistics.
+- **Stiffness** (when asked for: it compiles a program of its own). The stiffness of
+  each coupled point (or, without a scene's names, each moving support) at the mean
+  equilibrium, K = ∂R/∂x = −∂F/∂x ([`jaxcable.stiffness`][]), by which a coupled
+  program's floater feels its lines; its diagonal is what `jaxcable info --stiffness`
+  reports.
 - **Explicit step.** Explicit Runge–Kutta methods of order 4–5 are stable for |λ Δt|
   up to about 3, with |λ| the fastest of the lines' axial mode
   ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode]) and, where lines
@@ -80,7 +85,8 @@ from ._lagrangian import generalised_forces, inertial_forces
 from ._motion import Fixed, Harmonic, Sampled
 from ._network import CableNetwork
 from ._state import State
-from ._statics import solve_statics
+from ._statics import FORCE_TOLERANCE, MAX_STEPS, solve_statics
+from ._stiffness import stiffness_and_statics
 from ._waves import AbstractWave, Airy
 
 # Stokes' second harmonic reaches a quarter of the first (a second crest in the
@@ -115,11 +121,14 @@ class Labels:
         end B.
     - `line_types`: each line's type, in the order of `lines`.
     - `points`: the names of the first nodes, in node order.
+    - `coupled`: the nodes of the scene's coupled points (those a coupled program or a
+        motion moves), whose stiffness the advice can report.
     """
 
     lines: tuple[tuple[str, np.ndarray, np.ndarray], ...]
     line_types: tuple[str, ...]
     points: tuple[str, ...]
+    coupled: tuple[int, ...] = ()
 
 
 def stiffest_axial_mode(model, env: Environment | None = None) -> tuple[float, float, int]:
@@ -364,6 +373,26 @@ class SlackCheck:
 
 
 @dataclass(frozen=True)
+class SupportStiffness:
+    """A support's stiffness at the mean equilibrium ([`jaxcable.stiffness`][]).
+
+    - `point`: its name; `node`: its index in the model.
+    - `matrix`: K = ∂R/∂x (N/m), rows and columns x, y, z: the change of the force
+        its support exerts on the lines as it moves, the lines' restoring force per
+        metre.
+    """
+
+    point: str
+    node: int
+    matrix: tuple[tuple[float, float, float], ...]
+
+    @property
+    def diagonal(self) -> tuple[float, float, float]:
+        """K_xx, K_yy, K_zz (N/m)."""
+        return (self.matrix[0][0], self.matrix[1][1], self.matrix[2][2])
+
+
+@dataclass(frozen=True)
 class Advice:
     """What [`advise`][jaxcable._advice.advise] found. The fields hold numbers;
     [`jaxcable.io.advice_lines`][] says them.
@@ -385,6 +414,10 @@ class Advice:
     - `natural_periods`: (s) the mooring's longest natural periods about the mean
         equilibrium ([`natural_periods`][jaxcable._advice.natural_periods]), with
         waves only; empty otherwise.
+    - `stiffness_points`: the points whose stiffness applies (the coupled points, or
+        the moving supports); `stiffness`: a
+        [`SupportStiffness`][jaxcable._advice.SupportStiffness] for each, where asked
+        for and the equilibrium found.
     """
 
     omega: float
@@ -404,6 +437,8 @@ class Advice:
     slack: tuple[SlackCheck, ...]
     statics_error: str | None
     natural_periods: tuple[float, ...] = ()
+    stiffness_points: tuple[str, ...] = ()
+    stiffness: tuple[SupportStiffness, ...] = ()
 
     @property
     def drag_dominates(self) -> bool | None:
@@ -588,9 +623,11 @@ def advise(
     tolerance: float = DEFAULT_TOLERANCE,
     absolute_tolerance: float | None = None,
     labels: Labels | None = None,
+    stiffness: bool = False,
 ) -> Advice:
     """Advice on a model before running it (module docstring): wave theory, drag
-    against fluid inertia, segment counts, slack, and the explicit step.
+    against fluid inertia, segment counts, slack, the explicit step, and where asked
+    for the coupled points' stiffness.
 
     **Arguments:**
 
@@ -604,6 +641,9 @@ def advise(
     - `labels`: the names of the lines, line types and points (a built scene's own by
         default); without them, lines are the chains between supports, bodies and
         junctions, numbered from 1.
+    - `stiffness`: also the stiffness of each coupled point (the scene's; without
+        labels, each moving support) at the mean equilibrium. The statics are then
+        solved by [`jaxcable.stiffness`][]'s program, which compiles for longer.
 
     **Returns:**
 
@@ -615,7 +655,12 @@ def advise(
     chains = _chains(model, labels)
     still = _without_waves(env)
     held = _held(model)
-    static = solve_statics(held, still, throw=False)
+    supports = _coupled(model, labels)
+    if stiffness and supports:
+        # One solve for the equilibrium and its stiffness together.
+        matrix, static = stiffness_and_statics(held, still, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
+    else:
+        static = solve_statics(held, still, throw=False)
     statics_error = None
     if static.result != optx.RESULTS.successful:
         statics_error = f"the largest force left on a free node is {float(static.residual):.3g} N"
@@ -633,9 +678,16 @@ def advise(
 
     waves = tuple(wave_fit(wave, k) for k, wave in enumerate(env.waves))
     inertia = _inertia(model, env, labels, chains, positions)
-    discretisation, slack = (), ()
+    discretisation, slack, stiffnesses = (), (), ()
     rest_min = rest_max = None
     if statics_error is None:
+        if stiffness and supports:
+            rows = np.searchsorted(np.asarray(model.constrained_nodes), supports)
+            blocks = np.asarray(matrix)[rows, :, rows, :]
+            stiffnesses = tuple(
+                SupportStiffness(_point_name(labels, node), node, tuple(map(tuple, block.tolist())))
+                for node, block in zip(supports, blocks)
+            )
         discretisation = tuple(
             _discretisation(name, nodes, segments, model, positions, tolerance, absolute_tolerance)
             for name, nodes, segments in chains
@@ -663,7 +715,22 @@ def advise(
         slack,
         statics_error,
         tuple(float(p) for p in periods),
+        tuple(_point_name(labels, node) for node in supports),
+        stiffnesses,
     )
+
+
+def _coupled(model: CableNetwork, labels: Labels | None) -> list[int]:
+    """The nodes whose stiffness the advice reports: a scene's coupled points, or
+    without its names every support that moves."""
+    if labels is not None:
+        return sorted(labels.coupled)
+    moving = [not isinstance(motion, Fixed) for motion in model.motions]
+    return [int(k) for k, moves in zip(np.asarray(model.constrained_nodes), moving) if moves]
+
+
+def _point_name(labels: Labels | None, node: int) -> str:
+    return labels.points[node] if labels is not None and node < len(labels.points) else str(node)
 
 
 def _unpack(model, env, labels):
@@ -860,7 +927,7 @@ def _slack(model, held, still, labels, chains, static, rest_max) -> tuple[SlackC
         extremes = _extremes(motion)
         if not extremes:
             continue
-        name = labels.points[node] if labels is not None and node < len(labels.points) else str(node)
+        name = _point_name(labels, node)
         attached = np.flatnonzero((edges[:, 0] == node) | (edges[:, 1] == node))
 
         def value(field, s):

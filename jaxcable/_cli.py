@@ -215,6 +215,11 @@ def _parser() -> argparse.ArgumentParser:
     info.add_argument("input", help="scene (.toml), MoorDyn input file, or bundled example name")
     info.add_argument("--segments", type=int, help="divide every line into this many segments")
     info.add_argument("--duration", type=float, help="simulated time (s) the advice assumes")
+    info.add_argument(
+        "--stiffness",
+        action="store_true",
+        help="also report the coupled points' stiffness at rest (jaxcable.stiffness; compiles a program of its own)",
+    )
     info.set_defaults(handler=_info)
 
     calibrate = commands.add_parser("calibrate", help="fit drag coefficients to towing records")
@@ -538,7 +543,7 @@ def _info(args) -> int:
     for note in scene.notes:
         print(f"  {note}")
     print("advice:")
-    for line in advice_lines(advise(built, duration=duration)):
+    for line in advice_lines(advise(built, duration=duration, stiffness=args.stiffness)):
         print(f"  {line}")
     return 0
 

@@ -1,7 +1,7 @@
 """References the tests share, written out independently of jaxcable: one copy each.
 
 - `Irvine`: Irvine's elastic catenary in closed form (H. M. Irvine, *Cable Structures*,
-  MIT Press 1981, §2.2), for a linear-elastic cable; `rigid_top_tension` and
+  MIT Press 1981, §2.2), for a linear-elastic cable, with its end's stiffness; `rigid_top_tension` and
   `catenary_parameter` for an inextensible one.
 - `ElasticCatenary`: the same continuum for the tension law C_E ε + C_E1 ε², by
   quadrature.
@@ -130,6 +130,33 @@ class Irvine:
 
     def tension(self, s):
         return np.hypot(self.H, self.vertical(s))
+
+    def support_stiffness(self):
+        """The stiffness (N/m) of support B with A held, `∂(reaction of B)/∂(position of
+        B)`, shape `(3, 3)`, axes (along the span, across it, up).
+
+        In the cable's plane, the inverse of the flexibility `∂(x_B, z_B)/∂(H, V)`,
+        differentiated from `xz` at s = L (T_A, T_B the end tensions, V_A = V − wL):
+
+            ∂x/∂H = L/EA + (asinh(V/H) − asinh(V_A/H))/w − (V/T_B − V_A/T_A)/w
+            ∂x/∂V = ∂z/∂H = (H/w)(1/T_B − 1/T_A)
+            ∂z/∂V = L/EA + (V/T_B − V_A/T_A)/w
+
+        Across it, H/span: B moved by δy turns the cable's plane about A by δy/span, and
+        the horizontal force H with it.
+        """
+        h, v, w, length = self.H, self.V, self.w, self.length
+        va = v - w * length
+        tb, ta = np.hypot(h, v), np.hypot(h, va)
+        cross = h / w * (1 / tb - 1 / ta)
+        flexibility = np.array(
+            [
+                [length / self.ea + (np.arcsinh(v / h) - np.arcsinh(va / h)) / w - (v / tb - va / ta) / w, cross],
+                [cross, length / self.ea + (v / tb - va / ta) / w],
+            ]
+        )
+        (kxx, kxz), (kzx, kzz) = np.linalg.inv(flexibility)
+        return np.array([[kxx, 0.0, kxz], [0.0, h / self.span, 0.0], [kzx, 0.0, kzz]])
 
 
 def catenary_parameter(span: float, length: float) -> float:

@@ -77,6 +77,17 @@ def advice_lines(advice: Advice) -> list[str]:
                     f"({c.terminal_speed:.3g} m/s, their terminal speed): expect slack and snap loads"
                 )
                 break
+    for k in advice.stiffness:
+        diagonal = ", ".join(f"{x / 1e3:.4g}" for x in k.diagonal)
+        text.append(
+            f"point {k.point}: stiffness at rest K_xx, K_yy, K_zz = {diagonal} kN/m (the lines' restoring force "
+            "per metre it moves, K = −∂F/∂x; jaxcable.stiffness gives the whole matrix)"
+        )
+    if advice.stiffness_points and not advice.stiffness and advice.statics_error is None:
+        text.append(
+            f"coupled point(s) {', '.join(advice.stiffness_points)}: jaxcable info --stiffness adds their stiffness "
+            "at rest (K = −∂F/∂x, MoorPy's), from jaxcable.stiffness"
+        )
     text.append(
         f"stiffest axial mode: ω_n = {advice.omega:.4g} rad/s (period {2 * np.pi / advice.omega:.3g} s) at segment "
         f"{advice.segment}; with damping |λ| = {advice.eigenvalue:.4g} 1/s"

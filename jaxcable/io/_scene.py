@@ -638,6 +638,7 @@ class BuiltScene:
             ),
             tuple(line.line_type for line in self.scene.lines),
             tuple(point.name for point in self.scene.points),
+            self.scene.coupled_points,
         )
 
 

@@ -1,0 +1,319 @@
+"""The mooring's stiffness: how the supports' reactions change as the supports move,
+by forward-mode differentiation through the statics.
+
+A support (an anchor, a fairlead, a body's attachment point) is a constrained node; its
+reaction `R` is the force it exerts on the network at equilibrium
+(`StaticSolution.reactions`), so the lines pull it with `F = −R`. Moving the supports
+moves the equilibrium, and
+
+    K = ∂R/∂x = −∂F/∂x    (N/m)
+
+is MoorPy's stiffness (`getCoupledStiffness`): positive where the lines restore, as a
+spring does. It is `jax.jacfwd` of the reactions through
+[`jaxcable.solve_statics`][], whose derivatives are implicit (optimistix's
+`ImplicitAdjoint`): each column is a linear solve with the network's Jacobian at the
+equilibrium, O(N) on its graph, so the free nodes' response is exact, not re-found by
+finite differences. The supports are moved by offsets to their reference positions
+(`CableNetwork.node_positions`, from which their motions are measured), so a moving
+support is moved at time `t` by the same offset. One program per network computes
+every support's three columns, so that any choice of nodes, and a body's stiffness,
+share it.
+
+A rigid body held by several lines ([`body_stiffness`][]) moves its attachment points
+with its pose: a translation u and a rotation θ (a rotation vector, exact by
+Rodrigues' formula) about a reference point r take an attachment point x to
+`r + u + R(θ)(x − r)`. Its 6 × 6 stiffness is `−∂(F, M)/∂(u, θ)` at the pose now, F the
+lines' total force on the body and M their total moment about the reference point,
+which moves with the body. The lever arms a_i turn with the body, which adds to the
+rotational block a geometric term `Σ [R_i]× [a_i]×` (`[·]×` the cross-product matrix)
+beside the lines' own `−Σ [a_i]× K_i [a_i]×`. So the rotational block is not
+symmetric unless the lines' total moment about the reference point vanishes: its
+antisymmetric part is `½ [M]×`. That is no error. The Hessian of the lines' energy in
+(u, θ) is symmetric, and differs from this Jacobian by `½ [M]×`, the derivative of
+the map from the rotation vector to the body's angular increments; the Jacobian is
+what a body's equations of motion, written with moments, need, and what MoorPy's body
+stiffness (`Body.getStiffnessA`) is. A current makes any of these stiffnesses
+unsymmetric too, since drag has no potential.
+"""
+
+from collections.abc import Sequence
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import optimistix as optx
+from jaxtyping import Array, ArrayLike, Float
+
+from . import _checks as checks
+from . import _lagrangian as lag
+from ._environment import Environment
+from ._network import CableNetwork, check_held, network_conditions
+from ._programs import program
+from ._state import State
+from ._statics import FORCE_TOLERANCE, MAX_STEPS, StaticSolution, failure_message, solve_statics
+from ._typing import RealScalarLike
+
+# Below this squared angle (rad²) Rodrigues' coefficients are taken from their Taylor
+# series, whose next terms (s³/5040) are far below rounding there; above it, the closed
+# form, whose cancellation costs at most ε/s ≈ 2e-8 relative.
+_SMALL_ANGLE_SQUARED = 1e-8
+
+
+def stiffness(
+    model: CableNetwork,
+    env: Environment,
+    nodes: int | Sequence[int] | None = None,
+    *,
+    t: RealScalarLike = 0.0,
+    initial: State | None = None,
+    max_steps: int = MAX_STEPS,
+    force_tolerance: float = FORCE_TOLERANCE,
+    throw: bool = True,
+) -> Float[Array, "3 3"] | Float[Array, "nodes 3 nodes 3"]:
+    """The stiffness (N/m) of the network's supports at its static equilibrium: how the
+    force that each of `nodes` exerts on the network (its reaction,
+    `StaticSolution.reactions`) changes as each of them moves.
+
+    `K[i, a, j, b] = ∂R_ia/∂x_jb`, R_i the reaction of `nodes[i]` and x_j the position
+    of `nodes[j]`, every other support held and the free nodes at equilibrium. The lines
+    pull a support with `F = −R`, so `K = −∂F/∂x`, MoorPy's sign: positive on the
+    diagonal where the lines pull a support back, as a spring. `K[i, :, i, :]` is a
+    fairlead's own 3 × 3 stiffness; `K[i, :, j, :]` (i ≠ j) the cross terms, the change
+    of one support's reaction as another moves.
+
+    Computed by `jax.jacfwd` through [`jaxcable.solve_statics`][] (the module's notes):
+    exact derivatives of the polyline's equilibrium, which converge to the continuous
+    line's as its segments shrink, at second order; more slowly for a line lying on the
+    seabed, whose touchdown sits at a node (a few per cent off at N = 64–128 on a chain
+    with 330 m on the bed: `benchmarks/README.md`, *The mooring's stiffness*).
+    Traceable: under `jit`, `vmap` (over designs) and differentiable again, with
+    respect to the model's and the water's float leaves (`jax.grad` of a stiffness with
+    respect to a line's length, say).
+
+    **Arguments:**
+
+    - `model`, `env`: the network and the water.
+    - `nodes`: the constrained nodes whose stiffness to take: one node index, for its
+        3 × 3 stiffness, or a sequence of them, for their stiffness and cross terms;
+        every constrained node by default.
+    - `t`: the time (s) at which the supports are placed.
+    - `initial`, `max_steps`, `force_tolerance`: as for [`jaxcable.solve_statics`][].
+    - `throw`: raise if no equilibrium is found; otherwise the stiffness of a failed
+        solve is NaN.
+
+    **Returns:**
+
+    The stiffness (N/m): shape `(3, 3)` for one node, `K[a, b] = ∂R_a/∂x_b`;
+    `(nodes, 3, nodes, 3)` for a sequence (or `None`), whose
+    `reshape(3 * len(nodes), 3 * len(nodes))` is the square matrix with each node's x,
+    y and z in turn.
+
+    **Raises:**
+
+    `ValueError` naming `nodes` and the value if a node is not a constrained node or
+    is given twice; as [`jaxcable.solve_statics`][] for a network it cannot solve.
+    """
+    chosen, single = _constrained_rows(model, nodes, "stiffness")
+    _check_inputs(model, env)
+    matrix, solution = stiffness_and_statics(model, env, t, initial, max_steps, force_tolerance)
+    matrix = _finish(matrix, solution, throw, force_tolerance, max_steps)
+    if single:
+        (row,) = chosen
+        return matrix[row, :, row, :]
+    if chosen == tuple(range(model.constrained_nodes.size)):
+        return matrix
+    rows = np.asarray(chosen)
+    return matrix[rows][:, :, rows]
+
+
+def body_stiffness(
+    model: CableNetwork,
+    env: Environment,
+    nodes: Sequence[int],
+    reference: Float[ArrayLike, "3"],
+    *,
+    t: RealScalarLike = 0.0,
+    initial: State | None = None,
+    max_steps: int = MAX_STEPS,
+    force_tolerance: float = FORCE_TOLERANCE,
+    throw: bool = True,
+) -> Float[Array, "6 6"]:
+    """The 6 × 6 stiffness of a rigid body held by the lines that end at `nodes`, its
+    attachment points: translations and small rotations about `reference`.
+
+    The body's pose `(u, θ)` (a translation, m, and a rotation vector, rad) moves each
+    attachment point x (its position now, at time `t`) to `r + u + R(θ)(x − r)`, R
+    exact (Rodrigues), r the `reference` point. The lines' total force on the body is
+    `F = −Σ R_i` and their moment about the reference point, which moves with the body,
+    `M = Σ (x_i − r − u) × (−R_i)`, R_i the reactions. The stiffness is
+
+        K = −∂(F, M)/∂(u, θ)    (6 × 6)
+
+    at the pose now: translational block `K[:3, :3]` (N/m), the couplings `K[:3, 3:]`
+    (N/rad) and `K[3:, :3]` (N m/m), rotational block `K[3:, 3:]` (N m/rad). Positive
+    on the diagonal where the lines restore. The rotational block carries the geometric
+    term of the arms turning with the body and is not symmetric unless the lines' total
+    moment about `reference` vanishes (see the module's notes); the couplings are each
+    other's transpose in still water.
+
+    Several lines may end at one attachment node (a point shared by lines), and
+    several attachment nodes may sit at one place. Every other constrained node (the
+    anchors) is held. Traceable and differentiable as [`stiffness`][].
+
+    **Arguments:**
+
+    - `model`, `env`: the network and the water.
+    - `nodes`: the constrained nodes fixed to the body.
+    - `reference`: r (m), the point the rotations and moments are about, shape `(3,)`:
+        the body's reference point or centre of gravity.
+    - `t`, `initial`, `max_steps`, `force_tolerance`, `throw`: as for [`stiffness`][].
+
+    **Returns:**
+
+    K, shape `(6, 6)`, rows `(F_x, F_y, F_z, M_x, M_y, M_z)` and columns
+    `(u_x, u_y, u_z, θ_x, θ_y, θ_z)`, negated.
+
+    **Raises:**
+
+    `ValueError` naming the argument and the value for a node that is not constrained
+    or given twice, no nodes, or a `reference` that is not a finite 3-vector; as
+    [`jaxcable.solve_statics`][] for a network it cannot solve.
+    """
+    if isinstance(nodes, (int, np.integer)):
+        raise ValueError(f"body_stiffness: nodes must be a sequence of constrained nodes, got {nodes!r}")
+    chosen, _ = _constrained_rows(model, nodes, "body_stiffness")
+    reference = checks.float_array("body_stiffness: reference", reference)
+    if reference.shape != (3,):
+        raise ValueError(f"body_stiffness: reference must be a 3-vector (m), got shape {reference.shape}")
+    _check_inputs(model, env)
+    matrix, solution = stiffness_and_statics(model, env, t, initial, max_steps, force_tolerance)
+    matrix = _finish(matrix, solution, throw, force_tolerance, max_steps)
+    return _rigid_body(model, t, matrix, solution.reactions, chosen, reference)
+
+
+def _constrained_rows(model: CableNetwork, nodes, caller: str) -> tuple[tuple[int, ...], bool]:
+    """The rows of `nodes` among the model's constrained nodes (static), and whether one
+    node was given alone."""
+    constrained = np.asarray(model.constrained_nodes)
+    single = isinstance(nodes, (int, np.integer))
+    if nodes is None:
+        given = constrained.tolist()
+    elif single:
+        given = [int(nodes)]
+    else:
+        given = [int(k) for k in nodes]
+        if not given:
+            raise ValueError(f"{caller}: nodes must name at least one constrained node, got {nodes!r}")
+    for k in given:
+        if k not in constrained:
+            raise ValueError(
+                f"{caller}: nodes has node {k}, which is not a constrained node; the constrained nodes are "
+                f"{constrained.tolist()}"
+            )
+    if len(set(given)) < len(given):
+        raise ValueError(f"{caller}: nodes names a node twice: {given}")
+    return tuple(int(np.searchsorted(constrained, k)) for k in given), single
+
+
+def _check_inputs(model: CableNetwork, env: Environment) -> None:
+    """The checks `solve_statics` makes of concrete inputs, made here where the inputs
+    are concrete: inside the derivative below they are traced, and would be checked only
+    as the program runs."""
+    check_held(model)
+    checks.enforce(network_conditions(model, env))
+
+
+def _finish(matrix, solution: StaticSolution, throw: bool, force_tolerance: float, max_steps: int):
+    """`matrix`, raised, saying why, with `throw` where the statics failed."""
+    failed = solution.result != optx.RESULTS.successful
+    if not throw:
+        return matrix
+    if checks.traced(failed):
+        message = (
+            "stiffness: solve_statics found no equilibrium, so the stiffness is undefined. Call it outside jit, "
+            "or solve_statics with throw=False, to see why"
+        )
+    else:
+        message = failure_message(solution, force_tolerance, max_steps) if bool(failed) else ""
+    return checks.raise_if(matrix, failed, message)
+
+
+def _equilibrium_moved(model, env, offsets, t, initial, max_steps, force_tolerance) -> StaticSolution:
+    """The equilibrium with the constrained nodes moved by `offsets` (m), shape
+    `(constrained, 3)`, from their reference positions."""
+    nodes = model.constrained_nodes
+    moved = eqx.tree_at(lambda m: m.node_positions, model, model.node_positions.at[nodes].add(offsets))
+    # The free nodes start where they would anyway, and the start carries no
+    # derivative: the equilibrium's does not depend on it, and `solve_statics` scales
+    # its continuation by loads measured at the start, whose derivatives (a norm of a
+    # zero drag) are not finite.
+    start = model.node_positions if initial is None else initial.positions
+    start = jax.lax.stop_gradient(start)
+    return solve_statics(
+        moved,
+        env,
+        t=t,
+        initial=State(start, jnp.zeros_like(start)),
+        max_steps=max_steps,
+        force_tolerance=force_tolerance,
+        throw=False,
+    )
+
+
+@program
+def stiffness_and_statics(model, env, t, initial, max_steps, force_tolerance):
+    """`(K, solution)`: the stiffness of every constrained node, shape `(constrained,
+    3, constrained, 3)` (NaN where no equilibrium was found), and the equilibrium.
+
+    Every support's columns, whichever a caller asks for: one program per network
+    serves any choice of nodes and a body's stiffness, and a column costs one linear
+    solve with factors the equilibrium has (a few per cent of the solve)."""
+
+    def reactions(offsets):
+        solution = _equilibrium_moved(model, env, offsets, t, initial, max_steps, force_tolerance)
+        return solution.reactions, solution
+
+    matrix, solution = jax.jacfwd(reactions, has_aux=True)(jnp.zeros((model.constrained_nodes.size, 3)))
+    return jnp.where(solution.result == optx.RESULTS.successful, matrix, jnp.nan), solution
+
+
+@eqx.filter_jit
+def _rigid_body(model, t, matrix, reactions, rows, reference):
+    """`body_stiffness`'s 6 × 6 from the supports' stiffness `matrix` and `reactions`
+    at the equilibrium: `jax.jacfwd` of the lines' force and moment on the body as its
+    pose moves the attachment points (`rows` of the constrained nodes), the reactions
+    taken to first order in the pose, `R + K δx`, whose derivative is theirs."""
+    held, _, _ = lag.constrained_motion(model, t)
+    rows = np.asarray(rows)
+    arms = held[rows] - reference
+    attached = matrix[rows][:, :, rows]
+
+    def loads(pose):
+        turned = arms @ _rotation_matrix(pose[3:]).T
+        shift = pose[:3] + turned - arms
+        pull = -(reactions[rows] + jnp.einsum("iajb,jb->ia", attached, shift))  # the lines' force on each point
+        return jnp.concatenate([jnp.sum(pull, axis=0), jnp.sum(jnp.cross(turned, pull), axis=0)])
+
+    return -jax.jacfwd(loads)(jnp.zeros(6))
+
+
+def _rotation_matrix(rotation: Float[ArrayLike, "3"]) -> Float[Array, "3 3"]:
+    """The rotation by the rotation vector θ (rad): `I + a [θ]× + b [θ]×²`, with
+    `a = sin|θ|/|θ|` and `b = (1 − cos|θ|)/|θ|²` (Rodrigues), differentiable at θ = 0,
+    where `∂(R x)/∂θ = −[x]×`."""
+    theta = jnp.asarray(rotation, dtype=float)
+    squared = theta @ theta
+    small = squared < _SMALL_ANGLE_SQUARED
+    safe = jnp.where(small, 1.0, squared)  # double `where`: no 0/0 in the unused branch's derivative
+    angle = jnp.sqrt(safe)
+    a = jnp.where(small, 1 - squared / 6 + squared**2 / 120, jnp.sin(angle) / angle)
+    b = jnp.where(small, 0.5 - squared / 24 + squared**2 / 720, (1 - jnp.cos(angle)) / safe)
+    cross = _cross_matrix(theta)
+    return jnp.eye(3) + a * cross + b * cross @ cross
+
+
+def _cross_matrix(v: Array) -> Float[Array, "3 3"]:
+    """`[v]×`, with `[v]× x = v × x`."""
+    zero = jnp.zeros_like(v[0])
+    return jnp.array([[zero, -v[2], v[1]], [v[2], zero, -v[0]], [-v[1], v[0], zero]])
