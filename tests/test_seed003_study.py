@@ -17,6 +17,7 @@
 """
 
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -101,20 +102,20 @@ def test_the_wave_moves_the_water_above_the_top_as_the_top(angle):
     assert float(wave.wavenumber) == pytest.approx(k, rel=1e-12)
     top = np.asarray(model.node_positions[1])
     assert top[0] == pytest.approx(DEPTH / np.tan(np.radians(angle))) and top[2] == 0.0
-    for t in np.linspace(0.0, WAVE_PERIOD, 13):
-        _, velocity, acceleration = model.motions[1].kinematics(t)
-        water = np.asarray(env.water_velocity(top, t))
-        expected = amplitude * omega / np.tanh(k * DEPTH) * np.cos(omega * t)
-        assert water[0] == pytest.approx(expected, abs=1e-12 * amplitude * omega)
-        assert float(velocity[0]) == pytest.approx(expected, abs=1e-12 * amplitude * omega)
-        assert float(acceleration[0]) == pytest.approx(
-            float(env.water_acceleration(top, t)[0]), abs=1e-12 * amplitude * omega**2
-        )
+    times = np.linspace(0.0, WAVE_PERIOD, 13)
+    _, velocity, acceleration = jax.vmap(model.motions[1].kinematics)(times)
+    water = jax.vmap(lambda t: env.water_velocity(top, t))(times)
+    water_acceleration = jax.vmap(lambda t: env.water_acceleration(top, t))(times)
+    expected = amplitude * omega / np.tanh(k * DEPTH) * np.cos(omega * times)
+    np.testing.assert_allclose(water[:, 0], expected, rtol=0, atol=1e-12 * amplitude * omega)
+    np.testing.assert_allclose(velocity[:, 0], expected, rtol=0, atol=1e-12 * amplitude * omega)
+    np.testing.assert_allclose(acceleration[:, 0], water_acceleration[:, 0], rtol=0, atol=1e-12 * amplitude * omega**2)
     # A ValueError, or jaxtyping's TypeError where the tests check hints.
     with pytest.raises((ValueError, TypeError), match="waves"):
         seed003_line(4, angle, waves="yes")  # pyright: ignore[reportArgumentType]
 
 
+@pytest.mark.slow  # compile-bound (a sweep, its statics, a plain run): 120 s on 2 loaded cores
 def test_batched_cases_match_plain_simulations():
     """Swept cases in the wave (C_E, α and L0 swept, the batch padded) equal plain runs of
     lines built apart with a `LinearElastic` law, started from their statics in still
