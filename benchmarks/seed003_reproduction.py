@@ -16,7 +16,7 @@ the paper's Airy wave acting on the line and moving its top, read over t = 30–
 4. Convergence of the peaks: output rate (200 Hz to 4 kHz), tolerance (rtol = 1e-7,
    1e-8, 1e-9) and segments (N = 10, 20, 40).
 
-    python benchmarks/seed003_reproduction.py              # everything (~1 h on 2 loaded cores)
+    python benchmarks/seed003_reproduction.py --cache /tmp/seed003   # everything (~1.5 h on 2 loaded cores)
     python benchmarks/seed003_reproduction.py --report     # reprint the last record
     python benchmarks/seed003_reproduction.py --small --out /tmp/s.json   # a dry run in minutes
     python benchmarks/seed003_reproduction.py --notebook   # run the notebook in full instead
@@ -28,6 +28,7 @@ benchmarks/results/seed003_reproduction_*.png.
 import argparse
 import json
 import os
+import pickle
 import platform
 import sys
 import time
@@ -84,6 +85,11 @@ def main():
     parser.add_argument("--out", default=str(RESULTS / "seed003_reproduction.json"))
     parser.add_argument("--report", action="store_true", help="reprint the last record")
     parser.add_argument(
+        "--cache",
+        default=None,
+        help="a folder in which each stage's results are kept (pickled) and from which a rerun takes them",
+    )
+    parser.add_argument(
         "--small",
         action="store_true",
         help="a dry run of the whole pipeline at the notebook's small size and a 3-point map (give --out)",
@@ -119,24 +125,42 @@ def main():
     def stage(name):
         print(f"[{(time.perf_counter() - wall) / 60:5.1f} min] {name}", flush=True)
 
+    def kept(key, compute):
+        """`compute()`, or what an earlier run kept for `key` in `--cache`."""
+        if args.cache is None:
+            return compute()
+        path = Path(args.cache) / f"{key}.pickle"
+        if path.exists():
+            print(f"  (from {path})", flush=True)
+            return pickle.loads(path.read_bytes())
+        value = compute()
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(pickle.dumps(value))
+        return value
+
     stage(f"map: {len(ANGLES)} angles × {len(stiffnesses)} C_E × C_E1 = −0.2, 0, 0.2 C_E")
-    coarse = seed003_study(ANGLES, (-0.2, 0.0, 0.2), axial_stiffness=stiffnesses, verbose=True, **config)
+    coarse = kept(
+        "map", lambda: seed003_study(ANGLES, (-0.2, 0.0, 0.2), axial_stiffness=stiffnesses, verbose=True, **config)
+    )
     record["map"] = coarse.to_dict(history_rate=0, segments=False)
 
     stage("calibration")
-    calibration = calibrate_stiffness(coarse, verbose=True, **config)
+    calibration = kept("calibration", lambda: calibrate_stiffness(coarse, verbose=True, **config))
     c_e = calibration.axial_stiffness
     record["calibration"] = calibration.to_dict()
     print(f"C_E = {c_e:.4g} N (band {calibration.band[0]:.4g}–{calibration.band[1]:.4g} N)", flush=True)
 
     stage("the peak's derivative in C_E: jax.grad against central differences (SMALL's configuration)")
-    record["gradient"] = peak_gradient_check(
-        c_e, n_segments=SMALL["n_segments"], duration=SMALL["duration"], window=SMALL["window"], rtol=SMALL["rtol"]
+    record["gradient"] = kept(
+        "gradient",
+        lambda: peak_gradient_check(
+            c_e, n_segments=SMALL["n_segments"], duration=SMALL["duration"], window=SMALL["window"], rtol=SMALL["rtol"]
+        ),
     )
 
     stage("at the calibrated C_E, with the large-strain reading")
     specs = [Spec(a, c_e, r) for a in ANGLES for r in MAIN_RATIOS] + large_strain_specs(ANGLES)
-    both = run_cases(specs, verbose=True, **config)
+    both = kept("calibrated", lambda: run_cases(specs, verbose=True, **config))
     main_cases = both.cases[: len(ANGLES) * len(MAIN_RATIOS)]
     calibrated = type(both)(main_cases, both.settings, both.compile_s, both.run_s)
     large = type(both)(both.cases[len(main_cases) :], both.settings, 0.0, 0.0)
@@ -144,25 +168,36 @@ def main():
     record["large_strain"] = large.to_dict(history_rate=0, segments=False)
 
     stage("ε in per cent (DomainElastic)")
-    percent = run_cases(
-        [Spec(a, c_e, r) for a in ANGLES for r in PERCENT_RATIOS],
-        law="domain",
-        domain=PERCENT_DOMAIN,
-        verbose=True,
-        **config,
+    percent = kept(
+        "percent",
+        lambda: run_cases(
+            [Spec(a, c_e, r) for a in ANGLES for r in PERCENT_RATIOS],
+            law="domain",
+            domain=PERCENT_DOMAIN,
+            verbose=True,
+            **config,
+        ),
     )
     record["percent"] = percent.to_dict(history_rate=0, segments=False)
 
     stage("without the wave (the top's motion alone)")
-    still = run_cases([Spec(a, c_e, r) for a in ANGLES for r in CHECK_RATIOS], waves=False, verbose=True, **config)
+    still = kept(
+        "still",
+        lambda: run_cases([Spec(a, c_e, r) for a in ANGLES for r in CHECK_RATIOS], waves=False, verbose=True, **config),
+    )
     record["still_water"] = still.to_dict(history_rate=0, segments=False)
 
     record["tolerance"] = {}
     tolerance_studies = {}
     for rtol in (1e-7, 1e-9):
         stage(f"tolerance: rtol = atol = {rtol:g}")
-        study = run_cases(
-            [Spec(a, c_e, r) for a in ANGLES for r in CHECK_RATIOS], verbose=True, **dict(config, rtol=rtol, atol=rtol)
+        study = kept(
+            f"rtol{rtol:g}",
+            lambda: run_cases(
+                [Spec(a, c_e, r) for a in ANGLES for r in CHECK_RATIOS],
+                verbose=True,
+                **dict(config, rtol=rtol, atol=rtol),  # noqa: B023 (called within this iteration)
+            ),
         )
         tolerance_studies[rtol] = study
         record["tolerance"][f"{rtol:g}"] = study.to_dict(history_rate=0, segments=False)
@@ -174,7 +209,7 @@ def main():
         record["segments"][str(n)] = study.to_dict(history_rate=0, segments=False)
 
     stage("sampling: 45°, 4 kHz")
-    record["sampling"] = sampling_check(c_e, config)
+    record["sampling"] = kept("sampling", lambda: sampling_check(c_e, config))
 
     rows = readings_table(calibrated, large, percent, c_e)
     record["readings"] = rows

@@ -804,8 +804,9 @@ def peak_gradient_check(
 
 # --- Readings of C_E1 -------------------------------------------------------------------------
 
-LARGE_STRAINS = (0.2, 0.5, 1.0)
-"""Pretension strains ε₀ of the large-strain (polymer rope) reading."""
+LARGE_STRAINS = (0.2, 0.5, 0.9)
+"""Pretension strains ε₀ of the large-strain (polymer rope) reading; `solve_statics`
+refuses a line that must stretch by 100 % or more to reach its ends."""
 PERCENT_RATIOS = (-20.0, -10.0, 0.0, 20.0)
 """C_E1/C_E in strain for C_E1 = −0.2, −0.1, 0, +0.2 C_E per %² (ε in per cent)."""
 PERCENT_DOMAIN = 0.02
