@@ -115,7 +115,7 @@ def test_the_wave_moves_the_water_above_the_top_as_the_top(angle):
         seed003_line(4, angle, waves="yes")  # pyright: ignore[reportArgumentType]
 
 
-@pytest.mark.slow  # compile-bound (a sweep, its statics, a plain run): 120 s on 2 loaded cores
+@pytest.mark.slow  # compile-bound (a sweep, its statics, a plain run): 46–120 s on the shared 2 cores
 def test_batched_cases_match_plain_simulations():
     """Swept cases in the wave (C_E, α and L0 swept, the batch padded) equal plain runs of
     lines built apart with a `LinearElastic` law, started from their statics in still
