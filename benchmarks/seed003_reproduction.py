@@ -1,27 +1,34 @@
-"""Seed 003 reproduced in full: 3 angles × 4 ratios, the C_E dependence, and convergence.
+"""Seed 003 reproduced at the paper's tension scale, in its waves (`studies.seed003`).
 
 Bezverkhyy & Korniienko's anchored line (H = 200 m, m = 3 kg/m, F = 0.0003 m²,
-C_n = 15.6, C_τ = 0.78, C_a = 0.4, T_w = 5.6 s, A = 1.573 m) at α = 30°, 45°, 60° with
-C_E1/C_E = 0, 0.05, 0.1, 0.2, read over t = 30–48 s as in their Figs. 2–5
-(`studies.seed003`). Each case starts from static equilibrium.
+C_n = 15.6, C_τ = 0.78, C_a = 0.4, T_w = 5.6 s, A = 1.573 m) at α = 30°, 45°, 60°, with
+the paper's Airy wave acting on the line and moving its top, read over t = 30–48 s.
 
-1. The main study at C_E = 3e7 N (`FULL`: 20 segments, lumped mass, Dopri5 at
-   rtol = atol = 1e-8, tension sampled at 200 Hz in the window).
-2. The key comparisons (C_E1 = 0 and 0.2 at every angle) at C_E = 1e6, 3e6 and 1e7 N.
-3. Convergence at α = 30°, C_E1 = 0 and 0.2: N = 10, 20, 40 and rtol = 1e-8 … 1e-10.
+1. A map over C_E (1e6–3e7 N) × α of the top peak at C_E1 = 0 and ±0.2 C_E.
+2. C_E calibrated to the paper's Fig. 5 axis (the top peak at 45°, C_E1 = 0, on
+   60 kN): a least-squares fit of ln peak on ln C_E over a batch inside the map's
+   bracket; and the derivative of that peak through the simulation against central
+   differences, which says why not by gradient.
+3. At the calibrated C_E: C_E1/C_E = −0.2, 0, 0.05, 0.1, 0.2 at every angle, and the
+   readings of C_E1: large strains (a pretensioned soft rope, ε₀ = 0.2, 0.5, 1),
+   ε in per cent (C_E1 = −0.2, −0.1, +0.2 C_E per %²), and the same cases without the
+   wave (the top's motion alone, in still water).
+4. Convergence of the peaks: output rate (200 Hz to 4 kHz), tolerance (rtol = 1e-7,
+   1e-8, 1e-9) and segments (N = 10, 20, 40).
 
-    python benchmarks/seed003_reproduction.py              # everything, ~20 min on 2 cores
+    python benchmarks/seed003_reproduction.py --cache /tmp/seed003   # everything (~1.5 h on 2 loaded cores)
     python benchmarks/seed003_reproduction.py --report     # reprint the last record
+    python benchmarks/seed003_reproduction.py --small --out /tmp/s.json   # a dry run in minutes
     python benchmarks/seed003_reproduction.py --notebook   # run the notebook in full instead
 
 Results are appended to benchmarks/results/seed003_reproduction.json; figures go to
-benchmarks/results/seed003_reproduction_*.png. Compile time (once per shape and option
-set, reused across angles and C_E) is reported apart from run time.
+benchmarks/results/seed003_reproduction_*.png.
 """
 
 import argparse
 import json
 import os
+import pickle
 import platform
 import sys
 import time
@@ -30,46 +37,65 @@ from pathlib import Path
 import diffrax
 import jax
 import matplotlib
+import numpy as np
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 # The paper studies live in the repository's `studies/` folder, not in the package.
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+import jaxcable as jc  # noqa: E402
 from studies.seed003 import (  # noqa: E402
     ANGLES,
     FULL,
-    RATIOS,
-    plot_along,
+    LARGE_STRAINS,
+    MAP_STIFFNESSES,
+    PERCENT_DOMAIN,
+    PERCENT_RATIOS,
+    SMALL,
+    TARGET_PEAK,
+    Spec,
+    calibrate_stiffness,
+    claims,
+    claims_markdown,
+    large_strain_specs,
+    peak_gradient_check,
+    plot_effect_map,
     plot_histories,
+    plot_points,
+    plot_readings,
+    plot_scale,
+    readings_markdown,
+    readings_table,
+    run_cases,
+    seed003_case,
     seed003_study,
-    stiffness_table_markdown,
-    verdict,
 )
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
 RESULTS = Path(__file__).parent / "results"
 NOTEBOOK = Path(__file__).parent.parent / "notebooks" / "seed003_reproduction.ipynb"
-PAPER_FIGURES = {30.0: "Fig. 2 (C_E1 = 0.1, 0.2 C_E)", 45.0: "Fig. 3 (all four)", 60.0: "Fig. 4 (C_E1 = 0.1, 0.2 C_E)"}
+PAPER_FIGURES = {30.0: "Fig. 2", 45.0: "Fig. 3", 60.0: "Fig. 4"}
+MAIN_RATIOS = (-0.2, 0.0, 0.05, 0.1, 0.2)
+CHECK_RATIOS = (-0.2, 0.0, 0.1, 0.2)
+SMALL_MAP = (3e6, 1e7, 3e7)
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--axial-stiffness", type=float, default=3e7, help="C_E (N) of the main study")
-    parser.add_argument(
-        "--stiffnesses", type=float, nargs="*", default=[1e6, 3e6, 1e7], help="further C_E (N) for the key comparisons"
-    )
-    parser.add_argument("--segments", type=int, default=FULL["n_segments"])
-    parser.add_argument("--rtol", type=float, default=FULL["rtol"])
-    parser.add_argument(
-        "--convergence",
-        nargs="*",
-        default=["10:1e-8", "10:1e-9", "10:1e-10", "20:1e-9", "40:1e-8"],
-        help="N:rtol pairs for the convergence check at 30° (the main study gives N = --segments)",
-    )
     parser.add_argument("--out", default=str(RESULTS / "seed003_reproduction.json"))
     parser.add_argument("--report", action="store_true", help="reprint the last record")
+    parser.add_argument(
+        "--cache",
+        default=None,
+        help="a folder in which each stage's results are kept (pickled) and from which a rerun takes them",
+    )
+    parser.add_argument(
+        "--small",
+        action="store_true",
+        help="a dry run of the whole pipeline at the notebook's small size and a 3-point map (give --out)",
+    )
     parser.add_argument(
         "--notebook",
         action="store_true",
@@ -85,108 +111,184 @@ def main():
         run_notebook(out.parent)
         return
 
-    config = dict(FULL, n_segments=args.segments, rtol=args.rtol, atol=args.rtol)
+    config = dict(SMALL if args.small else FULL)
+    stiffnesses = SMALL_MAP if args.small else MAP_STIFFNESSES
     wall = time.perf_counter()
-    print(f"main study: C_E = {args.axial_stiffness:.0e} N, {config}", flush=True)
-    main_study = seed003_study(ANGLES, RATIOS, axial_stiffness=args.axial_stiffness, verbose=True, **config)
-    studies = {args.axial_stiffness: main_study}
-    for c_e in args.stiffnesses:
-        print(f"key comparisons at C_E = {c_e:.0e} N", flush=True)
-        studies[c_e] = seed003_study(ANGLES, (0.0, 0.2), axial_stiffness=c_e, verbose=True, **config)
-
-    convergence = [_convergence_record(main_study, 30.0, config["n_segments"], config["rtol"], reused=True)]
-    for item in args.convergence:
-        n, tol = item.split(":")
-        print(f"convergence: N = {n}, rtol = {tol}", flush=True)
-        c = dict(config, n_segments=int(n), rtol=float(tol), atol=float(tol))
-        study = seed003_study((30.0,), (0.0, 0.2), axial_stiffness=args.axial_stiffness, **c)
-        convergence.append(_convergence_record(study, 30.0, int(n), float(tol)))
-
-    figures = make_figures(main_study, studies, args.axial_stiffness, out.parent)
-    session = {
+    record: dict = {
         "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "machine": f"{platform.node()} {platform.machine()} ({os.cpu_count()} cores)",
-        "load_average": os.getloadavg(),
+        "load_average_start": os.getloadavg(),
         "devices": [str(d) for d in jax.devices()],
         "jax": jax.__version__,
         "diffrax": diffrax.__version__,
-        "wall_s": time.perf_counter() - wall,
-        "main": main_study.to_dict(history_rate=25.0),
-        "stiffness": {f"{c_e:.0e}": studies[c_e].to_dict(history_rate=0, segments=False) for c_e in sorted(studies)},
-        "convergence": convergence,
-        "figures": figures,
+        "config": config,
+        "from_cache": [],
+        "stage_wall_s": {},
     }
-    session["verdict"] = {k: v for k, v in verdict(main_study).items() if k in ("claim1", "claim2", "text")}
+
+    def stage(name):
+        print(f"[{(time.perf_counter() - wall) / 60:5.1f} min] {name}", flush=True)
+
+    def kept(key, compute):
+        """`compute()`, or what an earlier run kept for `key` in `--cache`."""
+        if args.cache is None:
+            return compute()
+        path = Path(args.cache) / f"{key}.pickle"
+        if path.exists():
+            print(f"  (from {path})", flush=True)
+            record["from_cache"].append(key)
+            return pickle.loads(path.read_bytes())
+        begin = time.perf_counter()
+        value = compute()
+        record["stage_wall_s"][key] = time.perf_counter() - begin
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(pickle.dumps(value))
+        return value
+
+    stage(f"map: {len(ANGLES)} angles × {len(stiffnesses)} C_E × C_E1 = −0.2, 0, 0.2 C_E")
+    coarse = kept(
+        "map", lambda: seed003_study(ANGLES, (-0.2, 0.0, 0.2), axial_stiffness=stiffnesses, verbose=True, **config)
+    )
+    record["map"] = coarse.to_dict(history_rate=0, segments=False)
+
+    stage("calibration")
+    calibration = kept("calibration", lambda: calibrate_stiffness(coarse, verbose=True, **config))
+    c_e = calibration.axial_stiffness
+    record["calibration"] = calibration.to_dict()
+    print(f"C_E = {c_e:.4g} N (band {calibration.band[0]:.4g}–{calibration.band[1]:.4g} N)", flush=True)
+
+    stage("the peak's derivative in C_E: jax.grad against central differences (SMALL's configuration)")
+    record["gradient"] = kept(
+        "gradient",
+        lambda: peak_gradient_check(
+            c_e, n_segments=SMALL["n_segments"], duration=SMALL["duration"], window=SMALL["window"], rtol=SMALL["rtol"]
+        ),
+    )
+
+    stage("at the calibrated C_E, with the large-strain reading")
+    specs = [Spec(a, c_e, r) for a in ANGLES for r in MAIN_RATIOS] + large_strain_specs(ANGLES)
+    both = kept("calibrated", lambda: run_cases(specs, verbose=True, **config))
+    main_cases = both.cases[: len(ANGLES) * len(MAIN_RATIOS)]
+    calibrated = type(both)(main_cases, both.settings, both.compile_s, both.run_s)
+    large = type(both)(both.cases[len(main_cases) :], both.settings, 0.0, 0.0)
+    record["calibrated"] = calibrated.to_dict(history_rate=25.0)
+    stage("large strains at C_E1 = −0.1 C_E (the paper's 0.1, for the claims under that reading)")
+    tenth = kept("large_tenth", lambda: run_cases(large_strain_specs(ANGLES, ratios=(-0.1,)), verbose=True, **config))
+    large = type(both)(large.cases + tenth.cases, both.settings, 0.0, 0.0)
+    record["large_strain"] = large.to_dict(history_rate=0, segments=False)
+
+    stage("ε in per cent (DomainElastic)")
+    percent = kept(
+        "percent",
+        lambda: run_cases(
+            [Spec(a, c_e, r) for a in ANGLES for r in PERCENT_RATIOS],
+            law="domain",
+            domain=PERCENT_DOMAIN,
+            verbose=True,
+            **config,
+        ),
+    )
+    record["percent"] = percent.to_dict(history_rate=0, segments=False)
+
+    stage("without the wave (the top's motion alone)")
+    still = kept(
+        "still",
+        lambda: run_cases([Spec(a, c_e, r) for a in ANGLES for r in CHECK_RATIOS], waves=False, verbose=True, **config),
+    )
+    record["still_water"] = still.to_dict(history_rate=0, segments=False)
+
+    record["tolerance"] = {}
+    tolerance_studies = {}
+    for rtol in (1e-7, 1e-9):
+        stage(f"tolerance: rtol = atol = {rtol:g}")
+        study = kept(
+            f"rtol{rtol:g}",
+            lambda: run_cases(
+                [Spec(a, c_e, r) for a in ANGLES for r in CHECK_RATIOS],
+                verbose=True,
+                **dict(config, rtol=rtol, atol=rtol),  # noqa: B023 (called within this iteration)
+            ),
+        )
+        tolerance_studies[rtol] = study
+        record["tolerance"][f"{rtol:g}"] = study.to_dict(history_rate=0, segments=False)
+
+    record["segments"] = {}
+    for n in (10, 40):
+        stage(f"segments: N = {n}")
+        study = run_cases([Spec(45.0, c_e, r) for r in (0.0, 0.2)], verbose=True, **dict(config, n_segments=n, batch=2))
+        record["segments"][str(n)] = study.to_dict(history_rate=0, segments=False)
+
+    stage("sampling: 45°, 4 kHz")
+    record["sampling"] = kept("sampling", lambda: sampling_check(c_e, config))
+
+    rows = readings_table(calibrated, large, percent, c_e)
+    record["readings"] = rows
+    record["claims"] = claims(calibrated, c_e, tolerance_study=tolerance_studies[1e-9])
+    record["still_water_claims"] = claims(still, c_e)
+    # The readings that reach the paper's size, through every claim: "0.1 and 0.2 C_E" as
+    # they read it.
+    record["percent_claims"] = claims(percent, c_e, ratios=(-10.0, -20.0))
+    e0 = max(LARGE_STRAINS)
+    record["large_strain_claims"] = claims(large, TARGET_PEAK / e0, ratios=(-0.1, -0.2), length_factor=1 / (1 + e0))
+    record["figures"] = make_figures(coarse, calibration, calibrated, rows, out.parent)
+    record["wall_s"] = time.perf_counter() - wall
+    record["load_average_end"] = os.getloadavg()
     out.parent.mkdir(parents=True, exist_ok=True)
     history = json.loads(out.read_text()) if out.exists() else []
-    history.append(session)
+    history.append(_jsonable(record))
     out.write_text(json.dumps(history) + "\n")
-    report(session)
+    report(history[-1])
 
 
-def _convergence_record(study, angle, n, rtol, reused=False):
-    rows = {c.ratio: c for c in study.cases if c.angle == angle}
-    linear, top = rows[0.0], rows[max(rows)]
-    return {
-        "angle_deg": angle,
-        "n_segments": n,
-        "rtol": rtol,
-        "peak_top_N": {str(r): c.peak_top for r, c in rows.items()},
-        "peak_line_N": {str(r): c.peak_line for r, c in rows.items()},
-        "slack_top_s": {str(r): c.slack_seconds for r, c in rows.items()},
-        "steps": {str(r): c.steps for r, c in rows.items()},
-        "ratio_effect": top.peak_top / linear.peak_top - 1,
-        "compile_s": study.compile_s,
-        "run_s": study.run_s_by_angle[angle],
-        "batch": len(study.ratios),
-        "from_main_study": reused,
-    }
+def sampling_check(c_e: float, config: dict, rate: float = 4000.0) -> dict:
+    """The top peak at 45° read at 200 Hz to `rate`, by subsampling one run at `rate`."""
+    out = {}
+    for ratio in (0.0, 0.2):
+        model, env = seed003_case(config["n_segments"], 45.0, ratio, c_e)
+        static = jc.solve_statics(model, env.without_waves())
+        window = config["window"]
+        ts = np.linspace(window[0], window[1], int(round((window[1] - window[0]) * rate)) + 1)
+        solver = jc.SolverConfig(rtol=config["rtol"], atol=config["atol"], max_steps=4_000_000)
+        result = jc.simulate(model, env, config["duration"], ts=ts, initial=static.state, solver=solver)
+        top = np.asarray(result.tension[:, -1])
+        out[f"{ratio:g}"] = {f"{rate / s:g}": float(top[::s].max()) for s in (20, 8, 4, 2, 1)}
+    return out
 
 
-def make_figures(main_study, studies, c_e, folder: Path) -> list[str]:
+def make_figures(coarse, calibration, calibrated, rows, folder: Path) -> list[str]:
     folder.mkdir(parents=True, exist_ok=True)
+    c_e = calibration.axial_stiffness
     names = []
+
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.2))
+    plot_scale(coarse, axes[0], calibration)
+    plot_effect_map(coarse, 0.2, axes[1], calibrated=c_e)
+    plot_effect_map(coarse, -0.2, axes[2], calibrated=c_e)
+    fig.suptitle("Seed 003 in its waves: the scale that fixes C_E, and C_E1's effect on the top peak over (C_E, α)")
+    fig.tight_layout()
+    names.append(_save(fig, folder / "seed003_reproduction_map.png"))
 
     fig, axes = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
     for ax, angle in zip(axes, ANGLES):
-        plot_histories(main_study, angle, ax=ax, legend=False)
-        ax.set_title(f"α = {angle:g}°, top segment, C_E = {c_e:.0e} N — cf. the paper's {PAPER_FIGURES[angle]}")
-    # The histories fill every panel edge to edge: one legend above them all.
-    fig.legend(*axes[0].get_legend_handles_labels(), loc="upper center", ncol=len(main_study.ratios), fontsize=8)
+        plot_histories(calibrated, angle, ax, ratios=(0.0, 0.05, 0.1, 0.2))
+        ax.set_title(
+            f"α = {angle:g}°, top segment, C_E = {c_e:.3g} N, in the wave — cf. the paper's {PAPER_FIGURES[angle]}"
+        )
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="upper center", ncol=4, fontsize=8)
     fig.tight_layout(rect=(0, 0, 1, 0.96))
     names.append(_save(fig, folder / "seed003_reproduction_histories.png"))
 
     fig, axes = plt.subplots(1, 3, figsize=(14, 3.8), sharey=True)
     for ax, angle in zip(axes, ANGLES):
-        plot_along(main_study, angle, ax=ax)
+        plot_points(calibrated, angle, ax)
+        ax.set_title(f"α = {angle:g}°, C_E = {c_e:.3g} N — cf. the paper's Fig. 5", fontsize=9)
     fig.tight_layout()
-    names.append(_save(fig, folder / "seed003_reproduction_along.png"))
+    names.append(_save(fig, folder / "seed003_reproduction_points.png"))
 
-    fig, axes = plt.subplots(1, 3, figsize=(14, 3.6))
-    stiff = sorted(studies)
-    for angle in ANGLES:
-        linear = [studies[k].case(angle, 0.0).peak_top / 1e4 for k in stiff]
-        change = [
-            100 * (studies[k].case(angle, 0.2).peak_top / studies[k].case(angle, 0.0).peak_top - 1) for k in stiff
-        ]
-        axes[0].plot(stiff, linear, "o-", label=f"{angle:g}°")
-        axes[1].plot(stiff, change, "o-", label=f"{angle:g}°")
-    for ratio, style in ((0.0, "o-"), (0.2, "s--")):
-        for colour, (hi, lo) in (("C3", (45.0, 30.0)), ("C4", (60.0, 30.0))):
-            v = [100 * (studies[k].case(hi, ratio).peak_top / studies[k].case(lo, ratio).peak_top - 1) for k in stiff]
-            axes[2].plot(stiff, v, style, color=colour, label=f"{hi:g}° vs {lo:g}°, C_E1 = {ratio:g} C_E")
-    axes[0].set_ylabel("peak top T, C_E1 = 0 (10⁴ N)")
-    axes[1].set_ylabel("peak at C_E1 = 0.2 C_E vs linear (%)")
-    axes[1].axhspan(-25, -15, color="0.85", label="paper: up to ~−20 %")
-    axes[2].set_ylabel("peak change with angle (%)")
-    axes[2].axhspan(-30, -20, color="0.85", label="paper: 60° ~−25 %")
-    for ax in axes:
-        ax.set_xscale("log")
-        ax.set_xlabel("C_E (N)")
-        ax.axhline(0, color="k", lw=0.5)
-        ax.legend(fontsize=7)
+    fig, ax = plt.subplots(figsize=(10, 0.45 * len(rows) + 1.5))
+    plot_readings(rows, ax)
     fig.tight_layout()
-    names.append(_save(fig, folder / "seed003_reproduction_stiffness.png"))
+    names.append(_save(fig, folder / "seed003_reproduction_readings.png"))
     return names
 
 
@@ -194,6 +296,17 @@ def _save(fig, path: Path) -> str:
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path.name
+
+
+def _jsonable(value):
+    """`value` with its dict keys as strings and numpy scalars as Python's."""
+    if isinstance(value, dict):
+        return {(f"{k:g}" if isinstance(k, float) else str(k)): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
 
 
 def run_notebook(folder: Path) -> None:
@@ -205,7 +318,7 @@ def run_notebook(folder: Path) -> None:
     os.environ["JAXCABLE_FULL"] = "1"
     start = time.perf_counter()
     NotebookClient(
-        notebook, timeout=3600, kernel_name="python3", resources={"metadata": {"path": str(NOTEBOOK.parent)}}
+        notebook, timeout=7200, kernel_name="python3", resources={"metadata": {"path": str(NOTEBOOK.parent)}}
     ).execute()
     elapsed = time.perf_counter() - start
     target = folder / "seed003_reproduction_full.ipynb"
@@ -213,56 +326,94 @@ def run_notebook(folder: Path) -> None:
     print(f"notebook executed in full mode in {elapsed:.0f} s: {target}", flush=True)
 
 
+def _pct(x: float) -> str:
+    return f"{100 * x:+.1f} %"
+
+
 def report(session: dict) -> None:
-    main_ = session["main"]
-    s = main_["settings"]
-    print(f"## Seed 003 reproduction — {session['time']}, {session['machine']}, load {session.get('load_average')}")
+    config = session["config"]
+    print(f"## Seed 003 reproduction — {session['time']}, {session['machine']}")
     print(
-        f"\nMain study: C_E = {s['axial_stiffness_N']:.0e} N, N = {s['n_segments']}, {s['mass_matrix']} mass, "
-        f"{s['solver']} rtol = atol = {s['rtol']:g}, window {s['window_s']} s, {s['sample_rate_Hz']:g} Hz; "
-        f"compile {main_['compile_s']:.1f} s, run {main_['run_s']:.1f} s (12 cases, 3 batches of 4).\n"
+        f"\nN = {config['n_segments']}, Dopri5 rtol = atol = {config['rtol']:g}, window {config['window']} s, "
+        f"{config['sample_rate']:g} Hz, batches of {config['batch']}; wall {session['wall_s'] / 60:.0f} min, "
+        f"load {session['load_average_start'][0]:.1f} → {session['load_average_end'][0]:.1f}.\n"
     )
-    _print_table(main_["cases"])
-    print("\n### Verdict (top-segment peak, t = 30–48 s)\n")
-    print(verdict(main_["cases"])["text"])
-    for key in ("peak_line_N", "peak_anchor_N"):
-        v = verdict(main_["cases"], key)
-        print(f"\n(with {key}: claim 1 {v['claim1']}, claim 2 {v['claim2']})")
-    print("\n### C_E dependence (C_E1 = 0 and 0.2 C_E)\n")
-    print(stiffness_table_markdown({float(k): v["cases"] for k, v in session["stiffness"].items()}))
-    print()
-    for k, v in session["stiffness"].items():
-        print(f"- C_E = {k} N: compile {v['compile_s']:.1f} s, run {v['run_s']:.1f} s")
-    print("\n### Convergence (α = 30°, top-segment peak in the window)\n")
+    cal = session["calibration"]
     print(
-        "| N | rtol | peak, C_E1 = 0 (kN) | peak, C_E1 = 0.2 C_E (kN) | 0.2 vs 0 | slack top, 0 / 0.2 (s) | steps "
-        "(C_E1 = 0) | run (s) |"
+        f"### Calibration\n\nTarget: top peak at {cal['angle_deg']:g}°, C_E1 = 0, {cal['target_N'] / 1e3:g} kN. "
+        f"Map bracket {cal['bracket_N'][0]:.3g}–{cal['bracket_N'][1]:.3g} N; fit ln T = a + b ln C_E over "
+        f"{len(cal['points']) + 2} runs: b = {cal['slope']:.3f}, residual RMS {100 * cal['residual_rms']:.1f} %; "
+        f"**C_E = {cal['axial_stiffness_N']:.4g} N** (band {cal['band_N'][0]:.4g}–{cal['band_N'][1]:.4g} N)."
     )
-    print("|---|---|---|---|---|---|---|---|")
-    for c in sorted(session["convergence"], key=lambda c: (c["n_segments"], -c["rtol"])):
-        p = c["peak_top_N"]
-        print(
-            f"| {c['n_segments']} | {c['rtol']:g} | {p['0.0'] / 1e3:.2f} | {p['0.2'] / 1e3:.2f} | "
-            f"{100 * c['ratio_effect']:+.1f} % "
-            f"| {c['slack_top_s']['0.0']:.2f} / {c['slack_top_s']['0.2']:.2f} | {c['steps']['0.0']} "
-            f"| {c['run_s']:.1f}{' (main study, batch of 4)' if c['from_main_study'] else ''} |"
-        )
-    print(f"\nFigures: {', '.join(session['figures'])}; wall time {session['wall_s'] / 60:.1f} min.")
+    g = session["gradient"]
+    print(
+        f"\nd ln(peak)/d ln C_E at that C_E (N = 8, 30 s): jax.grad {g['gradient']:.3g}; central differences "
+        + ", ".join(f"h = {h}: {v:.3g}" for h, v in g["differences"].items())
+    )
+    print("\n### The map: top peak at C_E1 = ±0.2 C_E vs 0\n")
+    rows = session["map"]["cases"]
+    value = {(r["angle_deg"], r["axial_stiffness_N"], r["ratio"]): r for r in rows}
+    stiff = sorted({r["axial_stiffness_N"] for r in rows})
+    print("| α | " + " | ".join(f"{c:.0e}" for c in stiff) + " |")
+    print("|---|" + "---|" * len(stiff))
+    for a in ANGLES:
+        cells = []
+        for c in stiff:
+            base = value[a, c, 0.0]["peak_top_N"]
+            cells.append(
+                f"{base / 1e3:.1f} kN: {_pct(value[a, c, 0.2]['peak_top_N'] / base - 1)} / "
+                f"{_pct(value[a, c, -0.2]['peak_top_N'] / base - 1)}"
+            )
+        print(f"| {a:g}° | " + " | ".join(cells) + " |")
+    print("\n### At the calibrated C_E\n")
+    _print_table(session["calibrated"]["cases"])
+    print("\n### Readings of C_E1\n")
+    print(readings_markdown(_readings_rows(session["readings"])))
+    print("\n### Claims (with the wave)\n")
+    print(claims_markdown(session["claims"]))
+    print("\n### Claims without the wave (the top's motion alone)\n")
+    print(claims_markdown(session["still_water_claims"]))
+    if "percent_claims" in session:
+        print("\n### Claims if ε is in per cent and C_E1 softens (0.1, 0.2 C_E per %² = −10, −20 C_E)\n")
+        print(claims_markdown(session["percent_claims"]))
+        print("\n### Claims for a rope pretensioned to ε₀ = 0.9 with C_E1 = −0.1, −0.2 C_E\n")
+        print(claims_markdown(session["large_strain_claims"]))
+    print("\n### Convergence of the top peak at 45°\n")
+    print("| run | C_E1 = 0 (kN) | C_E1 = 0.2 C_E (kN) | 0.2 vs 0 |")
+    print("|---|---|---|---|")
+
+    def line(name, cases):
+        p = {r["ratio"]: r["peak_top_N"] for r in cases if r["angle_deg"] == 45.0}
+        print(f"| {name} | {p[0.0] / 1e3:.2f} | {p[0.2] / 1e3:.2f} | {_pct(p[0.2] / p[0.0] - 1)} |")
+
+    line(f"N = {config['n_segments']}, rtol {config['rtol']:g} (main)", session["calibrated"]["cases"])
+    for tol, study in session["tolerance"].items():
+        line(f"N = {config['n_segments']}, rtol {tol}", study["cases"])
+    for n, study in session["segments"].items():
+        line(f"N = {n}, rtol {config['rtol']:g}", study["cases"])
+    print("\nOutput rate (one run each, subsampled), top peak (kN):")
+    for ratio, peaks in session["sampling"].items():
+        print(f"- C_E1 = {ratio} C_E: " + ", ".join(f"{r} Hz {p / 1e3:.3f}" for r, p in peaks.items()))
+    print(f"\nFigures: {', '.join(session['figures'])}.")
+
+
+def _readings_rows(rows):
+    """JSON's readings rows with their angle keys back as floats."""
+    return [dict(r, effect={float(a): v for a, v in r["effect"].items()}) for r in rows]
 
 
 def _print_table(rows):
     print(
-        "| α | C_E1/C_E | static top (kN) | peak top (kN) | min top (kN) | peak anchor (kN) | peak on line (kN) | peak "
-        "ε | slack top (s) | slack top (%) | steps | ok |"
+        "| α | C_E1/C_E | static top (kN) | peak top (kN) | peak middle (kN) | peak anchor (kN) | min top (kN) "
+        "| peak ε | slack top (s) | vibration kept | steps | ok |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(
             f"| {r['angle_deg']:g}° | {r['ratio']:g} | {r['static_top_N'] / 1e3:.1f} | {r['peak_top_N'] / 1e3:.1f} "
-            f"| {r['min_top_N'] / 1e3:.2f} | {r['peak_anchor_N'] / 1e3:.1f} | {r['peak_line_N'] / 1e3:.1f} | "
-            f"{r['peak_strain']:.4f} "
-            f"| {r['slack_top_s']:.2f} | {100 * r['slack_top_fraction']:.1f} | {r['steps']} | "
-            f"{'yes' if r['success'] else 'NO'} |"
+            f"| {r['peak_middle_N'] / 1e3:.1f} | {r['peak_anchor_N'] / 1e3:.1f} | {r['min_top_N'] / 1e3:.2f} "
+            f"| {r['peak_strain']:.4f} | {r['slack_top_s']:.2f} | {r['vibration_persistence']:.2f} | {r['steps']} "
+            f"| {'yes' if r['success'] else 'NO'} |"
         )
 
 

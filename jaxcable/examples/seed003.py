@@ -12,6 +12,13 @@ does not give C_E. jaxcable takes C_E = 3.0e7 N, which is E ≈ 100 GPa (a steel
 rope's effective modulus on its metallic area) times F = 0.0003 m²; a 3 kg/m line with
 that area is a steel rope. The unstretched length is the chord from anchor to fairlead
 at the design angle.
+
+The paper's sea is "plane progressive waves" acting on the line, and the floating
+object is moved by them. `seed003_line(..., waves=True)` adds that wave
+([`seed003_wave`][jaxcable.examples.seed003.seed003_wave]): an Airy wave of amplitude A
+and period T_w in the 200 m of water, phased so that the water at the surface under the
+fairlead moves along x exactly as the fairlead does. Without it (the default) the line
+hangs in still water and only its top is driven.
 """
 
 import numpy as np
@@ -20,7 +27,7 @@ from .._environment import Environment
 from .._materials import AbstractTensionLaw, NonlinearElastic
 from .._motion import Fixed, Harmonic
 from .._network import Branch, CableNetwork, LineType
-from .._waves import seed003_amplitude
+from .._waves import Airy, airy_wavenumber, seed003_amplitude
 
 DEPTH = 200.0  # H (m)
 MASS_PER_LENGTH = 3.0  # m (kg/m)
@@ -51,6 +58,29 @@ def seed003_line_type(tension_law: AbstractTensionLaw, water_density: float = 10
     )
 
 
+def seed003_wave(angle_degrees: float = 30.0, period: float = WAVE_PERIOD, gravity: float = 9.81) -> Airy:
+    """The paper's progressive wave, locked in phase to the fairlead's motion.
+
+    An Airy wave of amplitude A = 0.085 (g T_w²/2π)^0.75 (height 2A) and period T_w in
+    water of depth H = 200 m, travelling along +x (from the anchor towards the floating
+    object), with `η = A cos(k x − ω t + θ₀)`. A surface particle's horizontal
+    displacement is then `A coth(kd) sin(ω t − k x − θ₀)`; `θ₀ = −k X_N`, X_N = H cot α,
+    makes it `A coth(kd) sin(ω t)` at the fairlead, the fairlead's own motion
+    `x_N = A sin(ω t) + X_N` (eq. 6): the floating object moves with the water. At
+    T_w = 5.6 s the water is deep (kd = 25.7) and coth(kd) − 1 is 5e-23.
+
+    **Arguments:**
+
+    - `angle_degrees`: α (°), which places the fairlead.
+    - `period`: T_w (s).
+    - `gravity`: g (m/s²).
+    """
+    amplitude = seed003_amplitude(period, gravity)
+    k = airy_wavenumber(period, DEPTH, gravity)
+    fairlead_x = DEPTH / np.tan(np.radians(angle_degrees))
+    return Airy(2 * amplitude, period, DEPTH, gravity=gravity, phase=-k * fairlead_x)
+
+
 def seed003_line(
     n_segments: int = 20,
     angle_degrees: float = 30.0,
@@ -59,6 +89,7 @@ def seed003_line(
     slack_width: float = 1e-5,
     mass_matrix: str = "consistent",
     hydrodynamics: str = "segments",
+    waves: bool = False,
 ) -> tuple[CableNetwork, Environment]:
     """Seed 003's anchored line, driven at its top.
 
@@ -72,13 +103,22 @@ def seed003_line(
     - `mass_matrix`: `"consistent"` or `"lumped"`.
     - `hydrodynamics`: `"segments"` or `"nodes"` (MoorDyn's form; with `"lumped"`),
         see [`jaxcable.CableNetwork`][].
+    - `waves`: also load the line with the wave that moves its top
+        ([`seed003_wave`][jaxcable.examples.seed003.seed003_wave]), in water 200 m
+        deep; `False` (default) for still water.
 
     **Returns:**
 
     `(model, environment)`: node 0 is the anchor at (0, 0, −H); the last junction, node
     1, is the fairlead at (H cot α, 0, 0).
     """
-    env = Environment(water_density=1025.0, gravity=9.81)
+    if not isinstance(waves, bool):
+        raise ValueError(f"seed003_line: waves must be True or False, got {waves!r}")
+    if waves:
+        wave = seed003_wave(angle_degrees, period)
+        env = Environment(water_density=1025.0, gravity=9.81, depth=DEPTH, waves=(wave,))
+    else:
+        env = Environment(water_density=1025.0, gravity=9.81)
     alpha = np.radians(angle_degrees)
     anchor = np.array([0.0, 0.0, -DEPTH])
     fairlead = np.array([DEPTH / np.tan(alpha), 0.0, 0.0])
