@@ -56,6 +56,19 @@ from jax import monitoring
 from jax.core import Tracer
 from jax.experimental import serialize_executable
 
+_JAX_CACHE_HIT = "/jax/compilation_cache/cache_hits"
+_hits = threading.local()  # JAX's cache hits in this thread, counted by `_count_hits`
+
+
+def _count_hits(event: str, **_) -> None:
+    if event == _JAX_CACHE_HIT:
+        _hits.count = getattr(_hits, "count", 0) + 1
+
+
+# JAX records its cache's hits in the compiling thread, so a count per thread tells
+# which of the programs compiling at once (`Program.prepare`) came from it.
+monitoring.register_event_listener(_count_hits)
+
 LOADED_EVENT = "/jaxcable/programs/loaded"
 """Recorded (`jax.monitoring`) for each program loaded from the folder."""
 
@@ -232,8 +245,15 @@ class Program:
         return lowered, out_tree[0]
 
     def _compile(self, key: str, lowered, tree):
+        """Compile `lowered` and keep it, unless JAX's own cache supplied it: XLA's CPU
+        client serialises an executable that it deserialised without some of its
+        kernels, so the file would load but fail when run ("Function ... not found",
+        jaxlib 0.10.2). That happens where JAX's cache outlives this folder's entry (a
+        new jaxcable whose program lowers as before); JAX's cache still serves it."""
+        _hits.count = 0
         executable = lowered.compile(self.compiler_options or None)
-        self._save(key, executable, tree)
+        if not _hits.count:
+            self._save(key, executable, tree)
         return executable, tree
 
     def _path(self, key: str) -> Path:

@@ -13,6 +13,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
+from jax._src import compilation_cache
 
 import jaxcable as jc
 from jaxcable import _programs
@@ -29,12 +30,21 @@ def _kernel(x, count, options):
 
 @pytest.fixture
 def folder(tmp_path):
-    """Keep programs in a fresh folder for the test; none afterwards."""
-    kept = _programs.folder()
+    """Keep programs in a fresh folder for the test, beside a fresh JAX cache (as the
+    command line keeps them): a program another test compiled comes from JAX's cache
+    and is not kept (`Program._compile`). None afterwards."""
+    kept, kept_cache = _programs.folder(), jax.config.jax_compilation_cache_dir
     _programs.use_folder(tmp_path / "programs")
+    _use_jax_cache(tmp_path / "jax")
     TRACES.clear()
     yield tmp_path / "programs"
     _programs.use_folder(kept)
+    _use_jax_cache(kept_cache)
+
+
+def _use_jax_cache(path):
+    jax.config.update("jax_compilation_cache_dir", None if path is None else str(path))
+    compilation_cache.reset_cache()  # JAX opens its cache folder once, at its first use
 
 
 def _files(folder):
@@ -52,6 +62,28 @@ def test_a_kept_program_loads_without_tracing(folder):
     for a, b in zip(jax.tree.leaves(again), jax.tree.leaves(first)):
         np.testing.assert_array_equal(a, b)
     np.testing.assert_array_equal(again["y"], np.arange(4.0) * 2 + 1.5)
+
+
+def test_a_program_from_jax_cache_is_not_kept_and_runs(folder, tmp_path):
+    """A program that JAX's cache supplied is not written: jaxlib's CPU client
+    serialises a deserialised executable without some kernels, and the file loaded and
+    failed when run (CI, 2026-11-27). Both processes' answers are right."""
+    x = jnp.arange(4.0)
+    expected = np.arange(4.0) * 2 + 1.5
+    kept = jax.config.jax_persistent_cache_min_compile_time_secs
+    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0)  # as the command line keeps every program
+    try:
+        first = _programs.Program(_kernel)(x, 2, {"offset": 1.5})
+    finally:
+        jax.config.update("jax_persistent_cache_min_compile_time_secs", kept)
+    assert len(_files(folder)) == 1
+    other = tmp_path / "other"  # a folder that lacks the program JAX's cache holds
+    _programs.use_folder(other)
+    for _ in range(2):  # a new process each time: compiled again, from JAX's cache
+        again = _programs.Program(_kernel)(x, 2, {"offset": 1.5})
+        np.testing.assert_array_equal(again["y"], expected)
+        assert _files(other) == []
+    np.testing.assert_array_equal(first["y"], expected)
 
 
 @pytest.mark.parametrize(
