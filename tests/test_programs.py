@@ -14,6 +14,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 from jax._src import compilation_cache
+from jax._src import config as jax_config
 
 import jaxcable as jc
 from jaxcable import _programs
@@ -33,7 +34,7 @@ def folder(tmp_path):
     """Keep programs in a fresh folder for the test, beside a fresh JAX cache (as the
     command line keeps them): a program another test compiled comes from JAX's cache
     and is not kept (`Program._compile`). None afterwards."""
-    kept, kept_cache = _programs.folder(), jax.config.jax_compilation_cache_dir
+    kept, kept_cache = _programs.folder(), jax_config.compilation_cache_dir.value
     _programs.use_folder(tmp_path / "programs")
     _use_jax_cache(tmp_path / "jax")
     TRACES.clear()
@@ -70,12 +71,8 @@ def test_a_program_from_jax_cache_is_not_kept_and_runs(folder, tmp_path):
     failed when run (CI, 2026-11-27). Both processes' answers are right."""
     x = jnp.arange(4.0)
     expected = np.arange(4.0) * 2 + 1.5
-    kept = jax.config.jax_persistent_cache_min_compile_time_secs
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0)  # as the command line keeps every program
-    try:
+    with jax_config.persistent_cache_min_compile_time_secs(0):  # JAX keeps every program, as for the command line
         first = _programs.Program(_kernel)(x, 2, {"offset": 1.5})
-    finally:
-        jax.config.update("jax_persistent_cache_min_compile_time_secs", kept)
     assert len(_files(folder)) == 1
     other = tmp_path / "other"  # a folder that lacks the program JAX's cache holds
     _programs.use_folder(other)
@@ -147,7 +144,8 @@ def test_compiler_options_are_part_of_the_key_and_left_out_under_jit(folder):
     options = {"xla_cpu_use_fusion_emitters": False}
     plain, tuned = _programs.Program(_kernel), _programs.Program(_kernel, compiler_options=options)
     args = (jnp.arange(4.0), 2, {"offset": 1.5})
-    assert plain._program(args, {})[0] != tuned._program(args, {})[0]
+    keys = [program._program(args, {}) for program in (plain, tuned)]
+    assert keys[0] is not None and keys[1] is not None and keys[0][0] != keys[1][0]
     np.testing.assert_array_equal(tuned(*args)["y"], plain(*args)["y"])
     assert len(_files(folder)) == 2
     under_jit = jax.jit(lambda x: tuned(x, 2, {"offset": 1.5})["y"])(jnp.arange(4.0))
