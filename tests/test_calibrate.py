@@ -114,6 +114,7 @@ def test_recovers_both_drag_coefficients_with_an_axial_flow_record(axial_fit):
     assert all(axial_fit.success)
 
 
+@pytest.mark.slow  # its fit takes a minute or two of the default suite
 def test_without_axial_flow_tangential_drag_is_flagged(depressor_fit):
     within(depressor_fit, "normal_drag", 0.05)
     assert depressor_fit.relative_uncertainty["tangential_drag"] > 5 * depressor_fit.relative_uncertainty["normal_drag"]

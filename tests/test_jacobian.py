@@ -63,7 +63,8 @@ def _dense(fn, k):
     return np.asarray(jax.jacfwd(lambda v: flat(fn(unflat(v), None)))(flat(k))), flat, unflat
 
 
-@pytest.mark.parametrize("name", ["line", "y_branch", "buoy_net"])
+# The net with loops takes 40 s of the default suite's 2 cores: slow.
+@pytest.mark.parametrize("name", ["line", "y_branch", pytest.param("buoy_net", marks=pytest.mark.slow)])
 def test_solve_matches_dense_jacobian(models, name):
     """Solves and transposed solves agree with `numpy.linalg.solve` on the `jacfwd`
     Jacobian, on a line, a branched system and a net with loops, at a step long enough

@@ -37,9 +37,11 @@ from jaxcable import examples
 from jaxcable._cli import main
 
 NAMES = examples.scene_names()
-# irregular_buoy's run compiles a sea of 128 components on top of the scene: its checks
-# here run with the slow suite, its sea's own in test_irregular*.py.
-SLOW_SCENES = {"irregular_buoy"}
+# irregular_buoy's run compiles a sea of 128 components on top of the scene, and
+# buoy_net's is the largest network (a minute of the default suite's 2 cores): their
+# checks here run with the slow suite; the sea's own in test_irregular*.py, the net's
+# structure in test_jacobian.py.
+SLOW_SCENES = {"irregular_buoy", "buoy_net"}
 
 
 def cases(names: list[str]) -> list:
