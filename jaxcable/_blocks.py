@@ -40,7 +40,7 @@ from . import _checks as checks
 from ._config import SolverConfig
 from ._environment import Environment
 from ._network import CableNetwork, network_conditions
-from ._programs import Program, program
+from ._programs import RUN_ONCE, Program, program
 from ._simulate import SimulationResult, as_config, failure_message, for_model, result_of, terms_for
 from ._state import State
 
@@ -251,11 +251,10 @@ def _block(
     return carry, ys, jnp.sum(counts, axis=0), failure
 
 
-# Not in the blocks' programs: run once an output time, its kernels gain nothing from XLA's
-# CPU fusion emitters, which doubled its compile (Low & Langley file, quiet: the block's
-# program 2.6 s of CPU with the outputs, 1.4 s without; the outputs alone 0.5 s
-# without the emitters). See `jaxcable._statics._equilibrium`.
-@functools.partial(program, compiler_options={"xla_cpu_use_fusion_emitters": False})
+# Not in the blocks' programs, which they doubled (Low & Langley file, quiet: the block's
+# program 2.6 s of CPU with the outputs, 1.4 s without), and compiled as a program that
+# runs once a block (`RUN_ONCE`).
+@functools.partial(program, compiler_options=RUN_ONCE)
 def _outputs(model, env, ends: Float[ArrayLike, " block"], ys, failure):
     """The outputs `(positions, velocities, strain, tension, reactions)` at a block's
     interval ends from its free states `ys`, and the block's result: its first failure,

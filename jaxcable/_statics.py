@@ -30,7 +30,7 @@ from . import _lagrangian as lag
 from ._environment import Environment
 from ._jacobian import NetworkJacobian
 from ._network import CableNetwork, check_held, network_conditions
-from ._programs import program
+from ._programs import RUN_ONCE, program
 from ._state import State
 from ._typing import RealScalarLike
 
@@ -258,7 +258,7 @@ def _check_geometry(model: CableNetwork, start, t) -> None:
         )
 
 
-@program
+@functools.partial(program, compiler_options=RUN_ONCE)
 def _required_strain(model: CableNetwork, t):
     """The largest mean strain (–) that a chain of segments between two constrained
     nodes needs to reach from one to the other at time `t`: their distance over the
@@ -288,11 +288,7 @@ def _required_strain(model: CableNetwork, t):
     return jnp.max(strain), pair, jnp.ravel(distance)[worst], jnp.ravel(chain)[worst], held
 
 
-# XLA's CPU fusion emitters (its default) make kernels that run no faster here, where
-# the solve runs once and its compile is most of the time, and they compile slower:
-# the Low & Langley file's statics compiled in 2.9 s of CPU instead of 4.1 s, and ran in
-# 11.7 ms against 11.3 ms (quiet, `benchmarks/README.md`, *The cold process*).
-@functools.partial(program, compiler_options={"xla_cpu_use_fusion_emitters": False})
+@functools.partial(program, compiler_options=RUN_ONCE)
 def _equilibrium(model, env, start, t, max_steps, force_tolerance) -> StaticSolution:
     """The whole solve, compiled once per topology and option set."""
     free = model.free_nodes
