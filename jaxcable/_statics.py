@@ -276,7 +276,7 @@ def _check_geometry(model: CableNetwork, start, t) -> None:
     """Refuse, naming the nodes, a start whose segments have zero length, or two
     constrained nodes farther apart than `1 + MAX_REQUIRED_STRAIN` times the shortest
     unstretched chain of segments between them. Concrete values only."""
-    if checks.traced((start, model.segment_length, model.motions, t)):
+    if checks.traced((start, model.node_positions, model.segment_length, model.motions, t)):
         return
     needed, pair, distance, chain, held = (np.asarray(x) for x in _required_strain(model, t))
     positions = np.asarray(start, dtype=float).copy()
@@ -383,8 +383,10 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped) -> St
     # tolerance, so that the root find is traced once: tracing it took 2.7 s of a warm
     # `jaxcable run` of the Low & Langley file, and twice it took 4.2 s to trace and
     # 12.6 s to compile against 2.4 s and 10.7 s once (loaded machine, same steps).
-    fixed = jax.lax.stop_gradient((model, env, t))
-    softest = jnp.clip(_load_sum(*fixed, start) / (SOFT_STRAIN * jnp.max(_stiffness(model))), 1e-300, 1.0)
+    # The start carries no derivative: the equilibrium's does not depend on it, and
+    # the loads measured there (a norm of a zero drag) have none that is finite.
+    fixed = jax.lax.stop_gradient((model, env, t, start))
+    softest = jnp.clip(_load_sum(*fixed) / (SOFT_STRAIN * jnp.max(_stiffness(model))), 1e-300, 1.0)
 
     def stage(carry, k):
         x, _ = carry
@@ -394,10 +396,15 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped) -> St
         found = solve(soft, jax.lax.stop_gradient(x), tolerance)
         return (found.value, found.result), found.stats["num_steps"]
 
+    start = fixed[3]
     if shaped:
-        start = _start_shape(*fixed, lag.full_state(model, t, start[free], zeros_free)[0])
-    first = (jax.lax.stop_gradient(start[free]), optx.RESULTS.successful)
-    (value, found), stage_steps = jax.lax.scan(stage, first, jnp.arange(STAGES + 1))
+        start = _start_shape(*fixed[:3], lag.full_state(fixed[0], t, start[free], zeros_free)[0])
+    if free.size:
+        (value, found), stage_steps = jax.lax.scan(
+            stage, (start[free], optx.RESULTS.successful), jnp.arange(STAGES + 1)
+        )
+    else:  # every node constrained: nothing to solve, the reactions still to find
+        value, found, stage_steps = zeros_free, optx.RESULTS.successful, jnp.zeros(1, int)
     positions, _ = lag.full_state(model, t, value, zeros_free)
     left = jnp.max(jnp.abs(_free_forces(model, env, t, value)), axis=1, initial=0.0)
     remaining = jnp.max(left, initial=0.0)

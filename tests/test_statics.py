@@ -24,6 +24,8 @@ is the same `equinox.EquinoxRuntimeError` (a `RuntimeError`) both ways.
 from pathlib import Path
 
 import equinox as eqx
+import jax
+import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 import pytest
@@ -235,6 +237,58 @@ def test_buoyant_line_hanging_from_a_point_starts_standing_up():
         rtol=1e-12,
     )
     assert np.min(start[1:, 2]) > top[2] and start[1, 2] > top[2] + 99.0  # the free end stands above
+
+
+def test_forward_derivative_in_the_supports_against_central_differences():
+    """`jax.jvp` of the reactions in the fairlead's position, from the model's own
+    start (whose loads, a norm of a zero drag, once gave the continuation a NaN
+    tangent) and from a concrete `initial` with the model traced (whose geometry check
+    once converted the tracer): both match central differences of re-solved statics."""
+    model = catenary_model(5)
+    tangent = np.zeros((model.n_nodes, 3))
+    tangent[1] = HEADING  # the fairlead, along the span
+
+    def top(positions, initial=None):
+        moved = eqx.tree_at(lambda m: m.node_positions, model, positions)
+        return jc.solve_statics(moved, RHO_ENV, initial=initial).reactions[1]
+
+    step = 1e-4 * SPAN
+    x = np.asarray(model.node_positions)
+    differences = np.asarray(solve_reactions(x + step * tangent)) - np.asarray(solve_reactions(x - step * tangent))
+    differences = differences / (2 * step)
+    initial = solve(model, RHO_ENV).state
+    for given in (None, initial):
+        _, derivative = jax.jvp(lambda p: top(p, given), (model.node_positions,), (jnp.asarray(tangent),))  # noqa: B023
+        np.testing.assert_allclose(derivative, differences, rtol=1e-5, atol=1e-6 * np.max(np.abs(differences)))
+
+
+def solve_reactions(positions):
+    """The fairlead's reaction (N), statics re-solved with `catenary_model(5)`'s nodes at
+    `positions` (m)."""
+    model = eqx.tree_at(lambda m: m.node_positions, catenary_model(5), jnp.asarray(positions))
+    return solve(model, RHO_ENV).reactions[1]
+
+
+def test_network_with_no_free_node_is_its_own_equilibrium():
+    """One taut segment between two fixed points in a current: nothing to solve, and
+    the reactions are the hand-summed forces on its ends (tension, half the wet weight
+    and half the drag each). `jc.advise` finds that rest too."""
+    line = jc.LineType(MASS, DIAMETER, jc.LinearElastic(EA))
+    model = jc.CableNetwork.from_branches(
+        np.stack([ANCHOR, FAIRLEAD]),
+        [jc.Branch(0, 1, line, 0.99 * float(np.linalg.norm(FAIRLEAD - ANCHOR)), 1)],
+        constraints={0: jc.Fixed(), 1: jc.Fixed()},
+    )
+    assert model.free_nodes.size == 0
+    flow = np.array([0.5, 0.3, 0.0])
+    env = jc.Environment(water_density=RHO, gravity=G, current=flow)
+    static = jc.solve_statics(model, env)
+    assert static.result == optx.RESULTS.successful and int(static.steps) == 0 and float(static.residual) == 0.0
+    tension, force = hand_forces(model, env, np.asarray(model.node_positions), {}, flow)
+    np.testing.assert_allclose(static.tension, tension, rtol=1e-12)
+    np.testing.assert_allclose(static.reactions, -force, rtol=1e-10, atol=1e-10 * np.max(np.abs(force)))
+    advice = jc.advise(model, env)
+    assert advice.statics_error is None and advice.rest_max_tension == pytest.approx(tension[0], rel=1e-12)
 
 
 # ---------------------------------------------------------------------------------------
