@@ -17,6 +17,7 @@ line arched upward; `_start_shape`). Levenberg–Marquardt on the forces, which 
 
 import dataclasses
 import functools
+import typing
 from typing import NamedTuple
 
 import equinox as eqx
@@ -345,29 +346,29 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped) -> St
     free = model.free_nodes
     zeros_free = jnp.zeros((free.shape[0], 3))
 
-    def forces(model, free_positions, relative):
+    def forces(model, env, t, free_positions, relative):
         """The free nodes' forces (N) and, as the auxiliary output, the tolerance (N)
         and the segments' strains (–), which steps are truncated by."""
         positions, _ = lag.full_state(model, t, free_positions, zeros_free)
         tolerance = relative * _force_scale(model, env, t, positions) + _rounding(model)
         strain = lag.segment_geometry(model, positions)[2]
-        return _free_forces(model, env, t, free_positions), jax.lax.stop_gradient((tolerance, strain))
+        return _free_forces(model, env, t, free_positions), (tolerance, strain)
 
     graph = NetworkJacobian(model.topology)
 
-    def solve(model, start, tolerance):
+    def solve(model, env, t, start, tolerance):
+        """A root find that carries no derivative (its inputs carry none)."""
         return optx.root_find(
-            lambda x, _: forces(model, x, tolerance),
+            lambda x, _: forces(model, env, t, x, tolerance),
             _PseudoTransient(graph=graph),
             start,
             has_aux=True,
             options={
-                "mass": jax.lax.stop_gradient(_pseudo_mass(model, env)[free]),
-                "shortest": jax.lax.stop_gradient(jnp.min(model.segment_length)),
-                "taut": jax.lax.stop_gradient(_taut_strain(model)),
+                "mass": _pseudo_mass(model, env)[free],
+                "shortest": jnp.min(model.segment_length),
+                "taut": _taut_strain(model),
             },
             max_steps=max_steps,
-            adjoint=optx.ImplicitAdjoint(linear_solver=graph),
             throw=False,
         )
 
@@ -377,23 +378,23 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped) -> St
     # segment turned by a small step stretches by its square, so the linear model that
     # a step trusts holds only for tiny turns: a light riser of EA 3.8e9 N in a 1.6 m/s
     # current, which must swing tens of metres from its vertical guess, crept 0.1 m a
-    # step and ran out of 1,000 steps; softened, it swings in a few. Derivatives flow
-    # through the last stage only (its implicit adjoint); the others just move the start.
+    # step and ran out of 1,000 steps; softened, it swings in a few.
     # One `scan` over all the stages, the last one the network itself at the caller's
     # tolerance, so that the root find is traced once: tracing it took 2.7 s of a warm
     # `jaxcable run` of the Low & Langley file, and twice it took 4.2 s to trace and
     # 12.6 s to compile against 2.4 s and 10.7 s once (loaded machine, same steps).
-    # The start carries no derivative: the equilibrium's does not depend on it, and
-    # the loads measured there (a norm of a zero drag) have none that is finite.
+    # No stage carries a derivative (`_implicit` gives the equilibrium its own), nor
+    # does the start: the equilibrium's derivative does not depend on it, and the loads
+    # measured there (a norm of a zero drag) have none that is finite.
     fixed = jax.lax.stop_gradient((model, env, t, start))
-    softest = jnp.clip(_load_sum(*fixed) / (SOFT_STRAIN * jnp.max(_stiffness(model))), 1e-300, 1.0)
+    softest = jnp.clip(_load_sum(*fixed) / (SOFT_STRAIN * jnp.max(_stiffness(fixed[0]))), 1e-300, 1.0)
 
     def stage(carry, k):
         x, _ = carry
         final = k == STAGES
-        soft = _scaled_stiffness(model, jnp.where(final, 1.0, softest ** ((STAGES - k) / STAGES)))
+        soft = _scaled_stiffness(fixed[0], jnp.where(final, 1.0, softest ** ((STAGES - k) / STAGES)))
         tolerance = jnp.where(final, force_tolerance, STAGE_TOLERANCE)
-        found = solve(soft, jax.lax.stop_gradient(x), tolerance)
+        found = solve(soft, fixed[1], fixed[2], x, tolerance)
         return (found.value, found.result), found.stats["num_steps"]
 
     start = fixed[3]
@@ -403,6 +404,7 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped) -> St
         (value, found), stage_steps = jax.lax.scan(
             stage, (start[free], optx.RESULTS.successful), jnp.arange(STAGES + 1)
         )
+        value = _implicit(model, env, t, value, graph)
     else:  # every node constrained: nothing to solve, the reactions still to find
         value, found, stage_steps = zeros_free, optx.RESULTS.successful, jnp.zeros(1, int)
     positions, _ = lag.full_state(model, t, value, zeros_free)
@@ -446,6 +448,37 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped) -> St
         result=result,
         steps=jnp.sum(stage_steps).astype(jnp.int32),
     )
+
+
+def _implicit(model, env, t, value, graph: NetworkJacobian):
+    """`value`, the free nodes' equilibrium positions (m, shape `(free, 3)`, found by
+    root finds that carry no derivative), unchanged, with the implicit function
+    theorem's derivative in everything the forces depend on, `δx = −J⁻¹ (∂Q_f/∂θ) δθ`,
+    J = ∂Q_f/∂x at `value` (optimistix's `ImplicitAdjoint`, one linear solve on the
+    network's graph; nothing where no derivative is taken). Only the network's own
+    equilibrium is differentiated: a softened stage of the continuation can rest with
+    compressed segments on the seabed, whose Jacobian is singular (the softest stage
+    of `benchmarks/stiffness.py`'s line on the bed at N = 128: 15 such segments,
+    smallest singular value 0), and the implicit derivative of every stage, which the
+    `scan` computed when each root find had its own adjoint, failed in lineax there
+    although the final Jacobian is regular (condition number 1e8; issue 23)."""
+    adjoint = optx.ImplicitAdjoint(linear_solver=graph)
+    return adjoint.apply(_settled, _balance, (jax.lax.stop_gradient(value), model, env, t), frozenset())[0]
+
+
+# optimistix takes these only as closure-free functions, which a runtime type checker's
+# wrapper (the tests' jaxtyping import hook) is not.
+@typing.no_type_check
+def _settled(inputs):
+    """`_implicit`'s primal: the equilibrium as found."""
+    return inputs[0], None
+
+
+@typing.no_type_check
+def _balance(root, _, inputs):
+    """`_implicit`'s condition: the forces at `root` vanish."""
+    _, model, env, t = inputs[:4]
+    return _free_forces(model, env, t, root)
 
 
 def _free_forces(model, env, t, free_positions):
