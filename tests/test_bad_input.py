@@ -165,6 +165,34 @@ def test_cli_refuses_before_any_work(cli, args, message):
     assert re.search(message, error_line(err)), err
 
 
+# Towing records and motion tables (their readers' own tests are `test_records.py` and
+# `test_readers.py`): (the file's text, the command, the error's words).
+RECORD_HEAD = "# rig = horizontal_tow\ntime [s], speed [kn], tension [kN]\n"
+FILE_CASES = [
+    (
+        RECORD_HEAD + "0.0, 1.9, 5.1\n0.1, 1.9, nan\n0.2, 1.9, 5.3\n",
+        "calibrate",
+        r"f, line 4: column 'tension' is NaN$",
+    ),
+    (
+        RECORD_HEAD + "0.0, 1.9, 5.1\n0.2, 1.9, 5.2\n0.1, 1.9, 5.3\n",
+        "calibrate",
+        r"f, line 5: time 0.1 s is not after 0.2 s \(line 4\); times must strictly increase$",
+    ),
+    ("time x y z\n0 0 0 0\n1 0 0 0\n1 1 0 0\n2 0 0 0\n", "run", r"f, line 4: the time column must increase"),
+    ("time x y z\n0 0 0 0\n1 nan 0 0\n2 0 0 0\n", "run", r"f, line 3: non-finite value$"),
+    ("time x y\n0 0 0\n1 0 0\n", "run", r"f, line 2: expected 4 columns \(time, then x y z .*\), got 3$"),
+]
+
+
+@pytest.mark.parametrize("text, command, message", FILE_CASES)
+def test_records_and_motion_tables_are_refused_by_line(cli, text, command, message):
+    args = ["calibrate", "f", "--fit", "normal_drag=1.2"] if command == "calibrate" else ["run", "seed003_line"]
+    status, _, err = cli(args + ([] if command == "calibrate" else ["--motion", "f"]), {"f": text})
+    assert status == 2
+    assert re.search(message, error_line(err)), err
+
+
 # Scene files: (edit of SCENE, the error's words). Read, and for values that only
 # the engine can judge, built, as `jaxcable info` does.
 SCENE_CASES = [
