@@ -317,6 +317,7 @@ def _refuse_dropped(scene: "Scene", allowed: set[str]) -> None:
 def _check_flags(args) -> None:
     """Refuse bad flag values before any work: a number out of range, or an output or
     plot file that could not be written at the end of a run."""
+    from ._config import SMALLEST_RTOL
     from .io import SceneError
     from .io._output import check_output, check_writable
 
@@ -333,6 +334,12 @@ def _check_flags(args) -> None:
         number = getattr(args, value, None)
         if number is not None and not (np.isfinite(number) and number > 0):
             raise SceneError(f"{flag} must be a positive number, got {number:g}")
+    rtol = getattr(args, "rtol", None)
+    if rtol is not None and rtol < SMALLEST_RTOL:  # SolverConfig's own check, by the flag's name
+        raise SceneError(
+            f"--rtol must be at least {SMALLEST_RTOL:g}, below which float64 rounding (ε = 2.2e-16) exceeds the "
+            f"error the step controller allows and the step shrinks without end, got {rtol:g}"
+        )
     out = getattr(args, "out", None)
     if out is not None:
         if args.command == "run":

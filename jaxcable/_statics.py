@@ -2,20 +2,23 @@
 
 The equilibrium is found by pseudo-transient continuation: implicit Euler steps of the
 overdamped motion `D ẋ = Q_f(x)` (D each free node's mass with its displaced water),
-each the linear step `(D/Δτ − ∂Q_f/∂x) δ = Q_f` and a few chord corrections with the
-same factors. The pseudo-time step Δτ grows where the linear model predicted the
+each the linear step `(D/Δτ − ∂Q_f/∂x) δ = Q_f` and Newton's corrections towards the
+step's end. The pseudo-time step Δτ grows where the linear model predicted the
 force well and shrinks where it did not (as a trust region), so that far from the
 equilibrium the steps follow the damped motion (a slack line settling in a current, a
 buoyant line floating up through slack) and near it they are Newton's. The term `D/Δτ`
 keeps the linear systems regular where slack segments have no stiffness; each is
 solved along the network's graph by [`jaxcable.NetworkJacobian`][], O(N). Stiff
 networks are first solved softened, then stiffened stage by stage (see
-`_equilibrium`). Levenberg–Marquardt on the forces, which this replaced, failed on
+`_equilibrium`), from a start whose chains sag or hang along their loads (a buoyant
+line arched upward; `_start_shape`). Levenberg–Marquardt on the forces, which this replaced, failed on
 46 % of a user's random legal scenes (issue 23; `benchmarks/statics_fuzz.py`).
 """
 
 import dataclasses
 import functools
+import typing
+from typing import NamedTuple
 
 import equinox as eqx
 import jax
@@ -23,13 +26,13 @@ import jax.numpy as jnp
 import lineax as lx
 import numpy as np
 import optimistix as optx
-from jaxtyping import Array, Float, Int
+from jaxtyping import Array, Bool, Float, Int
 
 from . import _checks as checks
 from . import _lagrangian as lag
 from ._environment import Environment
 from ._jacobian import NetworkJacobian
-from ._network import CableNetwork, check_held, network_conditions
+from ._network import _GUESS_STRETCH, CableNetwork, Topology, check_held, network_conditions
 from ._programs import RUN_ONCE, program
 from ._state import State
 from ._typing import RealScalarLike
@@ -51,6 +54,12 @@ SOFT_STRAIN = 0.01
 STAGES = 6
 STAGE_TOLERANCE = 1e-3
 
+# Failure's causes (`failure_message`), relative to the force scale: a node off the bed
+# whose segments carry less than `SLACK_SHARE` of it is on slack line, and a force left
+# below `STALL_SHARE` of it is close to the equilibrium.
+SLACK_SHARE = 1e-3
+STALL_SHARE = 1e-3
+
 
 class StaticSolution(eqx.Module):
     """The equilibrium of a network.
@@ -67,6 +76,10 @@ class StaticSolution(eqx.Module):
         largest segment tension, wet weight of a segment or body, body's constant force,
         or drag on a node at rest.
     - `worst_node`: the node that `residual` is on.
+    - `worst_tension`: the largest tension (N) in a segment at `worst_node`; about zero
+        where that node is on slack line.
+    - `worst_drag`: the drag (N) of the current on `worst_node` at rest.
+    - `worst_on_seabed`: whether `worst_node` rests on the seabed.
     - `required_strain`: the largest mean strain (–) that a chain of segments between
         two constrained nodes needs to reach from one to the other; above
         `MAX_REQUIRED_STRAIN` (100 %) the solve counts as failed.
@@ -82,6 +95,9 @@ class StaticSolution(eqx.Module):
     residual: Float[Array, ""]
     force_scale: Float[Array, ""]
     worst_node: Int[Array, ""]
+    worst_tension: Float[Array, ""]
+    worst_drag: Float[Array, ""]
+    worst_on_seabed: Bool[Array, ""]
     required_strain: Float[Array, ""]
     result: optx.RESULTS
     steps: Int[Array, ""]
@@ -107,8 +123,13 @@ def solve_statics(
     pseudo-transient continuation, damped motion towards rest that turns into Newton's
     method near it, with the network's structured Jacobian (see the module's notes).
     It starts from `initial` or `model.node_positions` ([`jaxcable.CableNetwork.from_branches`][]
-    puts each branch on its catenary), but unlike a plain Newton or least-squares
-    solve it needs no taut start: slack segments only slow it.
+    puts each branch on a catenary sagging downward). From `model.node_positions`,
+    each run of segments between junctions is first put on its own analytic shape
+    under its load, where that lowers the load's potential: the catenary hanging along
+    its weight, buoyancy and drag (so a buoyant line starts arched upward), or, for a
+    line with a free end, turned about its other end to hang along its load. An
+    `initial` is used as given. Unlike a plain Newton or least-squares solve it needs
+    no taut start: slack segments only slow it.
 
     Equilibrium is a force on every free node no larger than `force_tolerance` times the
     scene's force scale (the largest tension, wet weight of a segment or body, or
@@ -156,7 +177,7 @@ def solve_statics(
     start = model.node_positions if initial is None else initial.positions
     start = checks.check(start, network_conditions(model, env))
     _check_geometry(model, start, t)
-    solution = _equilibrium(model, env, start, t, max_steps, force_tolerance)
+    solution = _equilibrium(model, env, start, t, max_steps, force_tolerance, initial is None)
     if not throw:
         return solution
     failed = solution.result != optx.RESULTS.successful
@@ -186,7 +207,7 @@ def prepare(
     (`jaxcable._programs`): statics' compile while the caller traces the run's. Nothing
     otherwise."""
     _required_strain.prepare(model, t)
-    _equilibrium.prepare(model, env, model.node_positions, t, max_steps, force_tolerance)
+    _equilibrium.prepare(model, env, model.node_positions, t, max_steps, force_tolerance, True)
 
 
 def failure_message(
@@ -209,28 +230,54 @@ def failure_message(
             "against its drag and weight."
         )
     if result == optx.RESULTS.nonlinear_max_steps_reached:
-        why = f"its {max_steps} steps (max_steps) ran out before the force fell to the tolerance"
+        why = f"its {max_steps} steps (max_steps) ran out"
     elif result == optx.RESULTS.nonfinite:
         why = "the forces became non-finite"
     else:
-        why = "its steps stalled: every larger pseudo-time step raised the force"
+        why = "its steps stalled (every larger pseudo-time step raised the force)"
     node = int(solution.worst_node)
-    position = np.asarray(solution.state.positions)[node]
-    return (
-        f"solve_statics found no equilibrium: {why}. The largest force left is "
-        f"{float(solution.residual):.4g} N, on node {node} at {np.array2string(position, precision=4)} m, "
-        f"against force_tolerance ({force_tolerance}) times the scene's force scale "
-        f"({float(solution.force_scale):.4g} N). Check that this part of the network can rest "
-        "(a line that must carry its load nearly straight, a buoy that cannot lift its line), or start from "
-        "a shape closer to the equilibrium (initial=); from Python, max_steps allows more steps."
+    position = np.array2string(np.asarray(solution.state.positions)[node], precision=4)
+    residual, scale = float(solution.residual), float(solution.force_scale)
+    tension, drag = float(solution.worst_tension), float(solution.worst_drag)
+    left = (
+        f"The largest force left is {residual:.4g} N, on node {node} at {position} m, against force_tolerance "
+        f"({force_tolerance}) times the scene's force scale ({scale:.4g} N)."
     )
+    if solution.worst_on_seabed:
+        cause = (
+            f"node {node} lies on the seabed, which holds nothing sideways (statics has no friction): only the "
+            f"current's drag there ({drag:.3g} N, a fraction {drag / scale:.2g} of the force scale) and the line's "
+            f"tension ({tension:.3g} N) move it, and they were still laying the line out along the bed when {why}. "
+            f"{left} Start from a shape with the line laid out along the bed (initial=), or check the line's "
+            "length; in still water, slack line on the bed rests in any layout"
+        )
+    elif tension <= SLACK_SHARE * scale:
+        cause = (
+            f"node {node} is on slack line (its segments carry {tension:.3g} N), which has no stiffness to hold it, "
+            f"and it was still moving under its weight, buoyancy or drag ({drag:.3g} N) when {why}. {left} Check "
+            "that this stretch can rest (a line floating up, a buoy that cannot lift its line) or start from a "
+            "shape closer to its rest (initial=)"
+        )
+    elif residual <= STALL_SHARE * scale:
+        cause = (
+            f"{why} close to it, the force left a fraction {residual / scale:.2g} of the force scale, on taut line "
+            f"({tension:.4g} N) at node {node}. {left} Stiff segments whose stretch is far smaller than their turn "
+            "can stall there: start from a shape closer to the equilibrium (initial=)"
+        )
+    else:
+        cause = (
+            f"{why} far from it. {left} Check that this part of the network can rest (a line that must carry its "
+            "load nearly straight, a buoy that cannot lift its line), or start from a shape closer to the "
+            "equilibrium (initial=)"
+        )
+    return f"solve_statics found no equilibrium: {cause}; from Python, max_steps allows more steps."
 
 
 def _check_geometry(model: CableNetwork, start, t) -> None:
     """Refuse, naming the nodes, a start whose segments have zero length, or two
     constrained nodes farther apart than `1 + MAX_REQUIRED_STRAIN` times the shortest
     unstretched chain of segments between them. Concrete values only."""
-    if checks.traced((start, model.segment_length, model.motions, t)):
+    if checks.traced((start, model.node_positions, model.segment_length, model.motions, t)):
         return
     needed, pair, distance, chain, held = (np.asarray(x) for x in _required_strain(model, t))
     positions = np.asarray(start, dtype=float).copy()
@@ -289,34 +336,35 @@ def _required_strain(model: CableNetwork, t):
 
 
 @functools.partial(program, compiler_options=RUN_ONCE)
-def _equilibrium(model, env, start, t, max_steps, force_tolerance) -> StaticSolution:
-    """The whole solve, compiled once per topology and option set."""
+def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped) -> StaticSolution:
+    """The whole solve, compiled once per topology and option set; from `start`
+    improved by `_start_shape` if `shaped`, a caller's `initial` as given otherwise."""
     free = model.free_nodes
     zeros_free = jnp.zeros((free.shape[0], 3))
 
-    def forces(model, free_positions, relative):
+    def forces(model, env, t, free_positions, relative):
         """The free nodes' forces (N) and, as the auxiliary output, the tolerance (N)
         and the segments' strains (–), which steps are truncated by."""
         positions, _ = lag.full_state(model, t, free_positions, zeros_free)
         tolerance = relative * _force_scale(model, env, t, positions) + _rounding(model)
         strain = lag.segment_geometry(model, positions)[2]
-        return _free_forces(model, env, t, free_positions), jax.lax.stop_gradient((tolerance, strain))
+        return _free_forces(model, env, t, free_positions), (tolerance, strain)
 
     graph = NetworkJacobian(model.topology)
 
-    def solve(model, start, tolerance):
+    def solve(model, env, t, start, tolerance):
+        """A root find that carries no derivative (its inputs carry none)."""
         return optx.root_find(
-            lambda x, _: forces(model, x, tolerance),
+            lambda x, _: forces(model, env, t, x, tolerance),
             _PseudoTransient(graph=graph),
             start,
             has_aux=True,
             options={
-                "mass": jax.lax.stop_gradient(_pseudo_mass(model, env)[free]),
-                "shortest": jax.lax.stop_gradient(jnp.min(model.segment_length)),
-                "taut": jax.lax.stop_gradient(_taut_strain(model)),
+                "mass": _pseudo_mass(model, env)[free],
+                "shortest": jnp.min(model.segment_length),
+                "taut": _taut_strain(model),
             },
             max_steps=max_steps,
-            adjoint=optx.ImplicitAdjoint(linear_solver=graph),
             throw=False,
         )
 
@@ -326,25 +374,35 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance) -> StaticSolu
     # segment turned by a small step stretches by its square, so the linear model that
     # a step trusts holds only for tiny turns: a light riser of EA 3.8e9 N in a 1.6 m/s
     # current, which must swing tens of metres from its vertical guess, crept 0.1 m a
-    # step and ran out of 1,000 steps; softened, it swings in a few. Derivatives flow
-    # through the last stage only (its implicit adjoint); the others just move the start.
+    # step and ran out of 1,000 steps; softened, it swings in a few.
     # One `scan` over all the stages, the last one the network itself at the caller's
     # tolerance, so that the root find is traced once: tracing it took 2.7 s of a warm
     # `jaxcable run` of the Low & Langley file, and twice it took 4.2 s to trace and
     # 12.6 s to compile against 2.4 s and 10.7 s once (loaded machine, same steps).
-    fixed = jax.lax.stop_gradient((model, env, t))
-    softest = jnp.clip(_load_sum(*fixed, start) / (SOFT_STRAIN * jnp.max(_stiffness(model))), 1e-300, 1.0)
+    # No stage carries a derivative (`_implicit` gives the equilibrium its own), nor
+    # does the start: the equilibrium's derivative does not depend on it, and the loads
+    # measured there (a norm of a zero drag) have none that is finite.
+    fixed = jax.lax.stop_gradient((model, env, t, start))
+    softest = jnp.clip(_load_sum(*fixed) / (SOFT_STRAIN * jnp.max(_stiffness(fixed[0]))), 1e-300, 1.0)
 
     def stage(carry, k):
         x, _ = carry
         final = k == STAGES
-        soft = _scaled_stiffness(model, jnp.where(final, 1.0, softest ** ((STAGES - k) / STAGES)))
+        soft = _scaled_stiffness(fixed[0], jnp.where(final, 1.0, softest ** ((STAGES - k) / STAGES)))
         tolerance = jnp.where(final, force_tolerance, STAGE_TOLERANCE)
-        found = solve(soft, jax.lax.stop_gradient(x), tolerance)
+        found = solve(soft, fixed[1], fixed[2], x, tolerance)
         return (found.value, found.result), found.stats["num_steps"]
 
-    first = (jax.lax.stop_gradient(start[free]), optx.RESULTS.successful)
-    (value, found), stage_steps = jax.lax.scan(stage, first, jnp.arange(STAGES + 1))
+    start = fixed[3]
+    if shaped:
+        start = _start_shape(*fixed[:3], lag.full_state(fixed[0], t, start[free], zeros_free)[0])
+    if free.size:
+        (value, found), stage_steps = jax.lax.scan(
+            stage, (start[free], optx.RESULTS.successful), jnp.arange(STAGES + 1)
+        )
+        value = _implicit(model, env, t, value, graph)
+    else:  # every node constrained: nothing to solve, the reactions still to find
+        value, found, stage_steps = zeros_free, optx.RESULTS.successful, jnp.zeros(1, int)
     positions, _ = lag.full_state(model, t, value, zeros_free)
     left = jnp.max(jnp.abs(_free_forces(model, env, t, value)), axis=1, initial=0.0)
     remaining = jnp.max(left, initial=0.0)
@@ -364,18 +422,59 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance) -> StaticSolu
     worst = jnp.asarray(free)[jnp.argmax(left)] if free.size else jnp.asarray(0)
     velocities = jnp.zeros_like(positions)
     _, _, strain = lag.segment_geometry(model, positions)
+    tension = lag.tension(model, positions, velocities)
+    ends = model.segment_nodes
+    at_node = jnp.zeros(model.n_nodes).at[ends[:, 0]].max(jnp.abs(tension)).at[ends[:, 1]].max(jnp.abs(tension))
+    drag = lag.nonconservative_forces(model, env, t, positions, velocities)[worst]
+    on_seabed = jnp.asarray(False)
+    if env.depth is not None and env.seabed is not None:
+        on_seabed = positions[worst, 2] < -env.depth
     return StaticSolution(
         state=State(positions, velocities),
         strain=strain,
-        tension=lag.tension(model, positions, velocities),
+        tension=tension,
         reactions=lag.reactions(model, env, t, positions, velocities, jnp.zeros_like(positions)),
         residual=remaining,
         force_scale=scale,
         worst_node=jnp.asarray(worst, jnp.int32),
+        worst_tension=at_node[worst],
+        worst_drag=jnp.linalg.norm(drag),
+        worst_on_seabed=on_seabed,
         required_strain=needed,
         result=result,
         steps=jnp.sum(stage_steps).astype(jnp.int32),
     )
+
+
+def _implicit(model, env, t, value, graph: NetworkJacobian):
+    """`value`, the free nodes' equilibrium positions (m, shape `(free, 3)`, found by
+    root finds that carry no derivative), unchanged, with the implicit function
+    theorem's derivative in everything the forces depend on, `δx = −J⁻¹ (∂Q_f/∂θ) δθ`,
+    J = ∂Q_f/∂x at `value` (optimistix's `ImplicitAdjoint`, one linear solve on the
+    network's graph; nothing where no derivative is taken). Only the network's own
+    equilibrium is differentiated: a softened stage of the continuation can rest with
+    compressed segments on the seabed, whose Jacobian is singular (the softest stage
+    of `benchmarks/stiffness.py`'s line on the bed at N = 128: 15 such segments,
+    smallest singular value 0), and the implicit derivative of every stage, which the
+    `scan` computed when each root find had its own adjoint, failed in lineax there
+    although the final Jacobian is regular (condition number 1e8; issue 23)."""
+    adjoint = optx.ImplicitAdjoint(linear_solver=graph)
+    return adjoint.apply(_settled, _balance, (jax.lax.stop_gradient(value), model, env, t), frozenset())[0]
+
+
+# optimistix takes these only as closure-free functions, which a runtime type checker's
+# wrapper (the tests' jaxtyping import hook) is not.
+@typing.no_type_check
+def _settled(inputs):
+    """`_implicit`'s primal: the equilibrium as found."""
+    return inputs[0], None
+
+
+@typing.no_type_check
+def _balance(root, _, inputs):
+    """`_implicit`'s condition: the forces at `root` vanish."""
+    _, model, env, t = inputs[:4]
+    return _free_forces(model, env, t, root)
 
 
 def _free_forces(model, env, t, free_positions):
@@ -438,6 +537,169 @@ def _load_sum(model, env, t, positions):
     )
 
 
+class _Chains(NamedTuple):
+    """The network's chains (see `_chains`), as static index arrays."""
+
+    ends: np.ndarray  # (chains, 2): each chain's first and last node
+    tail: np.ndarray  # (chains,): whether its last node is a free node that joins nothing else
+    moving: np.ndarray  # the nodes a start shape places: inner nodes, and a tail's last
+    owner: np.ndarray  # each moving node's chain
+    segments: np.ndarray  # every chain's segments, chain by chain, each from its first node
+    before: np.ndarray  # each moving node's place in `segments`: the segment that ends at it
+    first: np.ndarray  # (chains,): where each chain starts in `segments`
+
+
+@functools.lru_cache(maxsize=32)
+def _chains(topology: Topology) -> _Chains:
+    """The network's chains: runs of segments through nodes that join exactly two (not
+    constrained, not a line's end). A tail is a chain whose last node is a free node
+    that joins nothing else (a hanging line's end, a riser's buoy). A chain that
+    places nothing (one segment between two junctions, a loop) is left out."""
+    neighbours = [[] for _ in range(topology.n_nodes)]
+    for s, (i, j) in enumerate(topology.segment_nodes):
+        neighbours[i].append((j, s))
+        neighbours[j].append((i, s))
+    junction = np.zeros(topology.n_nodes, dtype=bool)
+    junction[topology.line_ends] = True
+    constrained = np.zeros(topology.n_nodes, dtype=bool)
+    constrained[topology.constrained_nodes] = True
+    seen, ends, tail, moving, owner, segments, before, first = set(), [], [], [], [], [], [], []
+    for start in topology.line_ends:
+        for node, segment in neighbours[start]:
+            if segment in seen:
+                continue
+            path, run = [int(start)], [segment]
+            seen.add(segment)
+            while not junction[node]:
+                path.append(int(node))
+                node, segment = next((n, s) for n, s in neighbours[node] if s != segment)
+                run.append(segment)
+                seen.add(segment)
+            path.append(int(node))
+            tip = [len(neighbours[k]) == 1 and not constrained[k] for k in (path[0], path[-1])]
+            if tip[0] and tip[1]:
+                continue  # a loose piece: `check_held` refuses it
+            if tip[0]:
+                path.reverse()
+                run.reverse()
+            placed = path[1:] if tip[0] or tip[1] else path[1:-1]
+            if not placed or path[0] == path[-1]:
+                continue
+            ends.append((path[0], path[-1]))
+            tail.append(tip[0] or tip[1])
+            owner += [len(ends) - 1] * len(placed)
+            moving += placed
+            before += [len(segments) + k for k in range(len(placed))]
+            first.append(len(segments))
+            segments += run
+    arrays = (ends, tail, moving, owner, segments, before, first)
+    return _Chains(*(np.asarray(x, dtype=np.int64) for x in arrays))
+
+
+def _start_shape(model, env, t, positions):
+    """`positions` (m, shape `(nodes, 3)`), with each chain (see `_chains`) put on its
+    own analytic shape under its load, where that lowers the load's potential. The
+    load is the chain's wet weight, bodies' weight, buoyancy and constant force, and
+    the drag on it at rest, summed into one direction ĝ. A chain between two nodes
+    goes on the inextensible catenary of its length (stretched by the 0.1 % that
+    `CableNetwork.from_branches` stretches it) hanging along ĝ in the plane of its
+    chord and ĝ: its nodes at their arc lengths, where that catenary's nodes have less
+    potential `−Σ F · x` under the nodes' loads F than the given ones. A tail is turned
+    about its first node until its chord points along ĝ, where it points against it.
+    So a buoyant line that `from_branches` hung on a downward catenary starts arched
+    upward, and a buoyant line hanging from a point starts standing up from it, rather
+    than floating up through slack (issue 23's fuzz, seeds 75, 105, 208, 220); a line in
+    a current starts in the plane its drag tilts it into; and a start nearer the
+    equilibrium than the catenary (a solved shape, whose stretch lowers it further) is
+    kept."""
+    chains = _chains(model.topology)
+    if not chains.moving.size:
+        return positions
+    ends, tail, moving, owner = chains.ends, chains.tail, chains.moving, chains.owner
+    line, body = model.line, model.body
+    g, rho = env.gravity, env.water_density
+    up = jnp.array([0.0, 0.0, 1.0])
+    wet = jnp.broadcast_to((rho * line.area - line.mass_per_length) * g * model.segment_length, (model.n_segments,))
+    nodes = model.segment_nodes
+    lift = jnp.zeros(model.n_nodes).at[nodes[:, 0]].add(0.5 * wet).at[nodes[:, 1]].add(0.5 * wet)
+    lift = lift + (rho * body.volume - body.mass) * g
+    rest = jnp.zeros_like(positions)
+    load = (lift[:, None] * up + body.force + lag.nonconservative_forces(model, env, t, positions, rest))[moving]
+    count = ends.shape[0]
+    down = _unit(jax.ops.segment_sum(load, owner, count))
+    pivot, far = positions[ends[:, 0]], positions[ends[:, 1]]
+    chord = far - pivot
+
+    # A chain between two nodes, in the frame of its catenary: `rise` along −ĝ,
+    # `across` the rest of the chord, and arc lengths along its segments.
+    rise = -jnp.sum(chord * down, axis=-1)
+    across = chord + rise[:, None] * down
+    h = jnp.linalg.norm(across, axis=-1)
+    length = jnp.broadcast_to(model.segment_length, (model.n_segments,))[chains.segments]
+    of_segment = np.repeat(np.arange(count), np.diff([*chains.first, length.size]))
+    run = jnp.cumsum(length)
+    fraction = (run[chains.before] - (run - length)[chains.first][owner]) / jax.ops.segment_sum(
+        length, of_segment, count
+    )[owner]
+    target = (1 + _GUESS_STRETCH) * length
+    slack = (h > 0) & (jnp.sum(target) > 0) & ~tail
+    slack = slack & (jax.ops.segment_sum(target, of_segment, count) > jnp.linalg.norm(chord, axis=-1))
+    h = jnp.where(slack, h, 1.0)
+
+    def catenary(total):
+        """The chains' moving nodes on catenaries of arc lengths `total` (m)."""
+        reach = jnp.sqrt(jnp.where(slack, jnp.maximum(total**2 - rise**2, 0.0), 1.0))
+
+        def bisect(_, bounds):  # 2a sinh(h/2a) falls from ∞ to h as a grows
+            low, high = bounds
+            a = jnp.sqrt(low * high)
+            longer = 2 * a * jnp.sinh(jnp.minimum(h / (2 * a), 700.0)) > reach
+            return jnp.where(longer, a, low), jnp.where(longer, high, a)
+
+        a = jnp.sqrt(jnp.prod(jnp.stack(jax.lax.fori_loop(0, 100, bisect, (1e-6 * h, 1e6 * h))), axis=0))
+        x0 = h / 2 - a * jnp.arctanh(jnp.clip(rise / total, -1 + 1e-15, 1 - 1e-15))
+        a, x0, arc = a[owner], x0[owner], fraction * total[owner]
+        x = x0 + a * jnp.arcsinh(arc / a + jnp.sinh(-x0 / a))
+        z = a * (jnp.cosh((x - x0) / a) - jnp.cosh(x0 / a))
+        return pivot[owner] + x[:, None] * (across / h[:, None])[owner] - z[:, None] * down[owner]
+
+    # Sampled at arc lengths, the chords across a tight bend are shorter than their
+    # arcs, so those segments start slack. `from_branches` lengthens the arc until no
+    # chord is; here that stretched the segments away from a coarse chain's bend by up
+    # to 96 % (issue 23's fuzz, seed 4), and a slack segment only slows the solve.
+    shape = catenary(jax.ops.segment_sum(target, of_segment, count))
+    given = positions[moving]
+    lower = jax.ops.segment_sum(jnp.sum(load * (given - shape), axis=-1), owner, count) < 0
+    # (A catenary that overflowed is not finite, so not lower.)
+    use = (slack & lower)[owner, None]
+
+    # A tail, turned about its first node from its chord towards ĝ, where they are
+    # more than 90° apart (about any axis across the chord where exactly opposite).
+    turned = _unit(chord)
+    normal = jnp.cross(turned, down)
+    across_x = jnp.cross(turned, jnp.array([1.0, 0.0, 0.0]))
+    fallback = _unit(
+        jnp.where(jnp.linalg.norm(across_x, axis=-1, keepdims=True) > 0.1, across_x, jnp.cross(turned, up))
+    )
+    axis = jnp.where(jnp.linalg.norm(normal, axis=-1, keepdims=True) > 1e-9, _unit(normal), fallback)
+    cos = jnp.sum(turned * down, axis=-1)
+    against = tail & (cos < 0)
+    cos, sin = jnp.where(against, cos, 1.0), jnp.where(against, jnp.linalg.norm(normal, axis=-1), 0.0)
+    # Rodrigues: v cos θ + (k × v) sin θ + k (k · v)(1 − cos θ).
+    k, c, s_ = axis[owner], cos[owner, None], sin[owner, None]
+    offset = given - pivot[owner]
+    rotated = (
+        pivot[owner] + offset * c + jnp.cross(k, offset) * s_ + k * jnp.sum(k * offset, -1, keepdims=True) * (1 - c)
+    )
+    return positions.at[moving].set(jnp.where(use, shape, rotated))
+
+
+def _unit(vectors):
+    """`vectors` (shape `(n, 3)`) over their lengths; zero where a length is zero."""
+    length = jnp.linalg.norm(vectors, axis=-1, keepdims=True)
+    return vectors / jnp.where(length > 0, length, 1.0)
+
+
 def _rounding(model):
     """The force (N) that rounding alone leaves on a node: a tension EA ε is known to
     about EA times float64's ε, and a node sums a few of them."""
@@ -479,13 +741,14 @@ class _PseudoTransient(optx.AbstractRootFinder):
     `x`; `options["mass"]` holds the free nodes' pseudo-masses D (kg) and
     `options["shortest"]` the shortest segment (m).
 
-    A step solves `(D/Δτ − J) δ = Q_f`, J = ∂Q_f/∂x, makes `corrections` chord
-    corrections towards implicit Euler's end point x' with the same factors, and tries
-    x'. Δτ is steered as a trust region is, by how well the step's model predicted
-    the force there, `Q_f(x') = D (x' − x)/Δτ`: its error, relative to the force before
-    the step, below
-    `good` lets Δτ grow by `grow`; above `poor` shrinks it by `shrink`; above `bad`
-    (or a force that is not finite) refuses the step, unless the force still halved.
+    A step solves `(D/Δτ − J) δ = Q_f`, J = ∂Q_f/∂x, makes up to `corrections` of
+    Newton's corrections towards implicit Euler's end point x' (each linearised at its
+    iterate; they stop once the residual `Q_f(x') − D (x' − x)/Δτ` is below `resolved`
+    times the force before the step), and tries x'. Δτ is steered as a trust region
+    is, by how well the step's model predicted the force there, `Q_f(x') = D (x' −
+    x)/Δτ`: its error, relative to the force before the step, below `good` lets Δτ
+    grow by `grow`; above `poor` shrinks it by `shrink`; above `bad` (or a force that
+    is not finite) refuses the step, unless the force still halved.
     A model error, not the force's change, is the test because the force need not
     fall along the way (a slack line falls freely at its weight), and because where a
     segment switches between slack and taut, Newton-like steps can cycle between the
@@ -506,7 +769,8 @@ class _PseudoTransient(optx.AbstractRootFinder):
     grow: float = 4.0
     shrink: float = 0.25
     give_up: int = 40
-    corrections: int = 4
+    corrections: int = 10
+    resolved: float = 0.01
 
     def init(self, fn, y, args, options, f_struct, aux_struct, tags):
         force, (tolerance, strain) = fn(y, args)
@@ -519,25 +783,33 @@ class _PseudoTransient(optx.AbstractRootFinder):
 
     def step(self, fn, y, args, options, state, tags):
         mass = options["mass"][:, None]
-        _, linear = jax.linearize(lambda x: fn(x, args)[0], y)
-        operator = lx.FunctionLinearOperator(
-            lambda v: mass * v / state.step_size - linear(v), jax.eval_shape(lambda: y)
-        )
-        factored = self.graph.init(operator, {})
 
         def implicit_residual(x):
             """Implicit Euler's `Q_f(x) − D (x − y)/Δτ`, zero at the step's end."""
             return fn(x, args)[0] - mass * (x - y) / state.step_size
 
-        def correct(_, x):
-            return x + lx.linear_solve(operator, implicit_residual(x), self.graph, state=factored, throw=False).value
+        def newton(carry):
+            k, x = carry
+            _, linear = jax.linearize(lambda z: fn(z, args)[0], x)
+            operator = lx.FunctionLinearOperator(
+                lambda v: mass * v / state.step_size - linear(v), jax.eval_shape(lambda: y)
+            )
+            return k + 1, x + lx.linear_solve(operator, implicit_residual(x), self.graph, throw=False).value
 
-        # The linear step, then chord corrections with the same factors: a stiff
-        # segment turned by δ stretches by δ²/2L, which the linear step cannot see
-        # and the corrections take back along the segment, where the factors are
-        # accurate. Without them a line of EA 7.5e12 N was linear only for forces
-        # below millinewtons, and crept.
-        step = jax.lax.fori_loop(0, self.corrections + 1, correct, y) - y
+        def unresolved(carry):
+            k, x = carry
+            return (k <= self.corrections) & (jnp.max(jnp.abs(implicit_residual(x))) > self.resolved * state.size)
+
+        # The linear step, then Newton's corrections towards implicit Euler's end
+        # point, each linearised afresh, until its residual is a small part of the
+        # force. A stiff segment turned by δ stretches by δ²/2L, which the linear
+        # step cannot see; and a stiff line at rest inside its slack switch's band
+        # (strains of 1e-7 to 1e-5, where the law is cubic) is stiffer at every
+        # iterate than at the last. Corrections with the first step's factors (a
+        # chord method) diverged there: every other step was refused and 17 of the
+        # fuzz's stiff lines stalled at 1e-4 of their force scale. Linearised afresh,
+        # they end in tens of steps, not thousands (issue 23).
+        step = jax.lax.while_loop(unresolved, newton, (0, y))[1] - y
         # Truncated where a segment would switch between slack and taut: the linear
         # model holds on one side of the switch only. A slack segment (ε ≤ 0) that the
         # step would stretch past the top of its switch's band stops there, a taut one

@@ -244,17 +244,11 @@ def _equilibrium_moved(model, env, offsets, t, initial, max_steps, force_toleran
     `(constrained, 3)`, from their reference positions."""
     nodes = model.constrained_nodes
     moved = eqx.tree_at(lambda m: m.node_positions, model, model.node_positions.at[nodes].add(offsets))
-    # The free nodes start where they would anyway, and the start carries no
-    # derivative: the equilibrium's does not depend on it, and `solve_statics` scales
-    # its continuation by loads measured at the start, whose derivatives (a norm of a
-    # zero drag) are not finite.
-    start = model.node_positions if initial is None else initial.positions
-    start = jax.lax.stop_gradient(start)
     return solve_statics(
         moved,
         env,
         t=t,
-        initial=State(start, jnp.zeros_like(start)),
+        initial=initial,
         max_steps=max_steps,
         force_tolerance=force_tolerance,
         throw=False,

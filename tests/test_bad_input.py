@@ -151,6 +151,9 @@ CLI_CASES = [
         r"--learning-rate must be a positive number, got 0",
     ),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--rtol", "-1"], r"--rtol must be a positive number, got -1"),
+    # A tolerance float64 cannot meet: the step would shrink without end.
+    (["run", "seed003_line", "--adaptive", "--rtol", "1e-300"], r"--rtol must be at least 1e-13, .* got 1e-300$"),
+    (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--rtol", "1e-300"], r"--rtol must be at least 1e-13"),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--atol", "nan"], r"--atol must be a positive number, got nan"),
 ]
 
@@ -158,6 +161,34 @@ CLI_CASES = [
 @pytest.mark.parametrize("args, message", CLI_CASES, ids=lambda x: " ".join(x) if isinstance(x, list) else None)
 def test_cli_refuses_before_any_work(cli, args, message):
     status, _, err = cli(args, {"r.csv": RECORD})
+    assert status == 2
+    assert re.search(message, error_line(err)), err
+
+
+# Towing records and motion tables (their readers' own tests are `test_records.py` and
+# `test_readers.py`): (the file's text, the command, the error's words).
+RECORD_HEAD = "# rig = horizontal_tow\ntime [s], speed [kn], tension [kN]\n"
+FILE_CASES = [
+    (
+        RECORD_HEAD + "0.0, 1.9, 5.1\n0.1, 1.9, nan\n0.2, 1.9, 5.3\n",
+        "calibrate",
+        r"f, line 4: column 'tension' is NaN$",
+    ),
+    (
+        RECORD_HEAD + "0.0, 1.9, 5.1\n0.2, 1.9, 5.2\n0.1, 1.9, 5.3\n",
+        "calibrate",
+        r"f, line 5: time 0.1 s is not after 0.2 s \(line 4\); times must strictly increase$",
+    ),
+    ("time x y z\n0 0 0 0\n1 0 0 0\n1 1 0 0\n2 0 0 0\n", "run", r"f, line 4: the time column must increase"),
+    ("time x y z\n0 0 0 0\n1 nan 0 0\n2 0 0 0\n", "run", r"f, line 3: non-finite value$"),
+    ("time x y\n0 0 0\n1 0 0\n", "run", r"f, line 2: expected 4 columns \(time, then x y z .*\), got 3$"),
+]
+
+
+@pytest.mark.parametrize("text, command, message", FILE_CASES)
+def test_records_and_motion_tables_are_refused_by_line(cli, text, command, message):
+    args = ["calibrate", "f", "--fit", "normal_drag=1.2"] if command == "calibrate" else ["run", "seed003_line"]
+    status, _, err = cli(args + ([] if command == "calibrate" else ["--motion", "f"]), {"f": text})
     assert status == 2
     assert re.search(message, error_line(err)), err
 
@@ -232,6 +263,14 @@ MOORDYN_CASES = [
     ("0.5      dtOut", "-0.5     dtOut", r"dtOut must be positive \(or 0, MoorDyn's every step\)"),
     ("150.0    WtrDpth", "-150.0   WtrDpth", r"WtrDpth must be positive"),
     ("1025.0   WtrDnsty", "0   WtrDnsty", r"WtrDnsty must be positive"),
+    # Degenerate geometry, named before statics: a 1 mm line over a 224 m chord, and a
+    # line whose ends are one point.
+    ("250.0     10 ", "0.001     10 ", r"line 1 must stretch 2.24e\+07 % to reach from point 1 to point 2"),
+    (
+        "Vessel    200.0   0.0    0.0 ",
+        "Vessel    0.0     0.0    -100.0",
+        r"both ends of line 1 are at \[0.0, 0.0, -100.0\]",
+    ),
 ]
 
 
@@ -358,6 +397,15 @@ def small_line(law=None, seabed=None, anchor_z=-30.0):
     return model, env
 
 
+def line_between(anchor, top, length):
+    """`small_line`'s rope, `length` (m) in four segments between two fixed points."""
+    line = jc.LineType(mass_per_length=2.0, diameter=0.03, tension_law=jc.LinearElastic(2e6))
+    model = jc.CableNetwork.from_branches(
+        [anchor, top], [jc.Branch(0, 1, line, length, 4)], {0: jc.Fixed(), 1: jc.Fixed()}
+    )
+    return model, jc.Environment()
+
+
 def simulate_from(positions=None, velocities=None):
     model, env = small_line()
     initial = jc.State(
@@ -411,6 +459,14 @@ API_CASES = {
         r"constrained node 0 is at z = -60 m, below the seabed at z = -30 m \(Environment.depth = 30 m\)",
     ),
     "rtol below rounding": (lambda: jc.SolverConfig(rtol=1e-300), r"SolverConfig.rtol must be at least 1e-13"),
+    "line with both ends at one point": (
+        lambda: jc.solve_statics(*line_between([0.0, 0.0, -30.0], [0.0, 0.0, -30.0], 43.0)),
+        r"segment 0 joins nodes 0 and 2, which start at the same point \[0.0, 0.0, -30.0\] m",
+    ),
+    "1e-6 m line between points 400 m apart": (
+        lambda: jc.solve_statics(*line_between([0.0, 0.0, -30.0], [400.0, 0.0, -30.0], 1e-6)),
+        r"constrained nodes 0 and 1 are 400 m apart, but .* 1e-06 m long unstretched: it must stretch 4e\+10 %",
+    ),
     "NaN initial position": (
         lambda: simulate_from(positions=nan_at(small_line()[0].node_positions, (2, 0))),
         r"simulate: initial.positions must be finite, got nan at index 2, 0",
@@ -514,16 +570,47 @@ def test_size_estimate_follows_its_stated_costs(tmp_path):
     assert check_size(jc.read_scene(tmp_path / "scene.toml").build(), 30.0, 0.5, jc.SolverConfig()) == ()
 
 
-def test_sweep_reports_a_later_case_with_a_falling_law_as_invalid():
-    """The first case is sound and built concretely; the second, built under `vmap`,
-    has a tension law that turns negative at ε = 0.1: it is reported, not run."""
+def with_law(c_e, c_e1):
+    """`small_line` with the tension law `C_E ε + C_E1 ε²`, edited in as a sweep's
+    traced build would, past the constructor's checks."""
+    model = with_quadratic(c_e1)
+    return eqx.tree_at(lambda m: m.line.tension_law.axial_stiffness, model, c_e * np.ones(4))
+
+
+def test_sweep_reports_later_cases_with_a_falling_law_or_a_negative_stiffness_as_invalid():
+    """The first case is sound and built concretely; the second and third, built under
+    `vmap`, have a tension law that turns negative at ε = 0.1 and a negative axial
+    stiffness (reported as a "successful" run with a -48.7 kN statics tension before
+    these checks, issue 23): each is reported, not run."""
     swept = jc.sweep(
-        lambda c: (with_quadratic(c), small_line()[1]), {"c": [0.0, -2e7]}, 0.2, ts=[0.0, 0.2], initial="rest"
+        lambda c_e, c_e1: (with_law(c_e, c_e1), small_line()[1]),
+        {"c_e": [2e6, 2e6, -2e6], "c_e1": [0.0, -2e7, 0.0]},
+        0.2,
+        ts=[0.0, 0.2],
+        initial="rest",
     )
     assert swept.status[0] == "successful"
     assert swept.status[1] == (
         "invalid input: case 1: LineType.tension_law.quadratic_stiffness must be at least −C_E/2, so that the "
         "tension rises up to ε = 1, got -20000000.0"
     )
-    assert bool(swept.case(1).result == diffrax.RESULTS.nonfinite_input)
-    assert not np.any(np.isfinite(np.asarray(swept.simulation.tension[1])))
+    assert swept.status[2].startswith(
+        "invalid input: case 2: LineType.tension_law.axial_stiffness must be positive, got -2000000.0"
+    )
+    for case in (1, 2):
+        assert bool(swept.case(case).result == diffrax.RESULTS.nonfinite_input)
+        assert not np.any(np.isfinite(np.asarray(swept.simulation.tension[case])))
+
+
+def test_segment_count_of_hours_is_warned_of_before_any_work(tmp_path, monkeypatch):
+    """`--segments 100000` once hung with no message: now the size check says before
+    statics that the run would take hours (the warning, made an error here, stops it)."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("JAXCABLE_CACHE_DIR", "")
+    start = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        with pytest.raises(UserWarning, match=r"100,000 segments .* would take some [\d.,]+ h"):
+            main(["run", "seed003_line", "--segments", "100000", "--duration", "1"])
+    assert time.perf_counter() - start < SECONDS
+    assert not list(tmp_path.iterdir())

@@ -58,18 +58,25 @@ def test_fuzz_scene_is_the_same_under_jit_and_vmap():
     assert np.max(np.abs(batch.state.positions[1] - batch.state.positions[0])) > 0.1  # the current moved it
 
 
+# The phrases that name a failure's cause (`jaxcable._statics.failure_message`).
+CAUSES = ("lies on the seabed", "is on slack line", "close to it", "far from it", "must stretch", "still stretching")
+
+
 @pytest.mark.slow
 def test_fuzz_200_scenes():
     """200 scenes: the engine's verdict is the independent check's on every one (no
     equilibrium claimed that the check refuses), every catenary found is within its
-    O(1/N²) bound, and at least 90 % are found. The issue's goal is 99.5 %; at the
-    commit that measured it 183 of these 200 were found (91.5 %), the rest running out
-    of steps on long chains (40–100 segments, Y networks of 3 × 30): a guard against
-    regression, not the goal (`benchmarks/README.md`, *Statics on random scenes*)."""
+    O(1/N²) bound (`statics_fuzz.CATENARY_CONSTANT`), at least 198 are found, and every
+    failure names its cause. At the commit that measured it 199 of these 200 were
+    found; the one left (seed 153, a heavy line hanging onto the bed in a weak current)
+    is still being laid out along the bed when its steps run out
+    (`benchmarks/README.md`, *Statics on random scenes*)."""
     records = statics_fuzz.run(range(200))
     assert all(r["converged"] == r["equilibrium"] for r in records)
-    assert sum(r["equilibrium"] for r in records) >= 180
-    assert all("solve_statics found no equilibrium: " in r["message"] for r in records if not r["converged"])
+    assert sum(r["equilibrium"] for r in records) >= 198
+    failed = [r["message"] for r in records if not r["converged"]]
+    assert all("solve_statics found no equilibrium: " in m and any(c in m for c in CAUSES) for m in failed)
     catenaries = [r for r in records if "catenary_error" in r and r["equilibrium"]]
     assert catenaries
-    assert all(r["catenary_error"] <= r["catenary_bound"] for r in catenaries)
+    bound = statics_fuzz.CATENARY_CONSTANT
+    assert all(r["catenary_error"] <= bound * r["catenary_bound"] for r in catenaries)

@@ -379,3 +379,37 @@ def test_stiffness_is_differentiable_and_vmaps_over_designs():
     assert gradient < 0  # a longer line is softer
     scales = jnp.array([0.99, 1.0, 1.01])
     np.testing.assert_allclose(jax.vmap(k_xx)(scales), [k_xx(s) for s in scales], rtol=1e-10)
+
+
+@pytest.mark.slow
+def test_line_on_the_seabed_at_fine_resolution():
+    """`benchmarks/stiffness.py`'s line on the bed (500 m, about 330 m lying) at N = 128,
+    where the softest stage of statics' continuation rests with compressed segments on
+    the bed (a singular Jacobian) and a derivative through every stage once failed in
+    lineax: the fairlead's 3 × 3 against the implicit-function formula at the
+    equilibrium, `K = −(J_cc − J_cf J_ff⁻¹ J_fc)`, with J the dense Jacobian of the
+    forces by `jax.jacfwd` and numpy's solve (866.8 N/m along the span; MoorPy's
+    continuum 885)."""
+    from jaxcable import _lagrangian as lag
+
+    n = 128
+    line = chain()
+    model = jc.CableNetwork.from_branches(
+        junctions=np.array([[400.0, 0.0, -5.0], [0.0, 0.0, -150.0]]),
+        branches=[jc.Branch(1, 0, line, 500.0, n)],
+        constraints={0: jc.Fixed(), 1: jc.Fixed()},
+    )
+    env = jc.Environment(depth=150.0, seabed=jc.Seabed(stiffness=3e6))
+    k, solution = stiffness_and_statics(model, env, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
+    x = solution.state.positions
+    assert int(np.sum(np.asarray(x)[:, 2] < -150.0)) > 60  # most of the line lies on the bed
+    jacobian = np.asarray(jax.jacfwd(lambda y: lag.generalised_forces(model, env, 0.0, y, jnp.zeros_like(y)))(x))
+    free, held = np.asarray(model.free_nodes), np.asarray(model.constrained_nodes)
+
+    def block(a, b):
+        return jacobian[a][:, :, b].reshape(3 * a.size, 3 * b.size)
+
+    reduced = -(block(held, held) - block(held, free) @ np.linalg.solve(block(free, free), block(free, held)))
+    expected = reduced.reshape(held.size, 3, held.size, 3)[0, :, 0, :]
+    np.testing.assert_allclose(np.asarray(k)[0, :, 0, :], expected, rtol=1e-6, atol=1e-6 * np.abs(expected).max())
+    assert 850.0 < expected[0, 0] < 885.0
