@@ -53,6 +53,7 @@ import equinox as eqx
 import jax
 import numpy as np
 from jax import monitoring
+from jax._src import config as jax_config
 from jax.core import Tracer
 from jax.experimental import serialize_executable
 
@@ -251,7 +252,11 @@ class Program:
         jaxlib 0.10.2). That happens where JAX's cache outlives this folder's entry (a
         new jaxcable whose program lowers as before); JAX's cache still serves it."""
         _hits.count = 0
-        executable = lowered.compile(self.compiler_options or None)
+        # Kept here, so not in JAX's cache as well: its compressed copy of statics' program
+        # was written on a cold run's critical path, for nothing. The setting is this
+        # thread's alone (JAX has no public per-call switch).
+        with jax_config.persistent_cache_min_compile_time_secs(float("inf")):
+            executable = lowered.compile(self.compiler_options or None)
         if not _hits.count:
             self._save(key, executable, tree)
         return executable, tree
