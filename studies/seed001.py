@@ -362,7 +362,7 @@ def plot_shadow_map(study: TetheredStudy, bins: int = 72, ax=None):
         title=f"the tether's shadow, k₀ = {study.specific_drag:g} s²/m² (St = "
         f"{float(inertia_number(study.specific_drag)):.2g})",
     )
-    plt.colorbar(mesh, ax=ax, label="fraction of the time slack at this phase (1: shadow, 0: light)")
+    plt.colorbar(mesh, ax=ax, label="fraction of the time slack\n(1: shadow, 0: light)")
     return ax
 
 
