@@ -65,6 +65,7 @@ if TYPE_CHECKING:
     from ._network import Branch as Branch
     from ._network import CableNetwork as CableNetwork
     from ._network import LineType as LineType
+    from ._picard import PicardSimpson as PicardSimpson
     from ._picard import PicardTrapezoid as PicardTrapezoid
     from ._rk4 import RK4 as RK4
     from ._simulate import SimulationResult as SimulationResult
@@ -125,6 +126,7 @@ _NAMES = {
     "Branch": "._network",
     "CableNetwork": "._network",
     "LineType": "._network",
+    "PicardSimpson": "._picard",
     "PicardTrapezoid": "._picard",
     "RK4": "._rk4",
     "SimulationResult": "._simulate",

@@ -221,7 +221,9 @@ class Airy(AbstractWave):
     wavenumber: Float[Array, ""]
     wheeler: bool = eqx.field(static=True)
 
-    def __init__(self, height, period, depth, *, gravity=9.81, heading=0.0, phase=0.0, wheeler: bool = False):
+    def __init__(
+        self, height, period, depth, *, gravity: RealScalarLike = 9.81, heading=0.0, phase=0.0, wheeler: bool = False
+    ):
         fields = _check_wave("Airy", height, period, depth, gravity, heading, phase)
         for name, value in fields.items():
             setattr(self, name, value)

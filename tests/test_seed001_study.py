@@ -6,11 +6,13 @@ against a water particle integrated by scipy through the same linear velocity fi
 the drift measurement and impulse fits against curves with known answers.
 """
 
+import jax
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
 import jaxcable as jc
+from jaxcable.examples import seed001 as scene
 from studies import seed001 as study
 
 
@@ -112,3 +114,79 @@ def test_tethered_heavy_element_never_goes_slack(tethered):
     # T/W within 1 ± 1/2 in the quasi-static limit; inertia widens it a little.
     ratio = tethered.tension[1] / tethered.weight[1]
     assert 0.3 < ratio.min() < 1.0 < ratio.max() < 1.7
+
+
+def test_tethered_light_element_rises_off_its_arc_and_the_heavy_one_does_not(tethered):
+    # A taut tether keeps the element on its arc, below it by the stretch, whatever it
+    # swings; only a slack one lets the water lift it off. So the light element's rise is
+    # physics, and the heavy element sits its mean stretch T l / EF (3 mm) below the arc;
+    # 10 %: the stretch acts along the tether, which tilts by up to 8° here.
+    rise = study.rise_above_arc(tethered)
+    assert rise[0] > study.ARC_RISE_FRACTION * study.orbit_radius()
+    stretch = np.mean(tethered.tension[1]) * scene.TETHER_LENGTH / scene.TETHER_STIFFNESS
+    assert rise[1] == pytest.approx(-stretch, rel=0.1)
+
+
+def test_quasi_static_threshold_is_the_waters_velocity_ratio():
+    # (w₀/u₀)² from the wave's own velocity field over a period, against tanh² k(z + d).
+    wave = scene.seed001_wave()
+    t = np.linspace(0.0, scene.WAVE_PERIOD, 721)
+    points = np.tile([0.0, 0.0, scene.element_depth()], (t.size, 1))
+    velocity = np.asarray(jax.vmap(wave.velocity)(points, t))
+    ratio = np.max(np.abs(velocity[:, 2])) / np.max(np.abs(velocity[:, 0]))
+    assert study.quasi_static_threshold() == pytest.approx(ratio**2, rel=1e-4)
+
+
+@pytest.fixture(scope="module")
+def thread():
+    return study.thread_quadrature_study()
+
+
+def test_thread_quadrature_orders_and_the_five_times_claim(thread):
+    # Problem 1 (taut) against its closed form: Simpson by 3 Picard iterations is fourth
+    # order and the trapezoid second, so halving h divides their errors by 16 and 4 on
+    # the finest steps, and the trapezoid's error at h/5 over Simpson's at h grows by 4.
+    simpson, trapezoid = thread.simpson_error[0], thread.trapezoid_error[0]
+    np.testing.assert_allclose(simpson[-3:-1] / simpson[-2:], 16.0, rtol=0.05)
+    np.testing.assert_allclose(trapezoid[-3:-1] / trapezoid[-2:], 4.0, rtol=0.02)
+    ratio = thread.error_ratio[0]
+    np.testing.assert_allclose(ratio[-2:] / ratio[-3:-1], 4.0, rtol=0.05)
+    # So "like Simpson's" holds near one step only, and the row says so from the numbers.
+    assert thread.similar.any() and not thread.similar.all()
+    assert study.quadrature_row(thread)[2] == "partly"
+    # Three iterations a step: Simpson 7 evaluations, the trapezoid 4 at five times the steps.
+    np.testing.assert_array_equal(thread.trapezoid_evaluations * 7, thread.simpson_evaluations * 20)
+
+
+@pytest.mark.slow
+def test_wave_quadrature_runs_and_keeps_its_references():
+    # The tethered element: Simpson at 10 ms and the trapezoid at 2 ms against Dopri5 at
+    # 1e-12. Both converge (errors well under 1 % of the peak tension), and halving h
+    # lowers both on the taut element.
+    wave = study.wave_quadrature_study(steps=(0.01, 0.005))
+    assert np.all(wave.simpson_error < 1e-2) and np.all(wave.trapezoid_error < 1e-2)
+    taut = wave.case.index("ρ = 2")
+    assert wave.simpson_error[taut, 1] < wave.simpson_error[taut, 0] / 8
+    assert wave.trapezoid_error[taut, 1] < wave.trapezoid_error[taut, 0] / 3
+
+
+@pytest.fixture(scope="module")
+def similar():
+    return study.similarity_study(periods=4)
+
+
+@pytest.mark.slow
+def test_similar_scenes_share_their_dimensionless_response(similar):
+    # Eq. 7 both ways: scenes in other units with every group the same agree to the
+    # solver's tolerance (rtol = 1e-10 gives 1e-6 here, limit 1e-4); doubling α moves η
+    # or χ by more than 10 %, and so does St at the same α, ξ and ρ.
+    assert all(scene.success for scene in similar)
+    classes = study.similarity_classes(similar)
+    assert len(classes["same"]) == 2 and len(classes["alpha"]) == 1 and len(classes["inertia"]) == 1
+    assert all(d < study.SAME for _, d in classes["same"])
+    assert all(d > study.DIFFERENT for _, d in classes["alpha"])
+    base = similar[0]
+    for other, _ in classes["same"]:
+        # the scene really is in other units, with the same α
+        assert other.units != base.units and other.alpha == pytest.approx(base.alpha, rel=1e-12)
+    assert study.similarity_row(similar)[2] in ("yes", "partly")

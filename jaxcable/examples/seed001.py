@@ -86,6 +86,8 @@ def seed001_element(
     tethered: bool = True,
     specific_drag: RealScalarLike = SPECIFIC_DRAG,
     wave_height: RealScalarLike = WAVE_HEIGHT,
+    tether_stiffness: RealScalarLike = TETHER_STIFFNESS,
+    units: tuple[RealScalarLike, RealScalarLike, RealScalarLike] = (1.0, 1.0, 1.0),
     mass_matrix: str = "lumped",
 ) -> tuple[CableNetwork, Environment]:
     """A growing element in seed 001's wave: `(model, env)`, node 0 the fixed frame
@@ -101,53 +103,64 @@ def seed001_element(
         or let it move freely.
     - `specific_drag`: k₀ (s²/m²) of the element.
     - `wave_height`: H (m) of the 4 s wave.
+    - `tether_stiffness`: EF (N) of the tether.
+    - `units`: `(L, T, M)`, the same scene with every length multiplied by L, every
+        time by T and every mass by M (so gravity by L/T², forces by M L/T², k₀ by
+        T²/L², the water's density by M/L³; the other arguments are given in the
+        scene's own units): a scene similar to the default one, with every
+        dimensionless group of the thesis's eq. 7 the same.
     - `mass_matrix`: as for [`jaxcable.CableNetwork`][].
 
     All numeric arguments may be traced, for [`jaxcable.sweep`][].
     """
-    wave = Airy(wave_height, WAVE_PERIOD, DEPTH, gravity=GRAVITY)
+    length, time, mass = units
+    gravity = GRAVITY * length / time**2
+    density = WATER_DENSITY * mass / length**3
+    wave = Airy(wave_height * length, WAVE_PERIOD * time, DEPTH * length, gravity=gravity)
     env = Environment(
-        water_density=WATER_DENSITY,
-        gravity=GRAVITY,
-        depth=DEPTH,
+        water_density=density,
+        gravity=gravity,
+        depth=DEPTH * length,
         waves=wave,
-        wave_ramp=WAVE_RAMP,
+        wave_ramp=WAVE_RAMP * time,
         fluid_inertia=False,
     )
-    z_element = element_depth()
-    frame = jnp.array([0.0, 0.0, -FRAME_DEPTH])
+    z_element = element_depth() * length
+    frame = jnp.array([0.0, 0.0, -FRAME_DEPTH * length])
     # Tethered, the element starts a little below the tether's unstretched reach, so that
     # statics begins taut (Newton has no gradient to follow inside the slack band).
-    reach = TETHER_LENGTH * (_INITIAL_STRAIN if tethered else 0.0)
+    reach = TETHER_LENGTH * length * (_INITIAL_STRAIN if tethered else 0.0)
     element = jnp.array([0.0, 0.0, z_element - reach])
-    specific_drag = jnp.asarray(specific_drag, dtype=float)
+    specific_drag = jnp.asarray(specific_drag, dtype=float) * time**2 / length**2
     u0 = orbital_speed(wave, z_element)
-    weight = weight_characteristic * specific_drag * ORGANISM_MASS * GRAVITY * u0**2  # N, in water
-    volume = (ELEMENT_MASS * GRAVITY - weight) / (WATER_DENSITY * GRAVITY)
+    organisms = ORGANISM_MASS * mass
+    weight = weight_characteristic * specific_drag * organisms * gravity * u0**2  # N, in water
+    volume = (ELEMENT_MASS * mass * gravity - weight) / (density * gravity)
+    stiffness = LinearElastic(tether_stiffness * mass * length / time**2)
     if tethered:
-        line = LineType(TETHER_MASS, TETHER_DIAMETER, LinearElastic(TETHER_STIFFNESS))
-        length = TETHER_LENGTH
+        line = LineType(TETHER_MASS * mass / length, TETHER_DIAMETER * length, stiffness)
+        segment = TETHER_LENGTH * length
     else:
         line = LineType(
-            _FREE_TETHER_MASS,
-            TETHER_DIAMETER,
-            LinearElastic(TETHER_STIFFNESS),
-            area=_FREE_TETHER_MASS / WATER_DENSITY,
+            _FREE_TETHER_MASS * mass / length,
+            TETHER_DIAMETER * length,
+            stiffness,
+            area=_FREE_TETHER_MASS * mass / length / density,
             normal_drag=0.0,
             tangential_drag=0.0,
             normal_added_mass=0.0,
         )
-        length = _FREE_SLACK * TETHER_LENGTH
+        segment = _FREE_SLACK * TETHER_LENGTH * length
     body = Body(
-        mass=ELEMENT_MASS,
+        mass=ELEMENT_MASS * mass,
         volume=volume,
         specific_drag=specific_drag,
-        organism_mass=ORGANISM_MASS,
+        organism_mass=organisms,
     )
     model = CableNetwork(
         node_positions=jnp.stack([frame, element]),
         segment_nodes=[[0, 1]],
-        segment_length=[length],
+        segment_length=[segment],
         line=line,
         constraints={0: Fixed()},
         bodies={1: body},
