@@ -239,15 +239,20 @@ def test_statics_and_a_run_load_their_programs_bitwise(folder):
     (programs forgotten in memory) loads all of them and gives the same bits."""
     from jaxcable import _blocks, _statics
 
+    programs = (_statics._equilibrium, _statics._required_strain)
+    run = (_blocks._start, _blocks._block, _blocks._fixed_start, _blocks._fixed_block, _blocks._outputs)
+
+    def new_process():  # what another test in this worker kept in memory is forgotten too
+        for program in programs + run:
+            program._programs.clear()
+            program._shapes.clear()
+
     scene = load_scene(Path(jc.examples.__file__).parent / "scenes" / "seed003_line.toml")
+    new_process()
     first = jc.run_scene(scene, duration=0.5, dt_out=0.1)
     names = {p.split("-")[0] for p in _files(folder)}
     assert {"_equilibrium", "_required_strain"} <= names and names & {"_start", "_fixed_start"}
-    programs = (_statics._equilibrium, _statics._required_strain)
-    run = (_blocks._start, _blocks._block, _blocks._fixed_start, _blocks._fixed_block, _blocks._outputs)
-    for program in programs + run:
-        program._programs.clear()
-        program._shapes.clear()
+    new_process()
     loaded = []
 
     def listen(event, **_):
