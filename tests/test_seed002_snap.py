@@ -127,3 +127,29 @@ def test_small_net_snap_converges():
     # The resolved peak is the viscous jump C_v ε̇ as the segment leaves the slack band,
     # with ε̇ from central differences of its strain at 1 µs.
     assert resolved == pytest.approx(s.spike_model(windows[-1]), rel=0.05)
+
+
+def test_find_snap_needs_dense_samples():
+    # A net run sampled at 20 Hz to 19.2 s and at 2 kHz after, with a spike near the
+    # anchor at 23.35 s and a larger one at 12 s: the snap is found where the samples
+    # are dense, and not at all where they are not.
+    times = np.concatenate([np.arange(0.0, 19.2, 0.05), np.linspace(19.2, 44.8, 51201)])
+    tension = np.zeros((times.size, 4))
+    tension[np.argmin(np.abs(times - 23.35)), 3] = 5e4
+    tension[np.argmin(np.abs(times - 12.0)), 3] = 9e4
+    run = s2n.NetRun(
+        config=dict(dense=2000.0, periods=4),
+        pretension=net.PRETENSION,
+        times=times,
+        junctions=np.zeros((times.size, 13, 3)),
+        tension=tension,
+        still=net.junctions(),
+        still_tension=np.ones(4),
+        places=dict(zip(s2n.PLACES, range(4))),
+        branches={},
+        steps=0,
+        statics_time=0.0,
+        wall_time=0.0,
+    )
+    assert s.find_snap(run, 19.2, 25.6) == pytest.approx(23.35)
+    assert s.find_snap(run, 10.0, 15.0) is None
