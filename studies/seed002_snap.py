@@ -7,8 +7,8 @@ while its ends still separate at a rate ε̇₀ L, its viscous term `C_v ε̇ H(
 on across the slack band (w = 1e-5 of strain, a few tens of microseconds; the viscous
 switch already has the elastic one's smoothed width): the tension jumps to about
 C_v ε̇₀, then falls as the dashpot brings the segment's end nodes to one axial speed,
-over about μ L / C_v (μ a node's mass; a fraction of a millisecond on the net's steel
-segments). That spike is the lumped model's, not the cable's. By the law, its height
+over about μ L / C_v (μ a node's mass: 0.2 ms on the full net's 5.6 m steel segments,
+0.7 ms on the small net's 11 m ones). That spike is the lumped model's, not the cable's. By the law, its height
 C_v ε̇₀ = C_v Δv / L grows as the segments shorten; and a continuous Kelvin–Voigt rod
 struck by a speed step Δv has no finite peak at all: while t ≪ C_v / C_E its tension
 at the struck end is Δv √(C_v m' / (π t)) (the diffusion limit of its wave equation,
@@ -395,21 +395,29 @@ def plot_convergence(study: SnapStudy, axes=None):
     if axes is None:
         _, axes = plt.subplots(1, 2, figsize=(13, 4.2))
     left, right = axes
-    for w, row in zip(study.windows, study.table):
+    styles = ("-", "--", ":")
+    for k, (w, row) in enumerate(zip(study.windows, study.table)):
         intervals = [p.interval * 1e3 for p in row]
-        for measure, name in _MEASURES.items():
+        for colour, (measure, name) in zip(("C0", "C1", "k"), _MEASURES.items()):
             left.semilogx(
-                intervals, [getattr(p, measure) / 1e3 for p in row], "o-", ms=3, label=f"{name}, rtol {w.rtol:g}"
+                intervals,
+                [getattr(p, measure) / 1e3 for p in row],
+                styles[k % len(styles)],
+                marker="o",
+                ms=3,
+                color=colour,
+                label=f"{name}, rtol = atol = {w.rtol:g}",
             )
-    left.axvline(1e3 / study.config["net"]["dense"], color="0.6", ls=":", label="the net study's 2 kHz")
+    left.axvline(1e3 / study.config["net"]["dense"], color="0.6", ls=":", label="the net study's 2 kHz samples")
+    left.set_yscale("log")
     left.set_xlabel("output interval (ms)")
     left.set_ylabel("snap near buoy 2's anchor (kN)")
-    left.set_title(f"the net ({_size(study)}), the snap at t ≈ {study.at:.2f} s", fontsize="small")
+    left.set_title(f"the moored net ({_size(study)}), the snap at t ≈ {study.at:.2f} s", fontsize="small")
     left.legend(fontsize="x-small")
     w = study.windows[-1]
     t = (w.times - study.at) * 1e3
-    right.plot(t, w.total / 1e3, lw=0.8, label="total tension (elastic + C_v ε̇), 1 µs samples")
-    right.plot(t, w.elastic / 1e3, lw=0.8, label="elastic tension C_E ε")
+    right.plot(t, w.total / 1e3, lw=0.8, color="C0", label="total tension (elastic + C_v ε̇), 1 µs samples")
+    right.plot(t, w.elastic / 1e3, lw=0.8, color="C1", label="elastic tension C_E ε + C_E1 ε²")
     n = int(round(s2n.SMOOTH / FINEST))
     mean = _running_mean(w.total, n)
     right.plot(
@@ -417,8 +425,9 @@ def plot_convergence(study: SnapStudy, axes=None):
         mean / 1e3,
         lw=0.9,
         color="k",
-        label=f"{1e3 * s2n.SMOOTH:.0f} ms mean of the total",
+        label=f"{1e3 * s2n.SMOOTH:.0f} ms mean of the total, at its window's centre",
     )
+    right.set_title(f"the resolved snap, rtol = atol = {w.rtol:g}", fontsize="small")
     right.set_xlabel(f"t − {study.at:.3f} s (ms)")
     right.set_ylabel("near buoy 2's anchor, T (kN)")
     right.set_yscale("symlog", linthresh=10.0)
