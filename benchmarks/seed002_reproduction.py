@@ -7,10 +7,15 @@ The studies of `studies.seed002` and `studies.seed002_net` at the `FULL` size:
    tensions at the tow point, the branch point, the diverter and the buoy, the buoy's
    depth, the diverters' sweep, slack spells and jerks;
 2. the moored net in 6.4 s waves along its diagonal: the buoys' heave and drift, and the
-   tension along the vertical branch under buoy 2.
+   tension along the vertical branch under buoy 2;
+3. `studies.seed002_snap`: the net's snap near buoy 2's anchor resolved at 1 µs, its
+   peaks as the output interval and the tolerances halve, with C_E1 = 0.2 C_E too; the
+   trawl's 3 → 1 m/s fall with and without C_E1; its steady tow in waves with and without
+   the viscous term.
 
-    python benchmarks/seed002_reproduction.py                # both, about 25 min on 2 cores
-    python benchmarks/seed002_reproduction.py --part trawl   # or net: one study
+    python benchmarks/seed002_reproduction.py                # trawl and net, about 25 min on 2 cores
+    python benchmarks/seed002_reproduction.py --part trawl   # or net, or snap: one study
+    python benchmarks/seed002_reproduction.py --part snap --small   # the snap study at its small size
     python benchmarks/seed002_reproduction.py --report       # reprint the last verdicts
 
 Results are appended to benchmarks/results/seed002_reproduction.json; figures go to
@@ -35,6 +40,7 @@ from _results import append_session  # noqa: E402
 
 from studies import seed002 as s2  # noqa: E402
 from studies import seed002_net as s2n  # noqa: E402
+from studies import seed002_snap as s2s  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -67,20 +73,53 @@ def trawl_record(run: s2.TrawlRun) -> dict:
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--out", default=str(RESULTS / "seed002_reproduction.json"))
-    parser.add_argument("--part", choices=("trawl", "net", "both"), default="both")
+    parser.add_argument("--part", choices=("trawl", "net", "snap", "both"), default="both")
+    parser.add_argument("--small", action="store_true", help="the snap study at its SMALL size")
     parser.add_argument("--report", action="store_true")
     args = parser.parse_args()
     if args.report:
         history = json.loads(Path(args.out).read_text())
-        for part in ("trawl", "net"):
+        for part in ("trawl", "net", "snap"):
             last = [session for session in history if session["part"] == part]
             if last:
-                print(f"{part} ({last[-1]['time']}):\n{last[-1]['verdict']}")
+                print(f"{part} ({last[-1]['time']}):\n{last[-1].get('convergence_table', '')}\n{last[-1]['verdict']}")
         return
     if args.part in ("trawl", "both"):
         trawl(args.out)
     if args.part in ("net", "both"):
         net(args.out)
+    if args.part == "snap":
+        snap(args.out, s2s.SMALL if args.small else s2s.FULL)
+
+
+def snap(out: str, config: dict) -> None:
+    clock = time.perf_counter()
+    study = s2s.run_study(config)
+    wall = time.perf_counter() - clock
+    print(f"snap study: {wall:.0f} s; the snap at t = {study.at:.4f} s", flush=True)
+    table = s2s.convergence_markdown(study)
+    verdict = "\n".join(
+        ["| paper's claim | jaxcable's result | agreement | why |", "|---|---|---|---|"]
+        + ["| " + " | ".join(cell.replace("|", "/") for cell in row) + " |" for row in s2s.verdict_rows(study)]
+    )
+    print(table)
+    print(verdict)
+    append_session(
+        out,
+        part="snap",
+        size="small" if config is s2s.SMALL else "full",
+        config={k: v for k, v in config.items() if k not in ("net", "trawl")},
+        net_config=config["net"],
+        trawl_config=config["trawl"],
+        study_s=wall,
+        **s2s.record(study),
+        convergence_table=table,
+        verdict=verdict,
+    )
+    suffix = "_small" if config is s2s.SMALL else ""
+    s2s.plot_convergence(study)
+    plt.tight_layout()
+    plt.savefig(Path(out).parent / f"seed002_reproduction_snap{suffix}.png", dpi=110)
 
 
 def net(out: str) -> None:

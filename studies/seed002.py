@@ -16,6 +16,7 @@ Where tension is read (the paper's Figs. 7–8), by the segment that touches the
 
 import dataclasses
 import time
+from typing import Any
 
 import numpy as np
 
@@ -75,10 +76,19 @@ class TrawlRun:
     front_angle: float  # rad, the tow cable's first segment below the tow, before the step
     steps: int
     wall_time: float  # s, compile included
+    # N, the elastic part `(C_E ε + C_E1 ε²) H(ε)` of `tension`, same shape; `None` for
+    # a run built by hand.
+    elastic: np.ndarray | None = None
 
     def at(self, point: str) -> np.ndarray:
         """The tension (N) at one of `POINTS`, shape `(times,)`."""
         return self.tension[:, self.points[point]]
+
+    def elastic_at(self, point: str) -> np.ndarray:
+        """The elastic part of the tension (N) at one of `POINTS`, shape `(times,)`."""
+        if self.elastic is None:
+            raise ValueError(f"run {self.name!r} has no elastic tension (a run built by hand)")
+        return self.elastic[:, self.points[point]]
 
     def window(self, t0: float, t1: float = np.inf) -> np.ndarray:
         return (self.times >= t0) & (self.times <= t1)
@@ -99,14 +109,22 @@ def _points(model) -> dict[str, int]:
 
 
 def run_trawl(
-    name: str, config: dict = SMALL, progress: bool = False, guess: State | None = None, case: tuple | None = None
+    name: str,
+    config: dict = SMALL,
+    progress: bool = False,
+    guess: State | None = None,
+    case: tuple | None = None,
+    quadratic_ratio: float = 0.0,
 ) -> TrawlRun:
     """Run case `name` of `CASES` at size `config` (`SMALL` or `FULL`). `guess`: the
     steady tow at the case's first speed from another case, to start statics from.
-    `case`: `(speeds, viscous, waves, length)` as in `CASES`, for a case not in it."""
+    `case`: `(speeds, viscous, waves, length)` as in `CASES`, for a case not in it.
+    `quadratic_ratio`: C_E1 / C_E of the cable (0, Hooke's, by default)."""
     speeds, viscous, waves, length = CASES[name] if case is None else case
     start, end = config["start"], config["end"][length]
-    options = dict(viscous=viscous, waves=waves, start=start, segments=config["segments"])
+    options: dict[str, Any] = dict(
+        viscous=viscous, waves=waves, start=start, segments=config["segments"], quadratic_ratio=quadratic_ratio
+    )
     if guess is None:
         model, env, state, _ = start_tow(speeds, **options)
     else:
@@ -125,6 +143,7 @@ def run_trawl(
             ]
         )
     )
+    ts = ts[ts <= end]  # a run that ends before the step
     clock = time.perf_counter()
     result = simulate(model, env, end, t0=start, ts=ts, initial=state, progress=progress)
     wall = time.perf_counter() - clock
@@ -144,6 +163,7 @@ def run_trawl(
         front_angle=float(np.arccos(-first[0] / np.linalg.norm(first))),
         steps=int(result.stats["num_steps"]),
         wall_time=wall,
+        elastic=np.asarray(model.line.tension_law.elastic_tension(result.strain)),
     )
 
 
@@ -332,10 +352,22 @@ def plot_tensions(run: TrawlRun, points=POINTS, window=None, axes=None):
         _, axes = plt.subplots(len(points), 1, figsize=(8, 2.2 * len(points)), sharex=True)
     m = run.window(*(window or (run.times[0], run.times[-1])))
     for ax, point in zip(np.atleast_1d(axes), points):
-        ax.plot(run.times[m], run.at(point)[m] / 1e3, lw=0.7, label=run.name)
+        ax.plot(run.times[m], run.at(point)[m] / 1e3, lw=0.7, label=_case_label(run))
         ax.set_ylabel(f"{point}\nT (kN)")
+    # A legend naming every case drawn on these axes so far, so that the figure says
+    # which run it shows.
+    np.atleast_1d(axes)[0].legend(fontsize="small", loc="upper left")
     np.atleast_1d(axes)[-1].set_xlabel("t (s)")
     return axes
+
+
+def _case_label(run: TrawlRun) -> str:
+    """A legend entry naming the case: speeds, waves, cable."""
+    before, after = run.speeds
+    return (
+        f"{before:g} → {after:g} m/s at t = {STEP_TIME:g} s, {'5.6 s waves' if run.waves else 'calm'}, "
+        f"{'viscoelastic' if run.viscous else 'elastic'} cable"
+    )
 
 
 def plot_buoy_depth(runs, ax=None):
@@ -360,13 +392,21 @@ def plot_diverter_paths(run: TrawlRun, ax=None):
     if ax is None:
         _, ax = plt.subplots(figsize=(5, 5))
     x_tow = run.junctions[:, JUNCTIONS["tow"], 0]
-    for key in ("diverter", "diverter_minus"):
+    for key, name in (("diverter", "diverter +y"), ("diverter_minus", "diverter −y")):
         p = run.junctions[:, JUNCTIONS[key]]
-        ax.plot(p[:, 0] - x_tow, p[:, 1], lw=0.8)
-        ax.plot(p[0, 0] - x_tow[0], p[0, 1], "ko", ms=3)
+        ax.plot(p[:, 0] - x_tow, p[:, 1], lw=0.8, label=name)
+        ax.plot(
+            p[0, 0] - x_tow[0],
+            p[0, 1],
+            "ko",
+            ms=3,
+            label=f"start, t = {run.times[0]:g} s" if key == "diverter" else None,
+        )
+    ax.set_title(_case_label(run), fontsize="small")
     ax.set_xlabel("x − x_tow (m)")
     ax.set_ylabel("y (m)")
     ax.set_aspect("equal")
+    ax.legend(fontsize="small")
     return ax
 
 

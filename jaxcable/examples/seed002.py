@@ -79,6 +79,7 @@ def towed_trawl(
     step_duration: float = STEP_DURATION,
     segments: tuple[int, int] = (20, 10),
     mass_matrix: str = "lumped",
+    quadratic_ratio: float = 0.0,
 ) -> tuple[CableNetwork, Environment]:
     """The towed trawl, `(model, env)`, its tow point moving along +x at `speeds[0]`
     (m/s) until `STEP_TIME` and at `speeds[1]` from `STEP_TIME + step_duration`.
@@ -94,9 +95,13 @@ def towed_trawl(
     - `step_duration`: the time (s) over which the speed changes linearly.
     - `segments`: segments in the tow cable and in each 100 m branch.
     - `mass_matrix`: as for [`jaxcable.CableNetwork`][].
+    - `quadratic_ratio`: C_E1 / C_E, the cable's nonlinear-elastic coefficient (seed
+        003's 0.05–0.2); 0 (Hooke's law) by default.
     """
     before, after = speeds
-    law = KelvinVoigt(AXIAL_STIFFNESS, 0.0, VISCOUS_RATIO * AXIAL_STIFFNESS if viscous else 0.0)
+    law = KelvinVoigt(
+        AXIAL_STIFFNESS, quadratic_ratio * AXIAL_STIFFNESS, VISCOUS_RATIO * AXIAL_STIFFNESS if viscous else 0.0
+    )
     env_waves = ()
     if waves:
         env_waves = Airy(2 * seed003_amplitude(WAVE_PERIOD), WAVE_PERIOD, WATER_DEPTH, heading=180.0)

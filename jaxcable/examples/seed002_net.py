@@ -171,6 +171,7 @@ def moored_net(
     pretension: float = PRETENSION,
     segments: tuple[int, int, int, int] = (2, 4, 4, 3),
     mass_matrix: str = "lumped",
+    quadratic_ratio: float = 0.0,
 ) -> tuple[CableNetwork, Environment]:
     """The moored net, `(model, env)`, its anchors fixed.
 
@@ -190,6 +191,8 @@ def moored_net(
         Explicit steps shrink as the shortest segment squared (the viscous term's
         stiffness): halving every segment takes four times the steps.
     - `mass_matrix`: as for [`jaxcable.CableNetwork`][].
+    - `quadratic_ratio`: C_E1 / C_E on every line, steel and rope (seed 003's
+        0.05–0.2); 0 (Hooke's law) by default.
 
     **Returns:**
 
@@ -198,7 +201,9 @@ def moored_net(
     [`fig5_segments`][].
     """
     upper, lower, row, diagonal = segments
-    law = KelvinVoigt(AXIAL_STIFFNESS, 0.0, VISCOUS_RATIO * AXIAL_STIFFNESS if viscous else 0.0)
+    law = KelvinVoigt(
+        AXIAL_STIFFNESS, quadratic_ratio * AXIAL_STIFFNESS, VISCOUS_RATIO * AXIAL_STIFFNESS if viscous else 0.0
+    )
     env_waves = ()
     if waves:
         height = 2 * seed003_amplitude(WAVE_PERIOD) if wave_height is None else wave_height
@@ -211,7 +216,7 @@ def moored_net(
         wave_ramp=2 * WAVE_PERIOD,
     )
     line = seed003_line_type(law, WATER_DENSITY)
-    rope = frame_rope(viscous)
+    rope = frame_rope(viscous, quadratic_ratio)
     points = junctions(pretension)
 
     def chord(a, b):
@@ -238,12 +243,13 @@ def moored_net(
     return model, env
 
 
-def frame_rope(viscous: bool = True) -> LineType:
+def frame_rope(viscous: bool = True, quadratic_ratio: float = 0.0) -> LineType:
     """The frame's rope, `FRAME_ROPE`: drag and added mass on its 24 mm diameter
     (LineType's defaults K_n = 1.2, K_τ = 0.008, C_a = 1), buoyancy on its fibre's
-    area, viscoelastic with C_v = 0.02 C_E like the steel cable (or elastic)."""
+    area, viscoelastic with C_v = 0.02 C_E like the steel cable (or elastic), with
+    C_E1 = `quadratic_ratio` × C_E."""
     stiffness = FRAME_ROPE["axial_stiffness"]
-    law = KelvinVoigt(stiffness, 0.0, VISCOUS_RATIO * stiffness if viscous else 0.0)
+    law = KelvinVoigt(stiffness, quadratic_ratio * stiffness, VISCOUS_RATIO * stiffness if viscous else 0.0)
     return LineType(
         mass_per_length=FRAME_ROPE["mass_per_length"],
         diameter=FRAME_ROPE["diameter"],
