@@ -2,11 +2,13 @@
 
 import warnings
 
+import jax
 import numpy as np
 import pytest
 from scipy.interpolate import CubicSpline, PchipInterpolator
 
 import jaxcable as jc
+from jaxcable._motion import AbstractMotion
 
 
 def test_harmonic_kinematics():
@@ -176,3 +178,22 @@ def test_linear_is_straight_between_samples():
     for t, position, speed in ((0.5, 1.0, 2.0), (1.5, 3.0, 2.0), (2.5, 2.5, -3.0), (7.0, 1.0, 0.0)):
         r, v, a = (float(np.asarray(k)[0]) for k in motion.kinematics(t))
         np.testing.assert_allclose((r, v, a), (position, speed, 0.0), atol=1e-12)
+
+
+@pytest.mark.parametrize("interpolation", ["cubic", "pchip", "linear"])
+def test_sampled_closed_form_kinematics_equal_forward_mode_derivatives(interpolation):
+    # `Sampled.kinematics` writes the pieces' derivatives out; the generic path takes
+    # them by forward-mode differentiation of the displacement. At random times, at
+    # every sample, and outside the table (held: zero velocity and acceleration).
+    rng = np.random.default_rng(3)
+    ts = np.cumsum(rng.uniform(0.05, 0.3, 40))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the random table's spline overshoots
+        motion = jc.Sampled(ts, rng.normal(size=(40, 3)), interpolation)
+    times = np.concatenate([np.linspace(ts[0] - 1, ts[-1] + 1, 301), ts])
+    closed = jax.vmap(motion.kinematics)(times)
+    generic = jax.vmap(lambda t: AbstractMotion.kinematics(motion, t))(times)
+    for c, g in zip(closed, generic):
+        np.testing.assert_allclose(c, g, rtol=0, atol=1e-13 * float(np.max(np.abs(g)) + 1))
+    outside = (times < ts[0]) | (times > ts[-1])
+    assert np.all(np.asarray(closed[1])[outside] == 0) and np.all(np.asarray(closed[2])[outside] == 0)
