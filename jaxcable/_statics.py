@@ -204,7 +204,7 @@ def prepare(
 ) -> None:
     """Start compiling the programs of `solve_statics(model, env, t=t, ...)` from the
     model's own start, in a background thread, where the command line keeps programs
-    (`jaxcable._programs`): statics' compile while the caller traces the run's. Nothing
+    (`jaxcable._programs`). Nothing
     otherwise."""
     _required_strain.prepare(model, t)
     _equilibrium.prepare(model, env, model.node_positions, t, max_steps, force_tolerance, True)
@@ -342,20 +342,12 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped) -> St
     free = model.free_nodes
     zeros_free = jnp.zeros((free.shape[0], 3))
 
-    def forces(model, env, t, free_positions, relative):
-        """The free nodes' forces (N) and, as the auxiliary output, the tolerance (N)
-        and the segments' strains (–), which steps are truncated by."""
-        positions, _ = lag.full_state(model, t, free_positions, zeros_free)
-        tolerance = relative * _force_scale(model, env, t, positions) + _rounding(model)
-        strain = lag.segment_geometry(model, positions)[2]
-        return _free_forces(model, env, t, free_positions), (tolerance, strain)
-
     graph = NetworkJacobian(model.topology)
 
     def solve(model, env, t, start, tolerance):
         """A root find that carries no derivative (its inputs carry none)."""
         return optx.root_find(
-            lambda x, _: forces(model, env, t, x, tolerance),
+            lambda x, _: _forces(model, env, t, x, tolerance),
             _PseudoTransient(graph=graph),
             start,
             has_aux=True,
@@ -444,6 +436,20 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped) -> St
         result=result,
         steps=jnp.sum(stage_steps).astype(jnp.int32),
     )
+
+
+# Jitted inside statics' trace so that it is traced once, not once for each of the
+# root find's evaluations (its first, each step's Newton corrections and JVPs, the
+# step's truncation and its end point): JAX reuses the jaxpr of a call with the same
+# argument types, and the lowered program calls one function.
+@eqx.filter_jit
+def _forces(model, env, t, free_positions, relative):
+    """The free nodes' forces (N) and, as the auxiliary output, the tolerance (N) and
+    the segments' strains (–), which steps are truncated by."""
+    positions, _ = lag.full_state(model, t, free_positions, jnp.zeros_like(free_positions))
+    tolerance = relative * _force_scale(model, env, t, positions) + _rounding(model)
+    strain = lag.segment_geometry(model, positions)[2]
+    return _free_forces(model, env, t, free_positions), (tolerance, strain)
 
 
 def _implicit(model, env, t, value, graph: NetworkJacobian):
@@ -784,21 +790,19 @@ class _PseudoTransient(optx.AbstractRootFinder):
     def step(self, fn, y, args, options, state, tags):
         mass = options["mass"][:, None]
 
-        def implicit_residual(x):
-            """Implicit Euler's `Q_f(x) − D (x − y)/Δτ`, zero at the step's end."""
-            return fn(x, args)[0] - mass * (x - y) / state.step_size
-
         def newton(carry):
-            k, x = carry
-            _, linear = jax.linearize(lambda z: fn(z, args)[0], x)
+            k, x, residual = carry
             operator = lx.FunctionLinearOperator(
-                lambda v: mass * v / state.step_size - linear(v), jax.eval_shape(lambda: y)
+                lambda v: mass * v / state.step_size - jax.jvp(lambda z: fn(z, args)[0], (x,), (v,))[1],
+                jax.eval_shape(lambda: y),
             )
-            return k + 1, x + lx.linear_solve(operator, implicit_residual(x), self.graph, throw=False).value
+            x = x + lx.linear_solve(operator, residual, self.graph, throw=False).value
+            # Implicit Euler's residual `Q_f(x) − D (x − y)/Δτ`, zero at the step's end.
+            return k + 1, x, fn(x, args)[0] - mass * (x - y) / state.step_size
 
         def unresolved(carry):
-            k, x = carry
-            return (k <= self.corrections) & (jnp.max(jnp.abs(implicit_residual(x))) > self.resolved * state.size)
+            k, _, residual = carry
+            return (k <= self.corrections) & (jnp.max(jnp.abs(residual)) > self.resolved * state.size)
 
         # The linear step, then Newton's corrections towards implicit Euler's end
         # point, each linearised afresh, until its residual is a small part of the
@@ -808,8 +812,12 @@ class _PseudoTransient(optx.AbstractRootFinder):
         # iterate than at the last. Corrections with the first step's factors (a
         # chord method) diverged there: every other step was refused and 17 of the
         # fuzz's stiff lines stalled at 1e-4 of their force scale. Linearised afresh,
-        # they end in tens of steps, not thousands (issue 23).
-        step = jax.lax.while_loop(unresolved, newton, (0, y))[1] - y
+        # they end in tens of steps, not thousands (issue 23). The residual is carried
+        # from one correction to the next (at y it is the force there), so that each
+        # evaluates the forces once besides their JVPs: the loop's condition and a
+        # `jax.linearize` evaluated them again, and tracing those took 0.6 s of the
+        # Low & Langley file's 1.7 s.
+        step = jax.lax.while_loop(unresolved, newton, (0, y, state.force))[1] - y
         # Truncated where a segment would switch between slack and taut: the linear
         # model holds on one side of the switch only. A slack segment (ε ≤ 0) that the
         # step would stretch past the top of its switch's band stops there, a taut one
