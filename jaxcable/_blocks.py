@@ -127,7 +127,7 @@ def prepare(
     """Start compiling the programs that [`simulate_in_blocks`][] will run with these
     arguments (and an initial state of `model.node_positions`' shape), in a background
     thread, where the command line keeps programs (`jaxcable._programs`): they compile
-    while the caller does other work, statics say. Nothing otherwise."""
+    while the caller does other work (traces statics, say). Nothing otherwise."""
     config = for_model(as_config("simulate_in_blocks", solver), model)
     ts = np.asarray(ts, dtype=float)
     start, block, options = _programs_for(config, ts)

@@ -26,8 +26,8 @@ argument holds a value the key cannot describe exactly (a closure, say), or is t
 here, only the command line sets a folder ([`use_folder`][]).
 
 A program can also be compiled ahead, in a background thread ([`Program.prepare`][]):
-XLA compiles without holding Python's lock, so the run's programs compile on one core
-while statics compile on the other.
+XLA compiles on threads of its own, without Python's lock, so programs compile while
+Python traces the next.
 """
 
 import concurrent.futures
