@@ -394,7 +394,11 @@ def _water(field, points: Array, t) -> Array:
     return _cm(field(_public(points), t))
 
 
-def _nonconservative_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "3 nodes"]:
+def _nonconservative_forces(
+    model: CableNetwork, env: Environment, t, positions, velocities, at_rest: bool = False
+) -> Float[Array, "3 nodes"]:
+    """With `at_rest` (the nodes' `velocities` zero), without the terms that are then
+    zero: the viscous tension and the seabed's damping and friction."""
     body = model.body
     rho = env.water_density
     stretched, tangent, strain = _geometry(model, positions)
@@ -406,7 +410,7 @@ def _nonconservative_forces(model: CableNetwork, env: Environment, t, positions,
         forces = 0.0
 
     law = model.line.tension_law
-    if law.damped:
+    if law.damped and not at_rest:
         pull = law.viscous_tension(strain, _strain_rate(model, tangent, velocities)) * tangent
         drag_start, drag_end = drag_start + pull, drag_end - pull
     forces = forces + _scatter(model, drag_start, drag_end)
@@ -427,7 +431,7 @@ def _nonconservative_forces(model: CableNetwork, env: Environment, t, positions,
     forces = forces + body_drag(_water(env.water_velocity, positions, t) - velocities, coefficient)
     if env.has_fluid_acceleration:
         forces = forces + rho * body.volume * (1 + body.added_mass) * wet * _water(env.water_acceleration, positions, t)
-    if env.seabed is not None:
+    if env.seabed is not None and not at_rest:
         forces = forces + _seabed_forces(model, env, positions, velocities)
     return forces
 
@@ -589,6 +593,16 @@ def _generalised_forces(model: CableNetwork, env: Environment, t, positions, vel
 def generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "nodes 3"]:
     """All generalised forces Q (N) on every node, shape `(nodes, 3)`."""
     return _public(_generalised_forces(model, env, t, _cm(positions), _cm(velocities)))
+
+
+def static_forces(model: CableNetwork, env: Environment, t, positions) -> Float[Array, "nodes 3"]:
+    """`generalised_forces` with every node at rest (N), shape `(nodes, 3)`, without
+    the terms that are zero at rest: statics' forces, which compile smaller."""
+    positions = _cm(positions)
+    rest = jnp.zeros_like(positions)
+    return _public(
+        _conservative_forces(model, env, positions) + _nonconservative_forces(model, env, t, positions, rest, True)
+    )
 
 
 def _adjugate(blocks: Float[Array, "3 3 n"]) -> tuple[Float[Array, "3 3 n"], Float[Array, " n"]]:

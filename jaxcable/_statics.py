@@ -485,8 +485,7 @@ def _balance(root, _, inputs):
 
 def _free_forces(model, env, t, free_positions):
     positions, _ = lag.full_state(model, t, free_positions, jnp.zeros_like(free_positions))
-    velocities = jnp.zeros_like(positions)  # at rest, constrained nodes included
-    return lag.generalised_forces(model, env, t, positions, velocities)[model.free_nodes]
+    return lag.static_forces(model, env, t, positions)[model.free_nodes]  # constrained nodes at rest too
 
 
 def _force_scale(model, env, t, positions):

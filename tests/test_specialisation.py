@@ -4,11 +4,12 @@ The equations specialise on what is known when tracing (`benchmarks/README.md`, 
 an evaluation's time goes*): static indices become slices, a law without damping skips
 the viscous force, the elastic forces use the tension law as the energy's derivative,
 the conservative forces are written out rather than taken by `jax.grad` of the
-potential, and the lumped solve uses Woodbury's identity along a line and Cramer's rule
-at junctions. Each is checked here against the general form it replaces, on scenes that
-exercise it: seed 003's chain, the moored net (a graph with junctions, buoys that
-pierce the surface, waves and a damped law), a line on a seabed, and a line that
-pierces the free surface with anisotropic added mass and a spar buoy.
+potential, the lumped solve uses Woodbury's identity along a line and Cramer's rule at
+junctions, and statics' forces leave out what vanishes at rest. Each is checked here
+against the general form it replaces, on scenes that exercise it: seed 003's chain, the
+moored net (a graph with junctions, buoys that pierce the surface, waves and a damped
+law), a line on a seabed, and a line that pierces the free surface with anisotropic
+added mass and a spar buoy.
 """
 
 import equinox as eqx
@@ -239,3 +240,20 @@ def test_conservative_scenes_exercise_every_term():
     model, env = _seabed_line()
     assert env.depth is not None
     assert np.any(np.asarray(lag.full_state(model, 0.0, *_state(model))[0])[:, 2] < -env.depth)
+
+
+@pytest.mark.parametrize("scene", list(SCENES))
+def test_static_forces_are_the_forces_at_rest(scene):
+    """Statics' forces skip the terms that vanish at rest (the viscous tension, the
+    seabed's damping and friction, smooth and MoorDyn's): the same as all the forces
+    with every velocity zero, waves and a current acting, nodes pressed into the bed."""
+    model, env = SCENES[scene]()
+    envs = [env]
+    if env.seabed is not None:
+        envs = [eqx.tree_at(lambda e: e.seabed, env, jc.Seabed(friction=0.3, friction_damping=c)) for c in (None, 1e3)]
+    positions = lag.full_state(model, 0.7, *_state(model))[0]
+    rest = jnp.zeros_like(positions)
+    for env in envs:
+        expected = np.asarray(lag.generalised_forces(model, env, 0.7, positions, rest))
+        got = np.asarray(lag.static_forces(model, env, 0.7, positions))
+        np.testing.assert_allclose(got, expected, rtol=1e-13, atol=1e-13 * np.max(np.abs(expected)))
