@@ -161,12 +161,16 @@ def stiffest_axial_mode(model, env: Environment | None = None) -> tuple[float, f
 def fastest_eigenvalues(model, env: Environment | None = None) -> np.ndarray:
     """The eigenvalues λ (1/s, complex) that bound an explicit step: each segment's
     highest axial mode ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode])
-    and, with a seabed, the contact and friction modes of a node on it
+    and its highest bending mode where the line has EI
+    ([`bending_modes`][jaxcable._advice.bending_modes]), and, with a seabed, the
+    contact and friction modes of a node on it
     ([`seabed_mode`][jaxcable._advice.seabed_mode]) for every segment, whether or not
     it reaches the bed. Of each pair of roots the one of larger magnitude (the other is
     its conjugate, or a slower real root). Shape `(modes,)`."""
     model, env, _ = _unpack(model, env, None)
     _, axial = _axial_modes(model, env)
+    if model.line.bending_stiffness is not None:
+        axial = np.concatenate([axial, 1j * bending_modes(model, env)])  # undamped
     if env.seabed is None:
         return axial
     damping, stiffness, friction = _seabed_rates(model, env, np.ones(model.n_segments, bool))
@@ -187,6 +191,65 @@ def _axial_modes(model: CableNetwork, env: Environment) -> tuple[np.ndarray, np.
     omega = np.broadcast_to(2 * np.sqrt(stiffness / node_mass), (model.n_segments,))
     half_trace = np.broadcast_to(2 * damping / node_mass, (model.n_segments,))
     return omega, -half_trace - np.sqrt((half_trace**2 - omega**2).astype(complex))
+
+
+def bending_modes(model: CableNetwork, env: Environment) -> np.ndarray:
+    """Each segment's highest bending mode ω_b (rad/s), zero without EI.
+
+    The zigzag w_k = (−1)^k across hinges turns each by 4w/ℓ, so the hinge energy
+    `EI/ℓ (1 − cos θ) ≈ EI θ²/(2ℓ)` (`jaxcable._bending`) gives the stiffness 16 EI/ℓ³
+    per node against the lumped node mass μ ℓ: `ω_b = 4 √(EI/μ) / ℓ²`, μ with the
+    normal added mass. Against the axial mode's `2 √(EA/μ)/ℓ` it is faster only where
+    ℓ < 2 √(EI/EA), a segment shorter than about a solid section's diameter."""
+    line = model.line
+    if line.bending_stiffness is None:
+        return np.zeros(model.n_segments)
+    length = np.asarray(model.segment_length)
+    rho = float(env.water_density)
+    mass = np.asarray(line.mass_per_length) + rho * np.asarray(line.area) * np.asarray(line.normal_added_mass)
+    return np.broadcast_to(4 * np.sqrt(np.asarray(line.bending_stiffness) / mass) / length**2, (model.n_segments,))
+
+
+@dataclass(frozen=True)
+class BendingCheck:
+    """Whether a line's bending stiffness shapes it, at the mean equilibrium.
+
+    - `bending_stiffness`: EI (N·m²), the largest.
+    - `bending_length`: √(EI/T) (m), the longest over the segments (at the lowest
+        tension; infinite where a segment is slack): the length over which bending
+        bends the line near a support or a load.
+    - `segment_length`: ℓ (m) of that segment.
+    - `omega`: ω_b (rad/s), the fastest bending mode ([`bending_modes`][jaxcable._advice.bending_modes]).
+    """
+
+    bending_stiffness: float
+    bending_length: float
+    segment_length: float
+    omega: float
+
+    @property
+    def matters(self) -> bool:
+        """Whether the bending length reaches a tenth of a segment: shorter, the
+        curvature it resolves at the supports lies inside one segment, and EI changes
+        the forces little."""
+        return self.bending_length > 0.1 * self.segment_length
+
+
+def _bending_check(model: CableNetwork, env: Environment, tension: np.ndarray | None) -> BendingCheck | None:
+    ei = model.line.bending_stiffness
+    if ei is None:
+        return None
+    ei = np.broadcast_to(np.asarray(ei), (model.n_segments,))
+    omega = bending_modes(model, env)
+    if tension is None:
+        length = np.full(model.n_segments, np.nan)
+    else:
+        with np.errstate(divide="ignore"):
+            length = np.where(tension > 0, np.sqrt(ei / np.maximum(tension, 0.0)), np.inf)
+    s = int(np.argmax(ei)) if tension is None else int(np.argmax(length))
+    return BendingCheck(
+        float(ei.max()), float(length[s]), float(np.asarray(model.segment_length)[s]), float(omega.max())
+    )
 
 
 def seabed_mode(model: CableNetwork, env: Environment, touching=None) -> tuple[float, str]:
@@ -401,7 +464,7 @@ class Advice:
     - `seabed_eigenvalue`, `seabed_limit`: [`seabed_mode`][jaxcable._advice.seabed_mode]
         on the segments that touch the bed at rest (0 and `""` if none).
     - `explicit_step`: 1.7/|λ| (s), the longest stable step of an explicit solver, |λ|
-        the larger of the axial and the seabed's.
+        the largest of the axial, the bending and the seabed's.
     - `duration`: (s) or `None`; `steps`: the explicit steps it needs at least.
     - `waves`: a [`WaveFit`][jaxcable._advice.WaveFit] per wave.
     - `inertia`: an [`InertiaCheck`][jaxcable._advice.InertiaCheck] per element and
@@ -418,6 +481,8 @@ class Advice:
         the moving supports); `stiffness`: a
         [`SupportStiffness`][jaxcable._advice.SupportStiffness] for each, where asked
         for and the equilibrium found.
+    - `bending`: a [`BendingCheck`][jaxcable._advice.BendingCheck] where the line has
+        EI, `None` otherwise.
     """
 
     omega: float
@@ -439,6 +504,7 @@ class Advice:
     natural_periods: tuple[float, ...] = ()
     stiffness_points: tuple[str, ...] = ()
     stiffness: tuple[SupportStiffness, ...] = ()
+    bending: BendingCheck | None = None
 
     @property
     def drag_dominates(self) -> bool | None:
@@ -673,7 +739,7 @@ def advise(
         low = positions[:, 2] < -float(env.depth)
         touching = low[np.asarray(model.segment_nodes)].any(axis=1)
     bed, limit = seabed_mode(model, env, touching)
-    step = STABLE_STEP / max(magnitude, bed)
+    step = STABLE_STEP / max(magnitude, bed, float(bending_modes(model, env).max()))
     steps = None if duration is None else int(np.ceil(duration / step))
 
     waves = tuple(wave_fit(wave, k) for k, wave in enumerate(env.waves))
@@ -695,6 +761,7 @@ def advise(
         tension = np.asarray(static.tension)
         rest_min, rest_max = float(tension.min()), float(tension.max())
         slack = _slack(model, held, still, labels, chains, static, rest_max)
+    bending = _bending_check(model, env, np.asarray(static.tension) if statics_error is None else None)
     # The modes matter only to waves, and cost a Jacobian's compile: not without them.
     periods = natural_periods(held, still, positions) if env.waves and statics_error is None else np.zeros(0)
     return Advice(
@@ -717,6 +784,7 @@ def advise(
         tuple(float(p) for p in periods),
         tuple(_point_name(labels, node) for node in supports),
         stiffnesses,
+        bending,
     )
 
 

@@ -81,7 +81,10 @@ class NetworkJacobian(lx.AbstractLinearSolver):
                 f"{model.mass_matrix!r}: a consistent mass matrix's inverse couples every node, "
                 "so the stage Jacobian is dense"
             )
-        edges = _free_edges(model.segment_nodes, model.free_nodes, model.n_nodes)
+        # Bending couples each hinge's two neighbours as well (`jaxcable._bending`).
+        hinges = model.topology.hinge_nodes if isinstance(model, CableNetwork) else model.hinge_nodes
+        coupled = np.concatenate([model.segment_nodes, hinges[[0, 2]].T])
+        edges = _free_edges(coupled, model.free_nodes, model.n_nodes)
         n = len(model.free_nodes)
         neighbours = _neighbours(n, edges)
         self.nodes = n

@@ -10,8 +10,9 @@ Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0
   matrix M(x) carries `μ = m I + ρ F (...)` per length. When C_a ≠ C_aτ, M depends on the
   segments' directions and `½ vᵀMv + Π` is not conserved: it changes at the rate
   `½ vᵀ Ṁ v` (tested). With isotropic added mass it is conserved exactly.
-- Potential energy `Π = Σ L ∫₀^ε T de + Σ (m − ρF) g L z̄ + Σ (M g z + ρ g V Φ(z)) − Σ F·x`
-  (bodies' constant forces F), plus the seabed's penalty energy `Σ ½ k δ² A` where
+- Potential energy `Π = Σ L ∫₀^ε T de + Σ EI/ℓ̄ (1 − cos θ) + Σ (m − ρF) g L z̄ + Σ (M g z + ρ g V Φ(z)) − Σ F·x`
+  (bodies' constant forces F; the bending term, at each node inside a line whose
+  line has EI, is `jaxcable._bending`'s), plus the seabed's penalty energy `Σ ½ k δ² A` where
   nodes press into it. Φ = −z for a submerged body; a body with a height that pierces
   the surface has the buoyancy of its submerged part only. The conservative forces
   are `−∂Π/∂x`, written out term by term and tested against `jax.grad` of Π. With
@@ -36,6 +37,7 @@ import lineax as lx
 import numpy as np
 from jaxtyping import Array, ArrayLike, Float
 
+from . import _bending as bending
 from . import _checks as checks
 from ._environment import Environment
 from ._hydro import body_drag, dot, gauss_legendre, line_drag, line_inertia, matvec, safe_norm, submerged_interval
@@ -184,12 +186,15 @@ def _potential_energy(model: CableNetwork, env: Environment, positions) -> Float
     if env.seabed is not None and env.depth is not None:  # a seabed comes with a depth (Environment checks)
         penetration = jnp.maximum(-env.depth - z, 0.0)
         energy = energy + 0.5 * env.seabed.stiffness * jnp.sum(contact_area(model) * penetration**2)
+    if bending.has_bending(model):
+        energy = energy + bending.bending_energy(model, positions)
     return energy
 
 
 def potential_energy(model: CableNetwork, env: Environment, positions) -> Float[Array, ""]:
-    """Π (J): elastic energy, gravity minus buoyancy, and the potential −F·x of the
-    bodies' constant forces, at node `positions` (m), shape `(nodes, 3)`."""
+    """Π (J): elastic energy (axial, and bending where the line has EI), gravity minus
+    buoyancy, and the potential −F·x of the bodies' constant forces, at node
+    `positions` (m), shape `(nodes, 3)`."""
     return _potential_energy(model, env, _cm(positions))
 
 
@@ -543,14 +548,18 @@ def _axial_forces(model: CableNetwork, tension, tangent) -> Float[Array, "3 node
 
 def _internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "3 nodes"]:
     _, tangent, _ = _geometry(model, positions)
-    return _axial_forces(model, _tension(model, positions, velocities), tangent)
+    forces = _axial_forces(model, _tension(model, positions, velocities), tangent)
+    if bending.has_bending(model):
+        forces = forces + bending.bending_forces(model, positions)
+    return forces
 
 
 def internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "nodes 3"]:
-    """The line's own axial forces (N), `T(ε, ε̇) τ` pulling each segment's ends
-    together, on every node, shape `(nodes, 3)`: the stiff part of `Q`, which an
-    implicit–explicit solver treats implicitly. Equal to the elastic part of
-    `−∂Π/∂x` plus the viscous pull in `nonconservative_forces`."""
+    """The line's own forces (N), `T(ε, ε̇) τ` pulling each segment's ends together
+    and, where the line has EI, its bending forces, on every node, shape `(nodes, 3)`:
+    the stiff part of `Q`, which an implicit–explicit solver treats implicitly. Equal
+    to the elastic part of `−∂Π/∂x` plus the viscous pull in
+    `nonconservative_forces`."""
     return _public(_internal_forces(model, _cm(positions), _cm(velocities)))
 
 
@@ -583,6 +592,8 @@ def _conservative_forces(model: CableNetwork, env: Environment, positions) -> Fl
     if env.seabed is not None and env.depth is not None:  # as in `_potential_energy`
         lift = lift + env.seabed.stiffness * contact_area(model) * jnp.maximum(-env.depth - z, 0.0)
     elastic = _axial_forces(model, line.tension_law.elastic_tension(strain), tangent)
+    if bending.has_bending(model):
+        elastic = elastic + bending.bending_forces(model, positions)
     return elastic + lift * _UP + _cm(body.force)
 
 

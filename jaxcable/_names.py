@@ -22,7 +22,7 @@ INTERPOLATIONS = ("cubic", "pchip", "linear")
 """How [`jaxcable.Sampled`][] interpolates between its samples."""
 
 DROPPED_KINDS = ("EI", "waves", "currents", "bathymetry", "friction")
-"""What a MoorDyn file can ask for that jaxcable leaves out (`Scene.dropped`): bending
-stiffness, waves or currents from MoorDyn's input files, a bathymetry file, and
+"""What a MoorDyn file can ask for that jaxcable leaves out (`Scene.dropped`): a bending
+stiffness table (a constant EI is modelled), waves or currents from MoorDyn's input files, a bathymetry file, and
 friction's static-to-dynamic ratio. `jaxcable run` refuses such a file unless
 `--allow-ignored` names them."""

@@ -46,13 +46,20 @@ class LineType(eqx.Module):
     - `normal_added_mass`: C_a (–), added mass per length `C_a ρ F` normal to the line.
         MoorDyn's `Ca`.
     - `tangential_added_mass`: C_aτ (–), the same along the line. MoorDyn's `CaAx`.
+    - `bending_stiffness`: EI (N·m²), MoorDyn's `EI`. `None` (the default) or zero
+        everywhere: a cable without bending, whose programs compile no bending code.
+        Otherwise each node inside a line takes the bending energy
+        `EI/ℓ̄ (1 − cos θ)`, θ the angle between its two segments and ℓ̄ their mean
+        unstretched length (see `jaxcable._bending`). Zero on concrete values is
+        `None`, so that the same file gives the same program with or without an `EI`
+        column of zeros; to sweep EI from zero, build the line with a nonzero EI.
 
     **Raises:**
 
     `ValueError` naming the field and value for a non-finite or non-positive mass,
-    diameter, area or axial stiffness, a negative drag, added mass, damping or slack
-    width, or a tension law that does not rise with strain up to ε = 1
-    ([`jaxcable.AbstractTensionLaw.rising`][]).
+    diameter, area or axial stiffness, a negative drag, added mass, bending stiffness,
+    damping or slack width, or a tension law that does not rise with strain up to
+    ε = 1 ([`jaxcable.AbstractTensionLaw.rising`][]).
     """
 
     mass_per_length: Float[Array, "*segments"]
@@ -63,6 +70,7 @@ class LineType(eqx.Module):
     tangential_drag: Float[Array, "*segments"]
     normal_added_mass: Float[Array, "*segments"]
     tangential_added_mass: Float[Array, "*segments"]
+    bending_stiffness: Float[Array, "*segments"] | None
 
     def __init__(
         self,
@@ -74,6 +82,7 @@ class LineType(eqx.Module):
         tangential_drag: RealLike = 0.008,
         normal_added_mass: RealLike = 1.0,
         tangential_added_mass: RealLike = 0.0,
+        bending_stiffness: RealLike | None = None,
     ):
         if not isinstance(tension_law, AbstractTensionLaw):
             raise ValueError(f"LineType.tension_law must be a jaxcable tension law, got {tension_law!r}")
@@ -88,6 +97,12 @@ class LineType(eqx.Module):
         self.tangential_drag = checks.float_array("LineType.tangential_drag", tangential_drag)
         self.normal_added_mass = checks.float_array("LineType.normal_added_mass", normal_added_mass)
         self.tangential_added_mass = checks.float_array("LineType.tangential_added_mass", tangential_added_mass)
+        self.bending_stiffness = None
+        if bending_stiffness is not None:
+            ei = checks.float_array("LineType.bending_stiffness", bending_stiffness)
+            # Concrete zeros are no bending: the scene then compiles none of its code.
+            if checks.traced(ei) or np.any(checks.on_host(ei) != 0):
+                self.bending_stiffness = ei
         checks.enforce(self.conditions())
 
     def conditions(self) -> list[checks.Condition]:
@@ -100,8 +115,11 @@ class LineType(eqx.Module):
                 checks.finite(f"LineType.{name}", getattr(self, name)),
                 checks.sign(f"LineType.{name}", getattr(self, name)),
             ]
-        for name in ("normal_drag", "tangential_drag", "normal_added_mass", "tangential_added_mass"):
+        names = ("normal_drag", "tangential_drag", "normal_added_mass", "tangential_added_mass", "bending_stiffness")
+        for name in names:
             value = getattr(self, name)
+            if value is None:
+                continue
             out += [checks.finite(f"LineType.{name}", value), checks.sign(f"LineType.{name}", value, allow_zero=True)]
         return out + [
             checks.finite("LineType.tension_law.axial_stiffness", law.axial_stiffness),
@@ -231,6 +249,16 @@ class Topology:
     run in node order, so that on a chain these are slices. `station_sums` plans the sum
     of the segments' ends (starts, then ends) onto stations, and `node_stations` that of
     stations onto nodes (`jaxcable._indexing.sum_into`).
+
+    **Hinges** (with `bending=True`, for a line's bending stiffness): every node that
+    joins exactly two segments and is not in `line_ends` (as given) bends.
+    `hinge_nodes[:, k]` is hinge k's (previous, own, next) node, `hinge_segments[:, k]`
+    its two segments (the one to the previous node first), and `hinge_sums` plans the
+    sum of per-hinge forces on the previous nodes, then the own, then the next, onto
+    nodes. A constrained node inside a line bends too, so that prescribing a
+    line's first two nodes clamps it (a cantilever); a line's end, a junction, a
+    body's node and `from_branches`' junctions are pinned, as MoorDyn's points are.
+    Without `bending` there are no hinges.
     """
 
     __slots__ = (
@@ -245,6 +273,10 @@ class Topology:
         "station_chord",
         "station_sums",
         "node_stations",
+        "bending",
+        "hinge_nodes",
+        "hinge_segments",
+        "hinge_sums",
         "_hash",
     )
 
@@ -254,6 +286,7 @@ class Topology:
         segment_nodes: np.ndarray,
         constrained_nodes: np.ndarray,
         line_ends: np.ndarray | Sequence[int] = (),
+        bending: bool = False,
     ):
         def frozen(array):
             array = np.array(array, dtype=np.int32)
@@ -273,6 +306,9 @@ class Topology:
         degree = np.bincount(ends_at, minlength=self.n_nodes)
         ends = np.zeros(self.n_nodes, dtype=bool)
         ends[np.asarray(line_ends, dtype=np.int64)] = True
+        self.bending = bool(bending)
+        self.hinge_nodes, self.hinge_segments = (frozen(a) for a in _hinges(self.segment_nodes, ends, bending))
+        self.hinge_sums = frozen(incidence(self.hinge_nodes.reshape(-1), self.n_nodes))
         ends[self.constrained_nodes] = True
         ends |= degree != 2
         self.line_ends = frozen(np.flatnonzero(ends))
@@ -295,7 +331,14 @@ class Topology:
         self.station_sums = frozen(incidence(station_of, n_stations))
         self.node_stations = frozen(incidence(self.station_node, self.n_nodes))
         self._hash = hash(
-            (self.n_nodes, self.segment_nodes.tobytes(), self.constrained_nodes.tobytes(), self.line_ends.tobytes())
+            (
+                self.n_nodes,
+                self.segment_nodes.tobytes(),
+                self.constrained_nodes.tobytes(),
+                self.line_ends.tobytes(),
+                self.bending,
+                self.hinge_nodes.tobytes(),
+            )
         )
 
     def __hash__(self) -> int:
@@ -309,6 +352,8 @@ class Topology:
             self.segment_nodes.tobytes(),
             self.constrained_nodes.tobytes(),
             self.line_ends.tobytes(),
+            self.bending,
+            self.hinge_nodes.tobytes(),
         )
 
     def __eq__(self, other) -> bool:
@@ -319,6 +364,8 @@ class Topology:
             and np.array_equal(self.segment_nodes, other.segment_nodes)
             and np.array_equal(self.constrained_nodes, other.constrained_nodes)
             and np.array_equal(self.line_ends, other.line_ends)
+            and self.bending == other.bending
+            and np.array_equal(self.hinge_nodes, other.hinge_nodes)
         )
 
     def __repr__(self) -> str:
@@ -326,6 +373,22 @@ class Topology:
             f"Topology(nodes={self.n_nodes}, segments={len(self.segment_nodes)}, "
             f"constrained={self.constrained_nodes.tolist()})"
         )
+
+
+def _hinges(segment_nodes: np.ndarray, ends: np.ndarray, bending: bool) -> tuple[np.ndarray, np.ndarray]:
+    """The bending hinges of `Topology`: `(nodes, segments)`, shapes `(3, hinges)` and
+    `(2, hinges)`; none without `bending`. `ends` marks the nodes given as line ends."""
+    if not bending:
+        return np.zeros((3, 0), np.int64), np.zeros((2, 0), np.int64)
+    n_segments = segment_nodes.shape[0]
+    ends_at = segment_nodes.T.reshape(-1)  # each segment end's node: starts, then ends
+    degree = np.bincount(ends_at, minlength=ends.size)
+    hinges = np.flatnonzero((degree == 2) & ~ends)
+    plan = incidence(ends_at, ends.size)[hinges]  # the two segment ends at each hinge
+    segments = plan % n_segments
+    # The other node of each of the two segments: its end's if the hinge is its start.
+    other = np.where(plan < n_segments, segment_nodes[segments, 1], segment_nodes[segments, 0])
+    return np.stack([other[:, 0], hinges, other[:, 1]]), segments.T
 
 
 class CableNetwork(eqx.Module):
@@ -457,7 +520,9 @@ class CableNetwork(eqx.Module):
         for k in ends:
             if not 0 <= k < n_nodes:
                 raise ValueError(f"CableNetwork.line_ends has node {k}, out of range for {n_nodes} nodes")
-        self.topology = Topology(n_nodes, edges, np.asarray(constrained, dtype=np.int32), ends)
+        self.topology = Topology(
+            n_nodes, edges, np.asarray(constrained, dtype=np.int32), ends, self.line.bending_stiffness is not None
+        )
 
     def conditions(self) -> list[checks.Condition]:
         """Every float field's requirements, its line's, bodies' and motions': checked
@@ -635,6 +700,15 @@ def _stack_lines(branches: Sequence[Branch]) -> LineType:
     if len(slack) > 1:
         raise ValueError("all branches' tension laws must share one slack_damping (KelvinVoigt), got both")
     counts = [branch.segments for branch in branches]
+    lines = [branch.line for branch in branches]
+    if any(line.bending_stiffness is not None for line in lines):
+        # A line without bending joins one with it as EI = 0, so that the trees match.
+        lines = [
+            eqx.tree_at(lambda t: t.bending_stiffness, line, 0.0, is_leaf=lambda x: x is None)
+            if line.bending_stiffness is None
+            else line
+            for line in lines
+        ]
 
     def stack(*xs):
         xp = jnp if checks.traced(xs) else np  # numpy compiles nothing for concrete lines
@@ -642,7 +716,7 @@ def _stack_lines(branches: Sequence[Branch]) -> LineType:
             xp.concatenate([xp.broadcast_to(xp.asarray(x, dtype=float), (n,)) for x, n in zip(xs, counts)])
         )
 
-    return jax.tree.map(stack, *(branch.line for branch in branches))
+    return jax.tree.map(stack, *lines)
 
 
 def _scatter_bodies(bodies: Mapping[int, Body], n_nodes: int) -> Body:

@@ -29,7 +29,20 @@ def _scene(name):
 @pytest.fixture(scope="module")
 def models():
     line = seed003_line(8, mass_matrix="lumped")
-    return {"line": line, "y_branch": _scene("y_branch"), "buoy_net": _scene("buoy_net")}
+    # A line with bending stiffness, whose hinges couple nodes two apart.
+    bending = jc.LineType(20.0, 0.1, jc.LinearElastic(1e7), bending_stiffness=5e4)
+    bent = jc.CableNetwork.from_branches(
+        np.array([[0.0, 0.0, -40.0], [50.0, 0.0, 0.0]]),
+        [jc.Branch(0, 1, bending, 70.0, 8)],
+        {0: jc.Fixed(), 1: jc.Fixed()},
+        mass_matrix="lumped",
+    )
+    return {
+        "line": line,
+        "bending": (bent, jc.Environment()),
+        "y_branch": _scene("y_branch"),
+        "buoy_net": _scene("buoy_net"),
+    }
 
 
 def _stage(model, env, step):
@@ -64,7 +77,7 @@ def _dense(fn, k):
 
 
 # The net with loops takes 40 s of the default suite's 2 cores: slow.
-@pytest.mark.parametrize("name", ["line", "y_branch", pytest.param("buoy_net", marks=pytest.mark.slow)])
+@pytest.mark.parametrize("name", ["line", "bending", "y_branch", pytest.param("buoy_net", marks=pytest.mark.slow)])
 def test_solve_matches_dense_jacobian(models, name):
     """Solves and transposed solves agree with `numpy.linalg.solve` on the `jacfwd`
     Jacobian, on a line, a branched system and a net with loops, at a step long enough

@@ -293,15 +293,21 @@ def test_moordyn_zero_ba_is_undamped(tmp_path):
 # MoorDyn: notes and unsupported features
 
 
-def test_moordyn_bending_stiffness_is_a_note(tmp_path):
+def test_moordyn_bending_stiffness_is_read(tmp_path):
+    # A constant EI is the line type's bending stiffness, and nothing is left out.
     path = write_moordyn(tmp_path, types=("chain  0.1  20.0  1.0e9  -0.5  3.5e4  1.2  1.0  0.05  0.0",))
-    with pytest.warns(UserWarning, match="bending stiffness EI = 35000"):
+    scene = jc.read_moordyn(path)
+    assert scene.line_types[0].bending_stiffness == 3.5e4 and not scene.dropped
+    np.testing.assert_array_equal(scene.build().model.line.bending_stiffness, 3.5e4)
+    # EI = 0 is no bending: none of its code.
+    scene = jc.read_moordyn(write_moordyn(tmp_path, "no_bending.txt"))
+    assert scene.build().model.line.bending_stiffness is None
+    # A table of EI against curvature is not modelled: a note, and a warning.
+    path = write_moordyn(tmp_path, "table.txt", types=("chain  0.1  20.0  1.0e9  -0.5  ei.dat  1.2  1.0  0.05  0.0",))
+    with pytest.warns(UserWarning, match="bending stiffness table 'ei.dat' ignored"):
         scene = jc.read_moordyn(path)
     (note,) = [n for n in scene.notes if "bending" in n]
-    assert re.search(rf"\bline {line_of(path, '3.5e4')}\b", note) and "chain" in note
-    # EI = 0 says nothing about bending.
-    scene = jc.read_moordyn(write_moordyn(tmp_path, "no_bending.txt"))
-    assert not any("bending" in n for n in scene.notes)
+    assert re.search(rf"\bline {line_of(path, 'ei.dat')}\b", note) and "chain" in note
 
 
 def test_moordyn_seabed_is_always_on_with_moordyns_defaults(tmp_path):
@@ -681,8 +687,7 @@ def test_moordyn_missing_file(tmp_path):
 
 
 def test_moordyn_lowe_and_langley_file():
-    with pytest.warns(UserWarning):  # bending left out
-        scene = jc.read_moordyn(LOWE_AND_LANGLEY)
+    scene = jc.read_moordyn(LOWE_AND_LANGLEY)
     assert [p.kind for p in scene.points] == ["fixed", "coupled"]
     assert scene.points[0].position == (-100.0, 0.0, -55.0)
     assert scene.points[1].position == (0.0, 0.0, -5.0)
@@ -692,7 +697,7 @@ def test_moordyn_lowe_and_langley_file():
     assert spec.axial_stiffness == 5e8
     assert (spec.axial_damping, spec.axial_damping_ratio) == (0.0, 0.5)
     assert (spec.diameter, spec.mass_per_length, spec.normal_drag, spec.normal_added_mass) == (0.396, 165.0, 1.0, 1.0)
-    assert any("bending" in n for n in scene.notes)
+    assert spec.bending_stiffness == 120.8e3 and not scene.dropped
     assert not any("kBot" in n or "cBot" in n for n in scene.notes)
     assert (scene.water.seabed.stiffness, scene.water.seabed.damping) == (3.0e6, 3.0e5)  # the file's kBot, cBot
     assert (scene.water.density, scene.water.gravity, scene.water.depth) == (1000.0, 9.807, 100.0)
@@ -1368,9 +1373,7 @@ def test_run_past_a_scene_motion_table_fails_before_solving(tmp_path):
 
 
 def test_titles_are_read(tmp_path):
-    with pytest.warns(UserWarning) as caught:
-        scene = jc.read_moordyn(LOWE_AND_LANGLEY)
-    assert any("bending" in str(w.message) for w in caught)
+    scene = jc.read_moordyn(LOWE_AND_LANGLEY)
     assert scene.title == "MoorDyn input file for a flexible jumper (Lowe and Langley, 2006)"
     assert jc.read_scene(write_scene(tmp_path, SCENE)).title == "reader test"
 
@@ -1426,13 +1429,14 @@ def test_moordyn_physics_left_out_is_listed_by_kind(tmp_path, option, kind):
 
 
 def test_the_command_line_refuses_physics_left_out_unless_allowed(tmp_path, capsys):
-    """A file with bending stiffness (MoorDyn's EI) is refused, naming the line; with
-    --allow-ignored EI it runs, and the summary says what was left out."""
-    path = write_moordyn(tmp_path, types=("chain  0.1  20.0  1.0e9  -0.5  3.5e4  1.2  1.0  0.05  0.0",))
+    """A file with a bending stiffness table (MoorDyn's EI against curvature) is refused,
+    naming the line; with --allow-ignored EI it runs, and the summary says what was left
+    out."""
+    path = write_moordyn(tmp_path, types=("chain  0.1  20.0  1.0e9  -0.5  ei.dat  1.2  1.0  0.05  0.0",))
     argv = ["run", str(path), "--duration", "0", "--no-progress"]
     assert cli_main(argv) == 2
     err = capsys.readouterr().err
-    assert f"line {line_of(path, '3.5e4')}: line type chain: bending stiffness EI = 35000" in err
+    assert f"line {line_of(path, 'ei.dat')}: line type chain: bending stiffness table 'ei.dat' ignored" in err
     assert err.rstrip().endswith("to run without it, add --allow-ignored EI")
     assert cli_main([*argv, "--allow-ignored", "waves"]) == 2  # not the kind left out
     capsys.readouterr()

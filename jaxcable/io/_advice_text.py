@@ -92,6 +92,27 @@ def advice_lines(advice: Advice) -> list[str]:
         f"stiffest axial mode: ω_n = {advice.omega:.4g} rad/s (period {2 * np.pi / advice.omega:.3g} s) at segment "
         f"{advice.segment}; with damping |λ| = {advice.eigenvalue:.4g} 1/s"
     )
+    if advice.bending is not None:
+        b = advice.bending
+        if not np.isfinite(b.bending_length):
+            reach = "a slack segment at rest: bending carries its shape there"
+        elif np.isnan(b.bending_length):
+            reach = "no equilibrium to measure the bending length at"
+        else:
+            verdict = (
+                "bending shapes the line near its supports and loads, keep EI"
+                if b.matters
+                else "under a tenth of a segment, so EI changes the forces little and leaving it out saves its cost"
+            )
+            reach = (
+                f"bending length √(EI/T) = {b.bending_length:.3g} m at rest against segments of "
+                f"{b.segment_length:.3g} m: {verdict}"
+            )
+        text.append(
+            f"bending stiffness EI = {b.bending_stiffness:.4g} N·m²: {reach}; its fastest mode "
+            f"ω_b = 4√(EI/μ)/ℓ² = {b.omega:.4g} rad/s"
+            + (", faster than the axial mode" if b.omega > advice.eigenvalue else ", slower than the axial mode")
+        )
     if advice.seabed_eigenvalue > 0:
         what = {"damping": "its damping", "stiffness": "its stiffness", "friction": "friction below friction_speed"}
         text.append(

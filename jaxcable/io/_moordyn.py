@@ -23,11 +23,13 @@ friction is `μ FricDamp |v|` capped at `μ N` (Line.cpp), which the seabed's
 Features jaxcable does not model raise a [`jaxcable.io.SceneError`][] where leaving them
 out would change the system (rods, 6-DOF bodies, nonlinear or viscoelastic stiffness
 tables, VIV, constant forces on fixed or coupled points) and are listed in `Scene.notes` where the model is
-still meaningful without them (bending stiffness of a long line, bathymetry files,
+still meaningful without them (a bending stiffness table, bathymetry files,
 static-to-dynamic friction ratios, the wave and current modes jaxcable cannot
 represent, its time-step and initial-condition options, but for `TmaxIC = 0`, which
 skips statics as it skips MoorDyn's initial-condition solve). Notes on physics left
-out (bending, bathymetry, waves) are also issued as Python warnings. MoorDyn's steady
+out (a bending table, bathymetry, waves) are also issued as Python warnings. A
+constant `EI` is read as the line type's `bending_stiffness` (`jaxcable._bending`):
+MoorDyn's lines end at points, which are pinned, as jaxcable's line ends are. MoorDyn's steady
 current profile and its wave spectrum and elevation files are read into the water
 (`jaxcable.io._moordyn_water`).
 """
@@ -269,14 +271,10 @@ def _line_type(source: str, line: int, fields: list[str], dropped: list[tuple[st
             )
     if not is_number(ei):
         dropped.append(
-            ("EI", f"{where}: line type {name}: bending stiffness table {ei!r} ignored (jaxcable has no bending)")
-        )
-    elif float(ei) != 0:
-        dropped.append(
             (
                 "EI",
-                f"{where}: line type {name}: bending stiffness EI = {float(ei):g} N·m² ignored "
-                "(jaxcable models cables without bending)",
+                f"{where}: line type {name}: bending stiffness table {ei!r} ignored (jaxcable models a "
+                "constant EI; give one to keep bending)",
             )
         )
     values = {c: _number(source, line, c, t) for c, t in zip(_LINE_TYPE_COLUMNS[6:], fields[6:10])}
@@ -301,6 +299,7 @@ def _line_type(source: str, line: int, fields: list[str], dropped: list[tuple[st
             normal_added_mass=values["Ca"],
             tangential_added_mass=values["CaAx"],
             slack_damping=True,
+            bending_stiffness=_number(source, line, "EI", ei) if is_number(ei) else 0.0,
             where=where,
         )
 

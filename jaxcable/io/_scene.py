@@ -338,6 +338,7 @@ class LineTypeSpec:
     area: float | None = None
     slack_width: float = 1e-5
     slack_damping: bool = False
+    bending_stiffness: float = 0.0
     where: str = ""
 
     def damping_coefficient(self, segment_length: float) -> float:
@@ -372,6 +373,7 @@ class LineTypeSpec:
                 tangential_drag=self.tangential_drag,
                 normal_added_mass=self.normal_added_mass,
                 tangential_added_mass=self.tangential_added_mass,
+                bending_stiffness=self.bending_stiffness,
             )
 
 

@@ -68,7 +68,8 @@ A scene file names its points and line types and lists its lines::
     quadratic_stiffness = 3.0e6  # C_E1 (N), optional
     axial_damping = 0.0          # C_v (N·s), or axial_damping_ratio (–), optional
     normal_drag = 1.2            # K_n; also tangential_drag, normal_added_mass,
-                                 # tangential_added_mass, area, slack_width;
+                                 # tangential_added_mass, area, slack_width,
+                                 # bending_stiffness (EI, N·m²);
                                  # slack_damping = true damps slack segments too
 
     [points.anchor]
@@ -175,6 +176,7 @@ _LINE_TYPE_OPTIONAL = (
     "tangential_added_mass",
     "area",
     "slack_width",
+    "bending_stiffness",
 )
 _LINE_TYPE_FLAGS = ("slack_damping",)  # true or false
 _BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height")
