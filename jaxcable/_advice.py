@@ -158,7 +158,7 @@ def stiffest_axial_mode(model, env: Environment | None = None) -> tuple[float, f
     return float(omega[s]), float(magnitude[s]), s
 
 
-def fastest_eigenvalues(model, env: Environment | None = None) -> np.ndarray:
+def fastest_eigenvalues(model, env: Environment | None = None, bending: bool = True) -> np.ndarray:
     """The eigenvalues λ (1/s, complex) that bound an explicit step: each segment's
     highest axial mode ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode])
     and its highest bending mode where the line has EI
@@ -166,10 +166,11 @@ def fastest_eigenvalues(model, env: Environment | None = None) -> np.ndarray:
     contact and friction modes of a node on it
     ([`seabed_mode`][jaxcable._advice.seabed_mode]) for every segment, whether or not
     it reaches the bed. Of each pair of roots the one of larger magnitude (the other is
-    its conjugate, or a slower real root). Shape `(modes,)`."""
+    its conjugate, or a slower real root). Shape `(modes,)`. Without the bending
+    modes if not `bending`."""
     model, env, _ = _unpack(model, env, None)
     _, axial = _axial_modes(model, env)
-    if model.line.bending_stiffness is not None:
+    if bending and model.line.bending_stiffness is not None:
         axial = np.concatenate([axial, 1j * bending_modes(model, env)])  # undamped
     if env.seabed is None:
         return axial

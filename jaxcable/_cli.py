@@ -24,6 +24,7 @@ import the engine once their flags are read.
 import argparse
 import dataclasses
 import json
+import math
 import os
 import sys
 import warnings
@@ -538,7 +539,7 @@ def _info(args) -> int:
     )
     if run.dt is not None:
         solver = run.solver_config().solver
-        growth = fixed_step_growth(solver, run.dt, built)
+        growth = fixed_step_growth(solver, run.dt, built, steps=math.ceil(duration / run.dt))
         if growth is not None:
             verdict = "stable" if growth <= STABLE_GROWTH else "unstable: the run will step adaptively instead"
             print(

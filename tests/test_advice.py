@@ -20,17 +20,18 @@ from jaxcable import _lagrangian as lag
 from jaxcable._advice import (
     STABLE_STEP,
     advise,
+    bending_modes,
     polyline_curvature,
     seabed_mode,
     segments_needed,
     stiffest_axial_mode,
     wave_fit,
 )
-from jaxcable._stability import fixed_step_growth, stability_function
+from jaxcable._stability import BENDING_RUN_GROWTH, fixed_step_growth, stability_function
 from jaxcable.io import advice_lines
 
 
-def taut_line(mass_matrix: str, damping_ratio: float = 0.0) -> jc.io.BuiltScene:
+def taut_line(mass_matrix: str, damping_ratio: float = 0.0, bending_stiffness: float = 0.0) -> jc.io.BuiltScene:
     # A straight, stretched line between two anchors: its fastest mode is axial.
     rope = jc.io.LineTypeSpec(
         "rope",
@@ -39,6 +40,7 @@ def taut_line(mass_matrix: str, damping_ratio: float = 0.0) -> jc.io.BuiltScene:
         axial_stiffness=4e6,
         axial_damping_ratio=damping_ratio,
         tangential_added_mass=0.5,
+        bending_stiffness=bending_stiffness,
     )
     points = (jc.io.PointSpec("a", "fixed", (0.0, 0.0, -50.0)), jc.io.PointSpec("b", "fixed", (101.0, 0.0, -50.0)))
     lines = (jc.io.LineSpec("1", "rope", 0, 1, 100.0, 20),)
@@ -108,6 +110,20 @@ def test_an_undamped_line_has_no_stable_two_stage_fixed_step():
     built = taut_line("lumped", 0.0)
     for dt in (1e-5, 1e-4, 1e-3):
         assert fixed_step_growth(diffrax.Midpoint(), dt, built) > 1
+
+
+def test_a_bending_mode_counts_against_a_fixed_step_where_the_run_would_grow_it():
+    # Undamped, a bending mode grows a little at any two-stage step; it counts only where
+    # the run's steps would grow it by more than 1 %: not for a few steps, and for
+    # many. The damped axial mode alone is stable at this step.
+    built = taut_line("lumped", 0.5, bending_stiffness=2e5)
+    solver, dt = diffrax.Midpoint(), 2e-3
+    axial = fixed_step_growth(solver, dt, taut_line("lumped", 0.5))
+    assert axial is not None and axial <= 1
+    bending = np.abs(stability_function(solver, 1j * bending_modes(built.model, built.environment) * dt)).max()
+    assert 1 < bending and bending**10 < BENDING_RUN_GROWTH < bending**100_000
+    assert fixed_step_growth(solver, dt, built, steps=10) == axial
+    assert fixed_step_growth(solver, dt, built, steps=100_000) == bending
 
 
 def test_stability_functions_are_the_closed_forms():

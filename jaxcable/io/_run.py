@@ -448,7 +448,7 @@ def _feasible(solver: SolverConfig, built: BuiltScene, ts: np.ndarray) -> tuple[
         return adaptive, (
             f"fixed steps of {dt:g} s would take {steps} steps, more than max_steps = {solver.max_steps}: {instead}",
         )
-    growth = fixed_step_growth(solver.solver, dt, built)
+    growth = fixed_step_growth(solver.solver, dt, built, steps=steps)
     if growth is not None and growth > STABLE_GROWTH:
         return adaptive, (
             f"fixed steps of {dt:g} s are beyond {method}'s stability limit here (the fastest mode grows "
