@@ -28,9 +28,10 @@ Everything here is component-major, `(3, nodes)`, as in `jaxcable._lagrangian`.
 """
 
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import Array, Float
 
-from ._hydro import dot, safe_norm
+from ._hydro import dot
 from ._indexing import sum_into, take
 from ._network import CableNetwork
 
@@ -53,14 +54,21 @@ def has_bending(model: CableNetwork) -> bool:
     return bends
 
 
-def _hinges(model: CableNetwork, positions) -> tuple[Array, Array, Array, Array, Array, Array]:
+def _hinges(model: CableNetwork, stretched, tangent) -> tuple[Array, Array, Array, Array, Array, Array]:
     """Each hinge's stiffness EI/ℓ̄ (N·m), unit segments u₁ and u₂, their stretched
-    lengths (m), and cos θ."""
+    lengths (m), and cos θ, from the segments' stretched lengths and unit tangents
+    (shapes `(segments,)` and `(3, segments)`): a hinge's segments are the network's,
+    turned where a segment runs towards the hinge's previous node or from its next."""
     nodes, segments = model.topology.hinge_nodes, model.topology.hinge_segments
-    previous, own, following = (take(positions, nodes[k]) for k in range(3))
-    d1, d2 = own - previous, following - own
-    s1, s2 = safe_norm(d1), safe_norm(d2)
-    u1, u2 = d1 / s1, d2 / s2
+    ends = model.topology.segment_nodes
+
+    def unit(k, towards):
+        u = take(tangent, segments[k])
+        sign = np.where(ends[segments[k], 1] == nodes[towards], 1.0, -1.0)
+        return u if np.all(sign > 0) else u * sign
+
+    u1, u2 = unit(0, 1), unit(1, 2)
+    s1, s2 = take(stretched, segments[0]), take(stretched, segments[1])
     ei = model.line.bending_stiffness
     assert ei is not None, "a hinge needs the line's bending stiffness (see has_bending)"
     ei = jnp.broadcast_to(ei, (model.n_segments,))
@@ -72,15 +80,20 @@ def _hinges(model: CableNetwork, positions) -> tuple[Array, Array, Array, Array,
     return stiffness, u1, u2, s1, s2, dot(u1, u2)
 
 
-def bending_energy(model: CableNetwork, positions: Float[Array, "3 nodes"]) -> Float[Array, ""]:
-    """Σ EI/ℓ̄ (1 − cos θ) (J) over the hinges, at component-major `positions` (m)."""
-    stiffness, _, _, _, _, cos = _hinges(model, positions)
+def bending_energy(model: CableNetwork, stretched, tangent) -> Float[Array, ""]:
+    """Σ EI/ℓ̄ (1 − cos θ) (J) over the hinges, from the segments' stretched lengths
+    (m, shape `(segments,)`) and unit tangents (component-major `(3, segments)`)."""
+    stiffness, _, _, _, _, cos = _hinges(model, stretched, tangent)
     return jnp.sum(stiffness * (1.0 - cos))
 
 
-def bending_forces(model: CableNetwork, positions: Float[Array, "3 nodes"]) -> Float[Array, "3 nodes"]:
-    """`−∂E/∂x` (N) of [`bending_energy`][], written out, component-major `(3, nodes)`."""
-    stiffness, u1, u2, s1, s2, cos = _hinges(model, positions)
+def bending_forces(model: CableNetwork, stretched, tangent) -> Float[Array, "3 nodes"]:
+    """`−∂E/∂x` (N) of [`bending_energy`][], written out, component-major `(3, nodes)`,
+    from the segments' geometry as `bending_energy` takes it."""
+    stiffness, u1, u2, s1, s2, cos = _hinges(model, stretched, tangent)
     g1 = stiffness * (u2 - cos * u1) / s1
     g2 = stiffness * (u1 - cos * u2) / s2
-    return sum_into(jnp.concatenate([-g1, g1 - g2, g2], axis=-1), model.topology.hinge_sums)
+    plans = model.topology.hinge_sums
+    # Each role summed onto the nodes apart: slices along a line, where summing one
+    # concatenation of the three made XLA recompute g₁ and g₂ in every slice.
+    return sum_into(-g1, plans[0]) + sum_into(g1 - g2, plans[1]) + sum_into(g2, plans[2])

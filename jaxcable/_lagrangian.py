@@ -187,7 +187,7 @@ def _potential_energy(model: CableNetwork, env: Environment, positions) -> Float
         penetration = jnp.maximum(-env.depth - z, 0.0)
         energy = energy + 0.5 * env.seabed.stiffness * jnp.sum(contact_area(model) * penetration**2)
     if bending.has_bending(model):
-        energy = energy + bending.bending_energy(model, positions)
+        energy = energy + bending.bending_energy(model, *_geometry(model, positions)[:2])
     return energy
 
 
@@ -547,10 +547,10 @@ def _axial_forces(model: CableNetwork, tension, tangent) -> Float[Array, "3 node
 
 
 def _internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "3 nodes"]:
-    _, tangent, _ = _geometry(model, positions)
+    stretched, tangent, _ = _geometry(model, positions)
     forces = _axial_forces(model, _tension(model, positions, velocities), tangent)
     if bending.has_bending(model):
-        forces = forces + bending.bending_forces(model, positions)
+        forces = forces + bending.bending_forces(model, stretched, tangent)
     return forces
 
 
@@ -572,7 +572,7 @@ def _conservative_forces(model: CableNetwork, env: Environment, positions) -> Fl
     through the geometry (`benchmarks/README.md`, *Where an evaluation's time goes*).
     """
     line, body = model.line, model.body
-    _, tangent, strain = _geometry(model, positions)
+    stretched, tangent, strain = _geometry(model, positions)
     weight = line.mass_per_length * env.gravity * model.segment_length
     displaced = env.water_density * line.area * env.gravity * model.segment_length
     z = positions[2]
@@ -593,7 +593,7 @@ def _conservative_forces(model: CableNetwork, env: Environment, positions) -> Fl
         lift = lift + env.seabed.stiffness * contact_area(model) * jnp.maximum(-env.depth - z, 0.0)
     elastic = _axial_forces(model, line.tension_law.elastic_tension(strain), tangent)
     if bending.has_bending(model):
-        elastic = elastic + bending.bending_forces(model, positions)
+        elastic = elastic + bending.bending_forces(model, stretched, tangent)
     return elastic + lift * _UP + _cm(body.force)
 
 
