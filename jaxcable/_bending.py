@@ -54,20 +54,21 @@ def has_bending(model: CableNetwork) -> bool:
     return bends
 
 
-def _hinges(model: CableNetwork, stretched, tangent) -> tuple[Array, Array, Array, Array, Array, Array]:
+def _hinges(model: CableNetwork, stretched, tangent):
     """Each hinge's stiffness EI/ℓ̄ (N·m), unit segments u₁ and u₂, their stretched
-    lengths (m), and cos θ, from the segments' stretched lengths and unit tangents
-    (shapes `(segments,)` and `(3, segments)`): a hinge's segments are the network's,
-    turned where a segment runs towards the hinge's previous node or from its next."""
+    lengths (m), cos θ, and the signs σ₁, σ₂ (static, ±1) that turn its two segments'
+    tangents into u₁ and u₂, from the segments' stretched lengths and unit tangents
+    (shapes `(segments,)` and `(3, segments)`). A segment runs from its start node to its
+    end; σ is −1 where it runs towards the hinge's previous node or from its next."""
     nodes, segments = model.topology.hinge_nodes, model.topology.hinge_segments
     ends = model.topology.segment_nodes
+    signs = [np.where(ends[segments[k], 1] == nodes[k + 1], 1.0, -1.0) for k in (0, 1)]
 
-    def unit(k, towards):
+    def unit(k):
         u = take(tangent, segments[k])
-        sign = np.where(ends[segments[k], 1] == nodes[towards], 1.0, -1.0)
-        return u if np.all(sign > 0) else u * sign
+        return u if np.all(signs[k] > 0) else u * signs[k]
 
-    u1, u2 = unit(0, 1), unit(1, 2)
+    u1, u2 = unit(0), unit(1)
     s1, s2 = take(stretched, segments[0]), take(stretched, segments[1])
     ei = model.line.bending_stiffness
     assert ei is not None, "a hinge needs the line's bending stiffness (see has_bending)"
@@ -77,23 +78,31 @@ def _hinges(model: CableNetwork, stretched, tangent) -> tuple[Array, Array, Arra
     stiffness = (take(ei, segments[0]) + take(ei, segments[1])) / (
         take(length, segments[0]) + take(length, segments[1])
     )
-    return stiffness, u1, u2, s1, s2, dot(u1, u2)
+    return stiffness, u1, u2, s1, s2, dot(u1, u2), signs
 
 
 def bending_energy(model: CableNetwork, stretched, tangent) -> Float[Array, ""]:
     """Σ EI/ℓ̄ (1 − cos θ) (J) over the hinges, from the segments' stretched lengths
     (m, shape `(segments,)`) and unit tangents (component-major `(3, segments)`)."""
-    stiffness, _, _, _, _, cos = _hinges(model, stretched, tangent)
+    stiffness, _, _, _, _, cos, _ = _hinges(model, stretched, tangent)
     return jnp.sum(stiffness * (1.0 - cos))
 
 
-def bending_forces(model: CableNetwork, stretched, tangent) -> Float[Array, "3 nodes"]:
-    """`−∂E/∂x` (N) of [`bending_energy`][], written out, component-major `(3, nodes)`,
-    from the segments' geometry as `bending_energy` takes it."""
-    stiffness, u1, u2, s1, s2, cos = _hinges(model, stretched, tangent)
+def bending_pull(model: CableNetwork, stretched, tangent) -> Float[Array, "3 segments"]:
+    """`−∂E/∂x` of [`bending_energy`][] (N), written out, as a pull along each segment:
+    the force on its start node, and its negative on its end node, as the axial
+    tension's `T τ`, so that the two are summed onto the nodes together. From the
+    segments' geometry as `bending_energy` takes it; component-major `(3, segments)`.
+
+    With g₁ = −∂E/∂d₁ and g₂ = −∂E/∂d₂ (module notes), the previous node takes −g₁ and
+    the hinge g₁ along its first segment, the hinge −g₂ and the next node g₂ along its
+    second: a pull of −σ g on each, σ its sign."""
+    stiffness, u1, u2, s1, s2, cos, signs = _hinges(model, stretched, tangent)
     g1 = stiffness * (u2 - cos * u1) / s1
     g2 = stiffness * (u1 - cos * u2) / s2
     plans = model.topology.hinge_sums
-    # Each role summed onto the nodes apart: slices along a line, where summing one
-    # concatenation of the three made XLA recompute g₁ and g₂ in every slice.
-    return sum_into(-g1, plans[0]) + sum_into(g1 - g2, plans[1]) + sum_into(g2, plans[2])
+
+    def along(g, k):
+        return sum_into(g if np.all(signs[k] > 0) else g * signs[k], plans[k])
+
+    return -(along(g1, 0) + along(g2, 1))

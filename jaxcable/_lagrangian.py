@@ -539,19 +539,19 @@ def seabed_forces(model: CableNetwork, env: Environment, positions, velocities) 
     return _public(_seabed_forces(model, env, _cm(positions), _cm(velocities)))
 
 
-def _axial_forces(model: CableNetwork, tension, tangent) -> Float[Array, "3 nodes"]:
+def _axial_forces(model: CableNetwork, tension, stretched, tangent) -> Float[Array, "3 nodes"]:
     """Each segment's `tension` (N) along its unit `tangent`, pulling its two ends
-    together, summed on the nodes."""
+    together, and, where the line has EI, the bending forces as pulls along the
+    segments (`jaxcable._bending.bending_pull`), summed on the nodes in one sum."""
     pull = tension * tangent
+    if bending.has_bending(model):
+        pull = pull + bending.bending_pull(model, stretched, tangent)
     return _scatter(model, pull, -pull)
 
 
 def _internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "3 nodes"]:
     stretched, tangent, _ = _geometry(model, positions)
-    forces = _axial_forces(model, _tension(model, positions, velocities), tangent)
-    if bending.has_bending(model):
-        forces = forces + bending.bending_forces(model, stretched, tangent)
-    return forces
+    return _axial_forces(model, _tension(model, positions, velocities), stretched, tangent)
 
 
 def internal_forces(model: CableNetwork, positions, velocities) -> Float[Array, "nodes 3"]:
@@ -591,9 +591,7 @@ def _conservative_forces(model: CableNetwork, env: Environment, positions) -> Fl
     )
     if env.seabed is not None and env.depth is not None:  # as in `_potential_energy`
         lift = lift + env.seabed.stiffness * contact_area(model) * jnp.maximum(-env.depth - z, 0.0)
-    elastic = _axial_forces(model, line.tension_law.elastic_tension(strain), tangent)
-    if bending.has_bending(model):
-        elastic = elastic + bending.bending_forces(model, stretched, tangent)
+    elastic = _axial_forces(model, line.tension_law.elastic_tension(strain), stretched, tangent)
     return elastic + lift * _UP + _cm(body.force)
 
 

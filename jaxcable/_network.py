@@ -253,8 +253,9 @@ class Topology:
     **Hinges** (with `bending=True`, for a line's bending stiffness): every node that
     joins exactly two segments and is not in `line_ends` (as given) bends.
     `hinge_nodes[:, k]` is hinge k's (previous, own, next) node, `hinge_segments[:, k]`
-    its two segments (the one to the previous node first), and `hinge_sums[r]` plans
-    the sum of per-hinge forces onto nodes for each role r: previous, own, next. A
+    its two segments (the one to the previous node first), and `hinge_sums[k]` plans
+    the sum of per-hinge values onto their k-th segments (a segment is the first of at
+    most one hinge, and the second of at most one). A
     constrained node inside a line bends too, so that prescribing a
     line's first two nodes clamps it (a cantilever); a line's end, a junction, a
     body's node and `from_branches`' junctions are pinned, as MoorDyn's points are.
@@ -308,7 +309,7 @@ class Topology:
         ends[np.asarray(line_ends, dtype=np.int64)] = True
         self.bending = bool(bending)
         self.hinge_nodes, self.hinge_segments = (frozen(a) for a in _hinges(self.segment_nodes, ends, bending))
-        plans = [incidence(nodes, self.n_nodes) for nodes in self.hinge_nodes]
+        plans = [incidence(segments, self.segment_nodes.shape[0]) for segments in self.hinge_segments]
         most = max(plan.shape[1] for plan in plans)
         self.hinge_sums = frozen(
             np.stack([np.pad(p, ((0, 0), (0, most - p.shape[1])), constant_values=-1) for p in plans])
