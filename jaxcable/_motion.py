@@ -191,14 +191,15 @@ class Sampled(AbstractMotion):
     def displacement(self, t):
         return self._interpolate(t, derivatives=False)[0]
 
-    def kinematics(self, t):
+    def kinematics(self, t) -> tuple[Array, Array, Array]:
         # The pieces' derivatives in closed form, from one interval lookup: forward-mode
         # derivatives of `displacement` traced the lookup (a loop) and its
         # polynomial three times over, 25 ms a call, and a Low & Langley run traces the
         # kinematics 11 times. Equal to `AbstractMotion.kinematics` to rounding (tested).
-        return self._interpolate(jnp.asarray(t, dtype=float), derivatives=True)
+        r, v, a = self._interpolate(jnp.asarray(t, dtype=float), derivatives=True)
+        return r, v, a
 
-    def _interpolate(self, t, derivatives: bool):
+    def _interpolate(self, t, derivatives: bool) -> tuple[Array, ...]:
         """The displacement (m) at time `t` (s) and, if `derivatives`, its velocity (m/s)
         and acceleration (m/s²): zero outside the table, the interval's own at its ends."""
         ts, ys, ds = self.times, self.displacements, self.slopes

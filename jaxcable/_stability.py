@@ -67,7 +67,9 @@ def fixed_step_growth(solver: diffrax.AbstractSolver, dt: float, model, env=None
     largest = float(np.max(np.abs(growth)))
     model, env, _ = _unpack(model, env, None)
     if model.line.bending_stiffness is not None:
-        bending = float(np.max(np.abs(stability_function(solver, 1j * bending_modes(model, env) * dt))))
+        at_bending = stability_function(solver, 1j * bending_modes(model, env) * dt)
+        assert at_bending is not None  # the solver has a tableau: it gave `growth`
+        bending = float(np.max(np.abs(at_bending)))
         if bending**steps > BENDING_RUN_GROWTH:
             largest = max(largest, bending)
     return largest
