@@ -604,14 +604,16 @@ def generalised_forces(model: CableNetwork, env: Environment, t, positions, velo
     return _public(_generalised_forces(model, env, t, _cm(positions), _cm(velocities)))
 
 
-def static_forces(model: CableNetwork, env: Environment, t, positions) -> Float[Array, "nodes 3"]:
+def static_forces(model: CableNetwork, env: Environment, t, positions, still: bool = False) -> Float[Array, "nodes 3"]:
     """`generalised_forces` with every node at rest (N), shape `(nodes, 3)`, without
-    the terms that are zero at rest: statics' forces, which compile smaller."""
+    the terms that are zero at rest: statics' forces, which compile smaller. With
+    `still`, for water known to be still (no current, no waves), without the water's
+    loads either, which are then zero too."""
     positions = _cm(positions)
-    rest = jnp.zeros_like(positions)
-    return _public(
-        _conservative_forces(model, env, positions) + _nonconservative_forces(model, env, t, positions, rest, True)
-    )
+    forces = _conservative_forces(model, env, positions)
+    if not still:
+        forces = forces + _nonconservative_forces(model, env, t, positions, jnp.zeros_like(positions), True)
+    return _public(forces)
 
 
 def _adjugate(blocks: Float[Array, "3 3 n"]) -> tuple[Float[Array, "3 3 n"], Float[Array, " n"]]:

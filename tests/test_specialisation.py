@@ -16,6 +16,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+import optimistix as optx
 import pytest
 
 import jaxcable as jc
@@ -257,3 +258,70 @@ def test_static_forces_are_the_forces_at_rest(scene):
         expected = np.asarray(lag.generalised_forces(model, env, 0.7, positions, rest))
         got = np.asarray(lag.static_forces(model, env, 0.7, positions))
         np.testing.assert_allclose(got, expected, rtol=1e-13, atol=1e-13 * np.max(np.abs(expected)))
+
+
+def _still(env):
+    """`env` without its waves and with its current set to zero (a profile's speeds)."""
+    env = env.without_waves()
+    if isinstance(env.current, jc.CurrentProfile):
+        return eqx.tree_at(lambda e: e.current.speeds, env, jnp.zeros_like(env.current.speeds))
+    return eqx.tree_at(lambda e: e.current, env, jnp.zeros(3))
+
+
+@pytest.mark.parametrize("scene", list(SCENES))
+def test_static_forces_in_still_water_leave_out_only_zeros(scene):
+    """In still water the water's loads on nodes at rest are zero: statics' forces
+    without them (`still=True`) are all the forces at rest, bodies, surface and bed
+    included."""
+    model, env = SCENES[scene]()
+    env = _still(env)
+    positions = lag.full_state(model, 0.7, *_state(model))[0]
+    expected = np.asarray(lag.generalised_forces(model, env, 0.7, positions, jnp.zeros_like(positions)))
+    got = np.asarray(lag.static_forces(model, env, 0.7, positions, still=True))
+    np.testing.assert_allclose(got, expected, rtol=1e-13, atol=1e-13 * np.max(np.abs(expected)))
+
+
+def _lowe_langley():
+    from pathlib import Path
+
+    scene = jc.load_scene(Path(__file__).parent / "data" / "lowe_and_langley_2006" / "line.txt")
+    built = scene.build()
+    return built.model, built.environment
+
+
+@pytest.mark.parametrize("scene", ["seed003 chain", "surface line", "moored net", "seabed", "Low & Langley (bending)"])
+def test_statics_in_still_water_is_the_general_path(scene):
+    """Statics in water known to be still, without the water's loads, finds the
+    general path's equilibrium: the same positions, reactions and tensions to rounding.
+    (Not always in as many steps: the last ones, which take the force from the tolerance
+    down to rounding, end where rounding says.)"""
+    from jaxcable import _statics
+
+    model, env = _lowe_langley() if scene == "Low & Langley (bending)" else SCENES[scene]()
+    env = _still(env)
+    assert _statics._still_water(env)
+    args = (model, env, model.node_positions, 0.0, _statics.MAX_STEPS, _statics.FORCE_TOLERANCE, True)
+    general, still = (_statics._equilibrium(*args, flag) for flag in (False, True))
+    assert bool(general.result == optx.RESULTS.successful) and bool(still.result == optx.RESULTS.successful)
+    scale = float(general.force_scale)
+    size = float(np.ptp(np.asarray(general.state.positions)))
+    np.testing.assert_allclose(still.state.positions, general.state.positions, rtol=0, atol=1e-9 * size)
+    np.testing.assert_allclose(still.reactions, general.reactions, rtol=0, atol=1e-8 * scale)
+    np.testing.assert_allclose(still.tension, general.tension, rtol=0, atol=1e-8 * scale)
+
+
+def test_still_water_is_known_only_before_tracing():
+    """Still water is no waves and a concrete current of exactly zero; any current, a
+    wave, or a current traced under `jit` (a sweep over it) takes the general path."""
+    from jaxcable import _statics
+
+    assert _statics._still_water(jc.Environment())
+    assert _statics._still_water(jc.Environment(current=jc.CurrentProfile([-50.0, 0.0], [0.0, 0.0])))
+    assert not _statics._still_water(jc.Environment(current=[0.0, 1e-9, 0.0]))
+    assert not _statics._still_water(jc.Environment(current=jc.CurrentProfile([-50.0, 0.0], [0.0, 0.1])))
+    waves = jc.Environment(depth=50.0, waves=jc.Airy(height=1.0, period=8.0, depth=50.0))
+    assert not _statics._still_water(waves)
+    assert _statics._still_water(waves.without_waves())
+    seen = []
+    jax.jit(lambda current: seen.append(_statics._still_water(jc.Environment(current=current))))(jnp.zeros(3))
+    assert seen == [False]
