@@ -76,6 +76,15 @@ def errors(times: np.ndarray, series_kn: np.ndarray, reference: np.ndarray) -> d
     return {"rms": float(np.sqrt(np.mean(error**2))), "max": float(np.abs(error).max()), "mean": float(error.mean())}
 
 
+def difference(first: dict, second: dict, key: str) -> dict:
+    """RMS, largest and mean of `first[key] − second[key]` (kN) after the ramp, at
+    `first`'s times: how far two engines' top tensions are apart, beside how far
+    each is from the reference."""
+    after = first["times"] > PERIOD
+    apart = first[key][after] - np.interp(first["times"][after], second["times"], second[key])
+    return {"rms": float(np.sqrt(np.mean(apart**2))), "max": float(np.abs(apart).max()), "mean": float(apart.mean())}
+
+
 def run_cli(workdir: Path, case: int, rest: np.ndarray, dt_motion: float, env: dict | None = None) -> dict:
     """`jaxcable run line.txt --motion ...` for one case; its top tensions and wall time.
     `env`: the process's environment (this one's by default)."""
@@ -233,6 +242,7 @@ def main() -> None:
                     "run": md["run"],
                 }
                 entry["run_time_ratio_jaxcable_to_moordyn"] = timing["run"] / md["run"]
+                entry["jaxcable_minus_moordyn_kN"] = {key: difference(cli, md, key) for key in ("fairten", "reaction")}
                 curves[case]["moordyn"] = md
             record["cases"][str(case)] = entry
             print(f"case {case}:", json.dumps(entry))
@@ -310,6 +320,16 @@ def _report(latest: dict) -> None:
                     f"| {case} | MoorDyn 2 | {label} | {e['rms']:.3f} | {e['max']:.3f} | {e['mean']:+.3f} | "
                     f"dtM 1 ms | – | {m['run']:.1f} | 1 |"
                 )
+    for case, entry in latest["cases"].items():
+        if "jaxcable_minus_moordyn_kN" in entry:
+            apart = entry["jaxcable_minus_moordyn_kN"]
+            print(
+                f"case {case}, jaxcable − MoorDyn after the ramp (kN): "
+                + "; ".join(
+                    f"{label} RMS {apart[key]['rms']:.3f}, mean {apart[key]['mean']:+.3f}, max {apart[key]['max']:.3f}"
+                    for label, key in (("FairTen1", "fairten"), ("top force", "reaction"))
+                )
+            )
     print(f"({latest['machine']}, {latest['date']})")
 
 

@@ -12,7 +12,12 @@ Rows (`--only` takes these names):
   *run*: the median warm in-process `run_scene` (compile apart) over MoorDyn's stepping
   time at the file's dtM = 1 ms (its IC generation not timed), with the RMS error of the
   top tension (|R| and `FairTen1`) against the digitised reference beside each engine's;
-  met when the ratio is ≤ 0.5 and jaxcable's RMS errors are no larger than MoorDyn's.
+  met when the ratio is ≤ 0.5 and jaxcable's RMS error of |R| is no larger than
+  MoorDyn's. |R| is what the reference gives, the top tension at the support: the
+  support's force on the line (MoorDyn's own regression test compares its top node's
+  net force). `FairTen1` is the top segment's tension, half a segment below the
+  support, and both engines' sit about 0.4 kN under the reference for that reason
+  alone (`benchmarks/README.md`, *Which top tension*); it is reported, not judged.
   *process, cold* and *warm*: the whole `jaxcable run line.txt --motion ...` process
   over a whole Python process that runs MoorDyn on the same case (start-up, input, IC
   generation, stepping, saving its results). Cold: `JAX_COMPILATION_CACHE_DIR` pointed
@@ -461,7 +466,7 @@ def rows_ll(args) -> list[dict]:
         "reaction": ll.errors(cli["times"], cli["reaction"], reference),
         "fairten": ll.errors(cli["times"], cli["fairten"], reference),
     }
-    accurate = all(jx_errors[k]["rms"] <= md_errors[k]["rms"] for k in jx_errors)
+    accurate = jx_errors["reaction"]["rms"] <= md_errors["reaction"]["rms"]  # see the module's notes
     accuracy = (
         f"RMS err vs published (kN): abs R {jx_errors['reaction']['rms']:.3f} vs {md_errors['reaction']['rms']:.3f}, "
         f"FairTen1 {jx_errors['fairten']['rms']:.3f} vs {md_errors['fairten']['rms']:.3f} (max "
