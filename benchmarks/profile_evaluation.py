@@ -1,9 +1,11 @@
 """Where an evaluation's time goes, single and batched, against this CPU's roofline.
 
 On seed 003's line (lumped mass, at its static equilibrium with small velocities), for
-each segment count N, one evaluation of each part of the equations, timed as 100
-evaluations inside one compiled `fori_loop` (so no dispatch is counted), alone and as a
-`vmap` over `--batch` cases:
+each segment count N, as `--scene` says: `quadrature` (`seed003_line`'s default,
+drag by three Gauss points per segment) or `speed` (the speed table's,
+`moordyn_side_by_side.scene`: MoorDyn's nodal hydrodynamics, linear EA), one
+evaluation of each part of the equations, timed as 100 evaluations inside one compiled
+`fori_loop` (so no dispatch is counted), alone and as a `vmap` over `--batch` cases:
 
 - *geometry*: segment lengths, tangents and strains;
 - *conservative*: `−∂Π/∂x` (elastic, weight, buoyancy), written out;
@@ -18,6 +20,7 @@ this machine: the rate of a long fused multiply–add chain (compute bound) and 
 copy (memory bound), both through XLA.
 
     python benchmarks/profile_evaluation.py --segments 20 100
+    python benchmarks/profile_evaluation.py --segments 20 100 --scene speed
     python benchmarks/profile_evaluation.py --report
 
 Results are appended to benchmarks/results/profile_evaluation.json.
@@ -57,7 +60,8 @@ def parts(model, env):
         "geometry": lambda x, v: lag._geometry(model, x),
         "conservative": lambda x, v: lag._conservative_forces(model, env, x),
         "non-conservative": lambda x, v: lag._nonconservative_forces(model, env, 0.3, x, v),
-        "mass": lambda x, v: lag._lumped_terms(model, env, x),
+        # The terms without their plan (a static numpy index, not an output).
+        "mass": lambda x, v: lag._lumped_terms(model, env, x, tangent(x))[:3],
         "mass + solve": lambda x, v: lag._lumped_solve(model, env, x, tangent(x), free(x)),
         "field": lambda x, v: lag._free_accelerations(model, env, 0.3, free(x), free(v), "all")[0],
     }
@@ -83,10 +87,9 @@ def kernels(compiled_text: str) -> int:
     return len(re.findall(r"^\s*\S+ = \S+ fusion\(", compiled_text, re.M))
 
 
-def roofline(repeats: int) -> dict:
-    """Measured rates of this machine through XLA, both cores: an FMA chain long enough
-    to be compute bound, and a copy of 256 MB."""
-    size, chain = 1 << 16, 64
+def fma_rate(repeats: int, dtype=jnp.float64, size: int = 1 << 16, chain: int = 64) -> float:
+    """GFLOP/s of a fused multiply–add chain through XLA on both cores, `chain` steps over
+    a vector of `size` elements of `dtype`: long enough to be compute bound."""
 
     @jax.jit
     def fma(x):
@@ -94,19 +97,25 @@ def roofline(repeats: int) -> dict:
             x = x * 0.999999 + 1e-7
         return x
 
-    x = jnp.ones(size)
+    x = jnp.ones(size, dtype)
     _, _, seconds = timed(lambda: fma(x), repeats)
-    gflops = 2 * chain * size / seconds / 1e9
+    return 2 * chain * size / seconds / 1e9
+
+
+def roofline(repeats: int) -> dict:
+    """Measured rates of this machine through XLA, both cores: an FMA chain long enough
+    to be compute bound, and a copy of 256 MB."""
     big = jnp.ones(1 << 25)
     copy = jax.jit(lambda y: y + 1.0)
     _, _, seconds = timed(lambda: copy(big), repeats)
     bandwidth = 2 * big.nbytes / seconds / 1e9
-    return {"fma_gflops": gflops, "copy_gb_per_s": bandwidth}
+    return {"fma_gflops": fma_rate(repeats), "copy_gb_per_s": bandwidth}
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--segments", type=int, nargs="+", default=[20, 100])
+    parser.add_argument("--scene", choices=["quadrature", "speed"], default="quadrature")
     parser.add_argument("--batch", type=int, default=256)
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--out", default=str(RESULTS))
@@ -118,7 +127,12 @@ def main():
     jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
     rows = []
     for n in args.segments:
-        model, env = seed003_line(n, mass_matrix="lumped")
+        if args.scene == "speed":
+            from moordyn_side_by_side import scene
+
+            model, env = scene(slack_width=1e-6, segments=n)
+        else:
+            model, env = seed003_line(n, mass_matrix="lumped")
         state = jc.solve_statics(model, env).state
         x = lag._cm(state.positions)
         v = lag._cm(state.velocities) + 0.01
@@ -149,6 +163,7 @@ def main():
     print(json.dumps(machine))
     append_session(
         args.out,
+        scene=args.scene,
         batch=args.batch,
         repeats=args.repeats,
         roofline=machine,
@@ -162,7 +177,8 @@ def report(path: Path):
     machine = session["roofline"]
     print(
         f"roofline: {machine['fma_gflops']:.1f} GFLOP/s (FMA chain), {machine['copy_gb_per_s']:.1f} GB/s (copy); "
-        f"XLA_FLAGS={session.get('xla_flags') or '(none)'}; session {session['time'][:16]}"
+        f"XLA_FLAGS={session.get('xla_flags') or '(none)'}; PJRT_NPROC={session.get('pjrt_nproc') or '(unset)'}; "
+        f"scene {session.get('scene', 'quadrature')}; session {session['time'][:16]}"
     )
     print("| N | part | single (µs) | single (ns/node) | batched (ns/node) |")
     print("|---|---|---|---|---|")
