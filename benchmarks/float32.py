@@ -81,7 +81,8 @@ def midpoint_run(model, env, state, duration: float, dt: float, every: int, stor
     """The explicit midpoint rule at fixed `dt` over `duration`, its free state rounded
     to float32 after each step as `storage` says (`None`: kept in float64). Returns the
     full node positions and velocities every `every` steps, shapes `(outputs, nodes, 3)`,
-    and the output times."""
+    and the output times. Written out, not diffrax's `Midpoint`, because the rounding
+    falls between steps, where a diffrax solver keeps its state to itself."""
     from jaxcable import equations
     from jaxcable._lagrangian import full_state
 
