@@ -62,7 +62,8 @@ for each moving support (slack). The criteria, and where they come from:
 - **Explicit step.** Explicit Runge–Kutta methods of order 4–5 are stable for |λ Δt|
   up to about 3, with |λ| the fastest of the lines' axial mode
   ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode]) and, where lines
-  touch a seabed, of its contact ([`seabed_mode`][jaxcable._advice.seabed_mode]).
+  can reach a seabed ([`seabed_reach`][jaxcable._reach.seabed_reach]), of its contact
+  ([`seabed_mode`][jaxcable._advice.seabed_mode]).
 
 Statics here leave the waves out (their drag and inertia at one instant are no mean
 load) and hold every support at its reference position.
@@ -83,6 +84,7 @@ from ._irregular import WaveComponents, repeat_period
 from ._lagrangian import generalised_forces, inertial_forces
 from ._motion import Fixed, Harmonic, Sampled
 from ._network import CableNetwork
+from ._reach import seabed_reach
 from ._state import State
 from ._statics import FORCE_TOLERANCE, MAX_STEPS, solve_statics
 from ._stiffness import stiffness_and_statics
@@ -157,23 +159,27 @@ def stiffest_axial_mode(model, env: Environment | None = None) -> tuple[float, f
     return float(omega[s]), float(magnitude[s]), s
 
 
-def fastest_eigenvalues(model, env: Environment | None = None, bending: bool = True) -> np.ndarray:
+def fastest_eigenvalues(
+    model, env: Environment | None = None, bending: bool = True, duration: float | None = None
+) -> np.ndarray:
     """The eigenvalues λ (1/s, complex) that bound an explicit step: each segment's
     highest axial mode ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode])
     and its highest bending mode where the line has EI
     ([`bending_modes`][jaxcable._advice.bending_modes]), and, with a seabed, the
     contact and friction modes of a node on it
-    ([`seabed_mode`][jaxcable._advice.seabed_mode]) for every segment, whether or not
-    it reaches the bed. Of each pair of roots the one of larger magnitude (the other is
-    its conjugate, or a slower real root). Shape `(modes,)`. Without the bending
-    modes if not `bending`."""
+    ([`seabed_mode`][jaxcable._advice.seabed_mode]) for each segment that can reach
+    the bed in a run of `duration` (s; any length where `None`), by
+    [`seabed_reach`][jaxcable._reach.seabed_reach]'s bound. Of each pair of roots the
+    one of larger magnitude (the other is its conjugate, or a slower real root). Shape
+    `(modes,)`. Without the bending modes if not `bending`."""
     model, env, _ = _unpack(model, env, None)
     _, axial = _axial_modes(model, env)
     if bending and model.line.bending_stiffness is not None:
         axial = np.concatenate([axial, 1j * bending_modes(model, env)])  # undamped
-    if env.seabed is None:
+    touching = seabed_reach(model, env, duration)
+    if not touching.any():
         return axial
-    damping, stiffness, friction = _seabed_rates(model, env, np.ones(model.n_segments, bool))
+    damping, stiffness, friction = _seabed_rates(model, env, touching)
     contact = -0.5 * (damping + np.sqrt((damping**2 - 4 * stiffness).astype(complex)))
     return np.concatenate([axial, contact, -friction[friction > 0].astype(complex)])
 
@@ -736,11 +742,7 @@ def advise(
     else:
         positions = np.asarray(static.state.positions)
 
-    touching = None
-    if statics_error is None and env.seabed is not None and env.depth is not None:  # (a seabed has a depth)
-        low = positions[:, 2] < -float(env.depth)
-        touching = low[np.asarray(model.segment_nodes)].any(axis=1)
-    bed, limit = seabed_mode(model, env, touching)
+    bed, limit = seabed_mode(model, env, seabed_reach(model, env, duration))
     step = STABLE_STEP / max(magnitude, bed, float(bending_modes(model, env).max()))
     steps = None if duration is None else int(np.ceil(duration / step))
 

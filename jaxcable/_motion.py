@@ -42,6 +42,14 @@ class AbstractMotion(eqx.Module):
         traced or swept ones, by `simulate`, `solve_statics` and `sweep`."""
         return []
 
+    def excursion(self, duration: float | None = None) -> tuple[float, float]:
+        """Bounds on the displacement over `0 ≤ t ≤ duration` (s; every time where
+        `None`), from concrete fields: `(down, reach)` (m), the most it moves in −z and
+        the largest |r(t)|. Infinite where a motion cannot bound them: the default, for
+        a motion of unknown form. The stability check uses them to tell which nodes can
+        reach the seabed (`jaxcable._reach`)."""
+        return np.inf, np.inf
+
 
 def ramp_factor(t: Float[ArrayLike, ""], ramp: Float[ArrayLike, ""]) -> Float[Array, ""]:
     """The smoothstep f = u³(6u² − 15u + 10), u = t / ramp, rising from 0 at t = 0 to 1 at
@@ -57,6 +65,9 @@ class Fixed(AbstractMotion):
 
     def displacement(self, t):
         return jnp.zeros(3) * jnp.asarray(t, dtype=float)
+
+    def excursion(self, duration=None):
+        return 0.0, 0.0
 
 
 class Harmonic(AbstractMotion):
@@ -113,6 +124,11 @@ class Harmonic(AbstractMotion):
     def displacement(self, t):
         omega = 2 * jnp.pi / self.period
         return ramp_factor(t, self.ramp) * self.amplitude * jnp.sin(omega * t + self.phase) * self.direction
+
+    def excursion(self, duration=None):
+        # The ramp factor and the sine both stay within [0, 1] and [−1, 1] in magnitude.
+        amplitude = abs(float(self.amplitude))
+        return amplitude * abs(float(self.direction[2])), amplitude
 
 
 OVERSHOOT_FRACTION = 0.1
@@ -190,6 +206,15 @@ class Sampled(AbstractMotion):
 
     def displacement(self, t):
         return self._interpolate(t, derivatives=False)[0]
+
+    def excursion(self, duration=None):
+        # Over the whole table, each piece's exact extremes (the end values hold outside
+        # it): a bound for any duration. Linear pieces have zero slopes here, a Hermite
+        # cubic that stays between its samples as the straight piece does.
+        lowest, highest, _ = _hermite_extremes(self.times, self.displacements, self.slopes)
+        down = max(0.0, -float(np.min(lowest[:, 2])))
+        largest = np.maximum(np.abs(np.min(lowest, axis=0)), np.abs(np.max(highest, axis=0)))
+        return down, float(np.linalg.norm(largest))
 
     def kinematics(self, t) -> tuple[Array, Array, Array]:
         # The pieces' derivatives in closed form, from one interval lookup: forward-mode
@@ -386,3 +411,10 @@ class Towing(AbstractMotion):
         after = self.distances[-1] + vs[-1] * (t - ts[-1])
         distance = jnp.where(t < ts[0], before, jnp.where(t > ts[-1], after, inside))
         return distance * self.direction
+
+    def excursion(self, duration=None):
+        if duration is None:
+            return np.inf, np.inf
+        # The distance is zero at times[0] and changes no faster than the fastest speed.
+        reach = float(np.max(np.abs(np.asarray(self.speeds)))) * (abs(float(self.times[0])) + float(duration))
+        return reach * abs(float(self.direction[2])), reach

@@ -6,7 +6,8 @@ beyond the method's stability limit runs to non-finite numbers. On the linear te
 equation y' = λ y one step multiplies y by R(λ Δt), with R(z) = 1 + z bᵀ (I − z A)⁻¹ 𝟙
 from the method's Butcher tableau (A, b); the step is stable where |R| ≤ 1 at every
 fast mode λ of the scene ([`jaxcable._advice.fastest_eigenvalues`][]: the segments'
-axial modes, damping included, and the seabed's contact). The two-stage methods
+axial modes, damping included, and the seabed's contact where a segment can reach the
+bed over the run, `jaxcable._reach`). The two-stage methods
 (midpoint, Heun) have R(z) = 1 + z + z²/2: on the imaginary axis |R|² = 1 + (ωΔt)⁴/4
 grows a little every step, so an undamped axial mode is never strictly stable, and the
 damping of MoorDyn's `BA/-zeta` is what lets MoorDyn run such steps. The slow transverse
@@ -57,11 +58,13 @@ def stability_function(solver: diffrax.AbstractSolver, z: np.ndarray) -> np.ndar
 
 def fixed_step_growth(solver: diffrax.AbstractSolver, dt: float, model, env=None, steps: int = 1) -> float | None:
     """The largest |R(λ Δt)| of `solver` at step `dt` (s) over the fastest modes of
-    `model` in `env` (or of a built scene alone): ≤ 1 is stable. The bending modes
+    `model` in `env` (or of a built scene alone) in a run of `steps` steps: ≤ 1 is
+    stable. The seabed's modes count for the segments that can reach it in that time
+    (`jaxcable._reach`). The bending modes
     count only where `steps` steps would grow them by more than `BENDING_RUN_GROWTH`
     (module notes). `None` where the solver has no explicit tableau (see
     `stability_function`)."""
-    growth = stability_function(solver, fastest_eigenvalues(model, env, bending=False) * dt)
+    growth = stability_function(solver, fastest_eigenvalues(model, env, bending=False, duration=steps * dt) * dt)
     if growth is None:
         return None
     largest = float(np.max(np.abs(growth)))

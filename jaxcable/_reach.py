@@ -1,0 +1,126 @@
+"""Which segments of a network can reach the seabed during a run: a geometric bound from
+the supports, the lines' lengths and the supports' motions, for the stability check.
+
+The seabed's contact modes are the fastest of a scene that has one (its spring and
+damper act on a node's small mass: |λ| of 1,700 1/s against 600 for the axial mode of
+a 40-segment steel rope). Counted for every segment, they refuse a fixed step on a line
+that hangs from its anchor and never reaches the bed, and send the run to adaptive
+steps. A node is held within reach of each support by the lines between them: along
+the shortest path of segments from support c, it lies in the ball of radius
+`D_c = Σ L (1 + ε_max)` about the support's position, widened by how far the support
+moves (`AbstractMotion.excursion`). Its lowest possible z is then at least
+
+- `z_c − down_c − D_c` for every support c (the bottom of one ball), and
+- the lowest point of the intersection of the balls of every pair of supports (the
+  line between an anchor and a fairlead cannot sag below the spheroid-like lens the
+  two spheres bound).
+
+A segment can reach the bed where one of its nodes can (its lowest point is a node:
+the segment is straight). The bound assumes nothing about the dynamics: no strain
+beyond ε_max (below), the supports within their excursions.
+
+ε_max is the strain at which the segment's tension law carries `BREAKING_STRESS` on its
+section area F: `C_E ε + C_E1 ε² = σ F`. No mooring material carries that stress
+(steel wire breaks at 1.8–2.2 GPa on its metal area, the strongest fibre ropes below
+that on theirs, chain's breaking load is far lower on its volume-equivalent area), so
+a line would have broken before stretching further. A soft line (small C_E for its
+area) gets a long reach, and counts where it can sag to the bed.
+"""
+
+import numpy as np
+
+from ._environment import Environment
+from ._network import CableNetwork
+
+BREAKING_STRESS = 4.0e9
+"""σ (Pa): a stress on a segment's section area F that no mooring line carries (module
+notes); the strain it takes bounds how far a line can stretch."""
+
+
+def largest_strain(model: CableNetwork) -> np.ndarray:
+    """ε_max of each segment (module notes), shape `(segments,)`: the strain at which its
+    tension law carries `BREAKING_STRESS` on its area; infinite where the law never
+    reaches that tension (a falling quadratic term) or the area is not positive."""
+    law = model.line.tension_law
+    shape = (model.n_segments,)
+    c_e = np.broadcast_to(np.asarray(law.axial_stiffness, dtype=float), shape)
+    c_e1 = np.broadcast_to(np.asarray(law.quadratic_stiffness(), dtype=float), shape)
+    load = BREAKING_STRESS * np.broadcast_to(np.asarray(model.line.area, dtype=float), shape)
+    discriminant = c_e**2 + 4 * c_e1 * load
+    with np.errstate(invalid="ignore", divide="ignore"):
+        # The smaller positive root of C_E1 ε² + C_E ε − σF, in the form that holds at C_E1 = 0.
+        strain = 2 * load / (c_e + np.sqrt(np.maximum(discriminant, 0.0)))
+    return np.where((discriminant >= 0) & (load > 0) & np.isfinite(strain), strain, np.inf)
+
+
+def path_lengths(model: CableNetwork, stretch: np.ndarray, sources: np.ndarray) -> np.ndarray:
+    """The shortest path (m) along segments from each node in `sources` to every node,
+    each segment's length its rest length times `stretch` (shape `(segments,)`): shape
+    `(sources, nodes)`, infinite where no path joins them. Relaxation over every segment
+    at once until nothing shortens (at most as many sweeps as the longest path has
+    segments)."""
+    ends = np.asarray(model.segment_nodes)
+    length = np.broadcast_to(np.asarray(model.segment_length, dtype=float), (model.n_segments,)) * stretch
+    distance = np.full((len(sources), model.n_nodes), np.inf)
+    distance[np.arange(len(sources)), sources] = 0.0
+    for _ in range(model.n_nodes):
+        before = distance.copy()
+        np.minimum.at(distance.T, ends[:, 1], (distance[:, ends[:, 0]] + length).T)
+        np.minimum.at(distance.T, ends[:, 0], (distance[:, ends[:, 1]] + length).T)
+        if np.array_equal(before, distance):
+            break
+    return distance
+
+
+def lens_bottom(a: np.ndarray, ra: np.ndarray, b: np.ndarray, rb: np.ndarray) -> np.ndarray:
+    """The lowest z (m) of the intersection of the ball of radius `ra` about `a` and of
+    radius `rb` about `b` (centres shape `(3,)`, radii shape `(nodes,)`); −∞ where the
+    balls do not meet or a radius is infinite (no bound)."""
+    offset = b - a
+    d = float(np.linalg.norm(offset))
+    with np.errstate(invalid="ignore"):
+        # A ball's bottom inside the other ball is the lens's bottom.
+        a_bottom_inside = (offset[0] ** 2 + offset[1] ** 2 + (offset[2] + ra) ** 2) <= rb**2
+        b_bottom_inside = (offset[0] ** 2 + offset[1] ** 2 + (offset[2] - rb) ** 2) <= ra**2
+        if d > 0:
+            # Otherwise the lowest point of the circle where the spheres meet: its centre
+            # at x along the axis from a, its radius h, in the plane normal to the axis.
+            x = (d**2 + ra**2 - rb**2) / (2 * d)
+            h = np.sqrt(np.maximum(ra**2 - x**2, 0.0))
+            axis_z = offset[2] / d
+            circle = a[2] + x * axis_z - h * np.sqrt(max(1.0 - axis_z**2, 0.0))
+        else:
+            circle = np.full(np.shape(ra), -np.inf)
+    bottom = np.where(a_bottom_inside, a[2] - ra, np.where(b_bottom_inside, b[2] - rb, circle))
+    meets = np.isfinite(ra) & np.isfinite(rb) & (ra + rb >= d)
+    return np.where(meets, bottom, -np.inf)
+
+
+def lowest_reach(model: CableNetwork, duration: float | None = None) -> np.ndarray:
+    """A lower bound on each node's z (m) over a run of `duration` (s; any length where
+    `None`), shape `(nodes,)`: the module notes' balls about the supports. −∞ for a
+    node that no support holds (a free part of the network)."""
+    supports = np.asarray(model.constrained_nodes)
+    if supports.size == 0:
+        return np.full(model.n_nodes, -np.inf)
+    excursions = np.array([motion.excursion(duration) for motion in model.motions], dtype=float).reshape(-1, 2)
+    down, widen = excursions[:, 0], excursions[:, 1]
+    reference = np.asarray(model.node_positions, dtype=float)[supports]
+    distance = path_lengths(model, 1.0 + largest_strain(model), supports)
+    lowest = np.max(reference[:, 2, None] - down[:, None] - distance, axis=0)
+    for i in range(len(supports)):
+        for j in range(i + 1, len(supports)):
+            lens = lens_bottom(reference[i], distance[i] + widen[i], reference[j], distance[j] + widen[j])
+            lowest = np.maximum(lowest, lens)
+    return lowest
+
+
+def seabed_reach(model: CableNetwork, env: Environment, duration: float | None = None) -> np.ndarray:
+    """Which segments can reach the seabed (z = −depth) in a run of `duration` (s; any
+    length where `None`): a boolean mask, shape `(segments,)`, all false without a
+    seabed. Conservative (module notes): a segment left out cannot touch the bed
+    without a line stretching beyond ε_max or a support leaving its motion's bounds."""
+    if env.seabed is None or env.depth is None:
+        return np.zeros(model.n_segments, bool)
+    reaches = lowest_reach(model, duration) <= -float(env.depth)
+    return reaches[np.asarray(model.segment_nodes)].any(axis=1)
