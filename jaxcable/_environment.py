@@ -299,6 +299,10 @@ class Environment(eqx.Module):
         """The same water without its waves: still, or with the current alone."""
         return dataclasses.replace(self, waves=())
 
+    def without_seabed(self) -> "Environment":
+        """The same water without its seabed (its depth kept, for the waves)."""
+        return dataclasses.replace(self, seabed=None)
+
     @property
     def has_fluid_acceleration(self) -> bool:
         """Whether the water accelerates and that loads the network: waves, with

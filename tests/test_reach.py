@@ -10,7 +10,15 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable._reach import BREAKING_STRESS, largest_strain, lens_bottom, lowest_reach, path_lengths, seabed_reach
+from jaxcable._reach import (
+    BREAKING_STRESS,
+    largest_strain,
+    lens_bottom,
+    lowest_reach,
+    path_lengths,
+    seabed_reach,
+    without_unreachable_seabed,
+)
 from jaxcable._stability import STABLE_GROWTH, fixed_step_growth
 
 
@@ -169,3 +177,18 @@ def test_a_bed_out_of_reach_leaves_moordyns_step_stable():
     steps = 300_000
     assert fixed_step_growth(diffrax.Midpoint(), 0.002, scene(-200.0), steps=steps) <= STABLE_GROWTH
     assert fixed_step_growth(diffrax.Midpoint(), 0.002, scene(-250.0), steps=steps) > STABLE_GROWTH
+
+
+def test_a_run_leaves_out_a_seabed_no_line_can_reach():
+    """The run's water has no seabed where no segment can reach it, and the tensions are
+    those of the run that carries the bed's contact, whose forces are zero there."""
+    model = anchored_line(-200.0, segments=10)
+    env = jc.Environment(depth=250.0, seabed=jc.Seabed())
+    assert without_unreachable_seabed(model, env, 5.0).seabed is None
+    on_bed = anchored_line(-250.0, segments=10, length=520.0)
+    assert without_unreachable_seabed(on_bed, env, 5.0) is env
+    static = jc.solve_statics(model, env)
+    ts = np.linspace(0.0, 2.0, 41)
+    carried = jc.simulate(model, env, 2.0, ts=ts, initial=static.state)
+    left_out = jc.simulate(model, env.without_seabed(), 2.0, ts=ts, initial=static.state)
+    np.testing.assert_allclose(left_out.tension, carried.tension, rtol=1e-12, atol=1e-9)

@@ -19,6 +19,7 @@ from .._blocks import prepare as prepare_blocks
 from .._blocks import simulate_in_blocks, substeps_per_interval
 from .._config import SolverConfig
 from .._motion import Sampled
+from .._reach import without_unreachable_seabed
 from .._simulate import simulate
 from .._stability import STABLE_GROWTH, fixed_step_growth
 from .._state import State
@@ -261,7 +262,8 @@ def run_scene(
                     f"but the run needs 0 to {duration:g} s"
                 )
     built = scene.build()
-    model, env = built.model, built.environment
+    model = built.model
+    env = without_unreachable_seabed(model, built.environment, duration)
     for warning in check_size(built, duration, dt_out, solver):
         warnings.warn(warning, stacklevel=2)
     statics = settings.statics if statics is None else statics
