@@ -42,13 +42,13 @@ class AbstractMotion(eqx.Module):
         traced or swept ones, by `simulate`, `solve_statics` and `sweep`."""
         return []
 
-    def excursion(self, duration: float | None = None) -> tuple[float, float]:
+    def excursion(self, duration: float | None = None) -> tuple[float, float, float]:
         """Bounds on the displacement over `0 ≤ t ≤ duration` (s; every time where
-        `None`), from concrete fields: `(down, reach)` (m), the most it moves in −z and
-        the largest |r(t)|. Infinite where a motion cannot bound them: the default, for
-        a motion of unknown form. The stability check uses them to tell which nodes can
-        reach the seabed (`jaxcable._reach`)."""
-        return np.inf, np.inf
+        `None`), from concrete fields: `(down, up, reach)` (m), the most it moves in −z
+        and in +z, and the largest |r(t)|. Infinite where a motion cannot bound them:
+        the default, for a motion of unknown form. They tell which nodes can reach the
+        seabed or the surface (`jaxcable._reach`)."""
+        return np.inf, np.inf, np.inf
 
 
 def ramp_factor(t: Float[ArrayLike, ""], ramp: Float[ArrayLike, ""]) -> Float[Array, ""]:
@@ -67,7 +67,7 @@ class Fixed(AbstractMotion):
         return jnp.zeros(3) * jnp.asarray(t, dtype=float)
 
     def excursion(self, duration=None):
-        return 0.0, 0.0
+        return 0.0, 0.0, 0.0
 
 
 class Harmonic(AbstractMotion):
@@ -128,7 +128,8 @@ class Harmonic(AbstractMotion):
     def excursion(self, duration=None):
         # The ramp factor and the sine both stay within [0, 1] and [−1, 1] in magnitude.
         amplitude = abs(float(self.amplitude))
-        return amplitude * abs(float(self.direction[2])), amplitude
+        vertical = amplitude * abs(float(self.direction[2]))
+        return vertical, vertical, amplitude
 
 
 OVERSHOOT_FRACTION = 0.1
@@ -212,9 +213,9 @@ class Sampled(AbstractMotion):
         # it): a bound for any duration. Linear pieces have zero slopes here, a Hermite
         # cubic that stays between its samples as the straight piece does.
         lowest, highest, _ = _hermite_extremes(self.times, self.displacements, self.slopes)
-        down = max(0.0, -float(np.min(lowest[:, 2])))
+        down, up = max(0.0, -float(np.min(lowest[:, 2]))), max(0.0, float(np.max(highest[:, 2])))
         largest = np.maximum(np.abs(np.min(lowest, axis=0)), np.abs(np.max(highest, axis=0)))
-        return down, float(np.linalg.norm(largest))
+        return down, up, float(np.linalg.norm(largest))
 
     def kinematics(self, t) -> tuple[Array, Array, Array]:
         # The pieces' derivatives in closed form, from one interval lookup: forward-mode
@@ -414,7 +415,8 @@ class Towing(AbstractMotion):
 
     def excursion(self, duration=None):
         if duration is None:
-            return np.inf, np.inf
+            return np.inf, np.inf, np.inf
         # The distance is zero at times[0] and changes no faster than the fastest speed.
         reach = float(np.max(np.abs(np.asarray(self.speeds)))) * (abs(float(self.times[0])) + float(duration))
-        return reach * abs(float(self.direction[2])), reach
+        vertical = reach * abs(float(self.direction[2]))
+        return vertical, vertical, reach

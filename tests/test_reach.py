@@ -12,12 +12,13 @@ import pytest
 import jaxcable as jc
 from jaxcable._reach import (
     BREAKING_STRESS,
+    for_run,
     largest_strain,
     lens_bottom,
-    lowest_reach,
     path_lengths,
+    reach_bounds,
     seabed_reach,
-    without_unreachable_seabed,
+    surface_reach,
 )
 from jaxcable._stability import STABLE_GROWTH, fixed_step_growth
 
@@ -121,23 +122,26 @@ def test_motion_excursions_bound_the_motion_evaluated_densely(make):
     duration = 6.0
     times = np.linspace(0.0, duration, 6001)
     displacement = np.asarray(jax.vmap(motion.displacement)(times))
-    down, reach = motion.excursion(duration)
+    down, up, reach = motion.excursion(duration)
     assert max(0.0, -displacement[:, 2].min()) <= down + 1e-12
+    assert max(0.0, displacement[:, 2].max()) <= up + 1e-12
     assert np.linalg.norm(displacement, axis=1).max() <= reach + 1e-12
     if not isinstance(motion, jc.Towing):  # the others' bounds are reached or nearly
         assert -displacement[:, 2].min() > 0.9 * down
-    assert jc.Fixed().excursion(duration) == (0.0, 0.0)
+        assert displacement[:, 2].max() > 0.9 * up
+    assert jc.Fixed().excursion(duration) == (0.0, 0.0, 0.0)
 
 
 def test_the_bound_holds_over_a_run_and_flags_a_line_on_the_bed():
     # Seed 003's line hung 50 m above the bed, driven hard (its top 10 m along x and z).
     model = anchored_line(-200.0, segments=10, motion=jc.Harmonic(10.0, 5.6, direction=(1.0, 0.0, 1.0)))
     env = jc.Environment(depth=250.0, seabed=jc.Seabed())
-    bound = lowest_reach(model, 12.0)
+    lowest, highest = reach_bounds(model, 12.0)
     static = jc.solve_statics(model, env)
     run = jc.simulate(model, env, 12.0, ts=np.linspace(0.0, 12.0, 241), initial=static.state)
     assert bool(run.success)
-    assert (np.asarray(run.positions)[:, :, 2].min(axis=0) >= bound - 1e-9).all()
+    z = np.asarray(run.positions)[:, :, 2]
+    assert (z.min(axis=0) >= lowest - 1e-9).all() and (z.max(axis=0) <= highest + 1e-9).all()
     assert not seabed_reach(model, env, 12.0).any()
     # On the bed: the anchor at the depth, and a line long enough to lie along it.
     on_bed = anchored_line(-250.0, segments=10, length=520.0)
@@ -179,16 +183,29 @@ def test_a_bed_out_of_reach_leaves_moordyns_step_stable():
     assert fixed_step_growth(diffrax.Midpoint(), 0.002, scene(-250.0), steps=steps) > STABLE_GROWTH
 
 
-def test_a_run_leaves_out_a_seabed_no_line_can_reach():
-    """The run's water has no seabed where no segment can reach it, and the tensions are
-    those of the run that carries the bed's contact, whose forces are zero there."""
-    model = anchored_line(-200.0, segments=10)
-    env = jc.Environment(depth=250.0, seabed=jc.Seabed())
-    assert without_unreachable_seabed(model, env, 5.0).seabed is None
+def test_a_run_leaves_out_a_seabed_and_a_surface_no_line_can_reach():
+    """The run's water has no seabed where no segment can reach it, and no free surface
+    where none can rise above z = 0; the tensions are those of the run that carries
+    both, whose extra forces are zero there."""
+    model = anchored_line(-200.0, segments=10, motion=jc.Harmonic(1.57, 5.6), length=400.0)
+    deep = jc.CableNetwork.from_branches(  # the same line with its top 20 m down
+        [[0.0, 0.0, -220.0], [346.41, 0.0, -20.0]],
+        [jc.Branch(0, 1, rope(), 400.0, 10)],
+        {0: jc.Fixed(), 1: jc.Harmonic(1.57, 5.6)},
+        mass_matrix="lumped",
+    )
+    env = jc.Environment(depth=250.0, seabed=jc.Seabed(), free_surface=True)
+    assert not seabed_reach(deep, env, 5.0).any() and not surface_reach(deep, 5.0).any()
+    run_env = for_run(deep, env, 5.0)
+    assert run_env.seabed is None and not run_env.free_surface
+    # A top at the surface: the segments next to it may rise above it.
+    assert surface_reach(model, 5.0)[-1] and for_run(model, env, 5.0).free_surface
     on_bed = anchored_line(-250.0, segments=10, length=520.0)
-    assert without_unreachable_seabed(on_bed, env, 5.0) is env
-    static = jc.solve_statics(model, env)
+    assert for_run(on_bed, env, 5.0).seabed is not None
+    static = jc.solve_statics(deep, env)
     ts = np.linspace(0.0, 2.0, 41)
-    carried = jc.simulate(model, env, 2.0, ts=ts, initial=static.state)
-    left_out = jc.simulate(model, env.without_seabed(), 2.0, ts=ts, initial=static.state)
-    np.testing.assert_allclose(left_out.tension, carried.tension, rtol=1e-12, atol=1e-9)
+    carried = jc.simulate(deep, env, 2.0, ts=ts, initial=static.state)
+    left_out = jc.simulate(deep, run_env, 2.0, ts=ts, initial=static.state)
+    # To rounding: with the surface, a wholly wet segment's buoyancy is written through
+    # its submerged interval [0, 1], a different sum of the same terms (2e-11 apart).
+    np.testing.assert_allclose(left_out.tension, carried.tension, rtol=1e-9, atol=1e-6)

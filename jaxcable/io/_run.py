@@ -19,7 +19,7 @@ from .._blocks import prepare as prepare_blocks
 from .._blocks import simulate_in_blocks, substeps_per_interval
 from .._config import SolverConfig
 from .._motion import Sampled
-from .._reach import without_unreachable_seabed
+from .._reach import for_run
 from .._simulate import simulate
 from .._stability import STABLE_GROWTH, fixed_step_growth
 from .._state import State
@@ -263,7 +263,7 @@ def run_scene(
                 )
     built = scene.build()
     model = built.model
-    env = without_unreachable_seabed(model, built.environment, duration)
+    env = for_run(model, built.environment, duration)
     for warning in check_size(built, duration, dt_out, solver):
         warnings.warn(warning, stacklevel=2)
     statics = settings.statics if statics is None else statics
