@@ -22,8 +22,14 @@ The key is a digest of all of that; the executable is serialised
 (`jax.experimental.serialize_executable`) under it and loaded back directly. Where an
 argument holds a value the key cannot describe exactly (a closure, say), or is traced
 (the program called inside another's trace, or under `vmap`), the call is
-`eqx.filter_jit`'s, as it is whenever no folder is set: the library alone never writes
-here, only the command line sets a folder ([`use_folder`][]).
+`eqx.filter_jit`'s, as it is whenever no folder is set.
+
+The folder is the same for the library and the command line ([`default_folder`][]:
+`~/.cache/jaxcable/xla/jaxcable-programs` unless the environment says otherwise), so
+that a script's second process loads `solve_statics`' and `run_scene`'s programs as a
+second `jaxcable run` does; [`use_folder`][] sets another, or none. The library never
+changes JAX's own configuration for it: JAX's cache, for the programs not kept here,
+is the command line's to switch on.
 
 A program can also be compiled ahead, in a background thread ([`Program.prepare`][]):
 XLA compiles on threads of its own, without Python's lock, so programs compile while
@@ -87,18 +93,43 @@ _CONFIG = (
 _SUFFIX = ".program"
 
 _folder: Path | None = None
+_chosen = False  # whether `_folder` is set; until then `folder()` reads the default
 _lock = threading.Lock()
 _executor: concurrent.futures.ThreadPoolExecutor | None = None
 
 
+def cache_root() -> Path | None:
+    """The folder of jaxcable's compilation caches: `$JAX_COMPILATION_CACHE_DIR` where
+    set (the caller's own cache for JAX), else `$JAXCABLE_CACHE_DIR`, else `jaxcable/xla`
+    under `$XDG_CACHE_HOME` (`~/.cache` by default); `None` where `JAXCABLE_CACHE_DIR`
+    is empty (caching off)."""
+    root = os.environ.get("JAX_COMPILATION_CACHE_DIR")
+    if root is None:
+        root = os.environ.get("JAXCABLE_CACHE_DIR")
+        if root is None:
+            root = str(Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "jaxcable" / "xla")
+    return Path(root) if root else None
+
+
+def default_folder() -> Path | None:
+    """Where programs are kept unless [`use_folder`][] says otherwise: `jaxcable-programs`
+    in [`cache_root`][], or nowhere where caching is off."""
+    root = cache_root()
+    return None if root is None else root / "jaxcable-programs"
+
+
 def use_folder(folder: str | os.PathLike | None) -> None:
     """Keep programs in `folder` (created when first written), or nowhere (`None`)."""
-    global _folder
-    _folder = None if folder is None else Path(folder)
+    global _folder, _chosen
+    _folder, _chosen = (None if folder is None else Path(folder)), True
 
 
 def folder() -> Path | None:
-    """The folder programs are kept in, or `None`."""
+    """The folder programs are kept in, or `None`: [`default_folder`][] until
+    [`use_folder`][] sets another (read from the environment at the first call)."""
+    global _folder, _chosen
+    if not _chosen:
+        _folder, _chosen = default_folder(), True
     return _folder
 
 
@@ -179,7 +210,7 @@ class Program:
         """The key and the dynamic leaves (arrays) of these arguments, or `None` where
         they are not kept: no folder, a traced argument, or an argument the key cannot
         describe."""
-        if _folder is None:
+        if folder() is None:
             return None
         leaves, tree = jax.tree.flatten((args, kwargs))
         if any(isinstance(leaf, Tracer) for leaf in leaves):
@@ -262,14 +293,15 @@ class Program:
         return executable, tree
 
     def _path(self, key: str) -> Path:
-        assert _folder is not None
-        return _folder / f"{self.fn.__qualname__}-{key[:40]}{_SUFFIX}"
+        kept = folder()
+        assert kept is not None
+        return kept / f"{self.fn.__qualname__}-{key[:40]}{_SUFFIX}"
 
     def _load(self, key: str):
         """The program kept under `key`, or `None`. A file that cannot be loaded (a
         partial write, another version's format) is removed, and the program compiled
         again."""
-        if _folder is None:
+        if folder() is None:
             return None
         path = self._path(key)
         try:
@@ -287,15 +319,16 @@ class Program:
         """Write the program under `key`, atomically; not where its output tree cannot
         be written and read back exactly (a node type pickle cannot rebuild), or the
         folder cannot be written (the run goes on: it only loses the cache)."""
-        if _folder is None:
+        kept = folder()
+        if kept is None:
             return
         try:
             blob, in_tree, out_tree = serialize_executable.serialize(executable)
             data = _dumps((blob, in_tree, out_tree, tree))
             if _loads(data)[3] != tree:
                 return
-            _folder.mkdir(parents=True, exist_ok=True)
-            with tempfile.NamedTemporaryFile(dir=_folder, delete=False, suffix=".partial") as file:
+            kept.mkdir(parents=True, exist_ok=True)
+            with tempfile.NamedTemporaryFile(dir=kept, delete=False, suffix=".partial") as file:
                 file.write(data)
             os.replace(file.name, self._path(key))
         except (OSError, pickle.PicklingError, TypeError, AttributeError):

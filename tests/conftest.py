@@ -22,7 +22,8 @@ jax.config.update("jax_enable_x64", True)
 
 
 def pytest_configure(config):
-    """Keep compiled programs on disk, in pytest's cache folder, for the whole run.
+    """Keep compiled programs on disk, in pytest's cache folder, for the whole run (JAX's,
+    and jaxcable's own kept by structure, `jaxcable._programs`).
 
     Modules free their compiled programs when they end (below), and the workers of
     `pytest -n` share nothing in memory, so without a disk cache a program that two
@@ -34,6 +35,12 @@ def pytest_configure(config):
     cache = getattr(config, "cache", None)
     if cache is not None and "JAX_COMPILATION_CACHE_DIR" not in os.environ:
         jax.config.update("jax_compilation_cache_dir", str(cache.mkdir("jax-compilation-cache")))
+    # jaxcable's own programs (statics', the scene runs'), which the library keeps in the
+    # user's cache folder by default: here in pytest's, beside JAX's.
+    if cache is not None and "JAXCABLE_CACHE_DIR" not in os.environ:
+        from jaxcable import _programs
+
+        _programs.use_folder(cache.mkdir("jaxcable-programs"))
 
 
 @pytest.fixture(autouse=True, scope="module")
