@@ -85,7 +85,11 @@ class StaticSolution(eqx.Module):
         `MAX_REQUIRED_STRAIN` (100 %) the solve counts as failed.
     - `result`: optimistix's result code; `result == optimistix.RESULTS.successful` on
         success.
-    - `steps`: pseudo-time steps taken, all stages together.
+    - `steps`: pseudo-time steps taken, all stages together; Newton's iterations for
+        the discrete catenary.
+    - `method`: how it was found: `"pseudo-transient continuation"`, the compiled
+        solver, or `"discrete catenary"`, a single line in still water in closed form
+        (numpy, `jaxcable._catenary`).
     """
 
     state: State
@@ -101,6 +105,7 @@ class StaticSolution(eqx.Module):
     required_strain: Float[Array, ""]
     result: optx.RESULTS
     steps: Int[Array, ""]
+    method: str = eqx.field(static=True, default="pseudo-transient continuation")
 
 
 def solve_statics(
@@ -137,7 +142,14 @@ def solve_statics(
     4 mN force left on a 50 kN line of EA 7.5e12 N is equilibrium, and so is a
     near-massless line's nanonewtons.
 
-    The solve is one compiled program with no branches on values, so it takes the same
+    A single line between two supports in still water (no current or waves, nothing on
+    its inner nodes, no bending; on the seabed or off it), called with concrete values
+    and no `initial`, is solved instead as the discrete catenary, in numpy and in
+    milliseconds, with nothing to compile (`jaxcable._catenary`): the same equilibrium
+    of the same equations, to rounding. `StaticSolution.method` says which way a
+    solution was found; a line the catenary cannot solve takes the solver.
+
+    The solver is one compiled program with no branches on values, so it takes the same
     path eagerly, under `jit` and under `vmap` (where it steps until every case is
     done). Derivatives are implicit (optimistix's `ImplicitAdjoint`, solved with the
     same structured Jacobian), so `jax.grad` through it costs one linear solve;
@@ -176,6 +188,15 @@ def solve_statics(
     check_held(model)
     start = model.node_positions if initial is None else initial.positions
     start = checks.check(start, network_conditions(model, env))
+    if initial is None:
+        # A single line in still water is a discrete catenary, found in numpy in
+        # milliseconds where this solver compiles for seconds (issue 36). Imported
+        # here: it builds this module's `StaticSolution`.
+        from ._catenary import catenary_statics
+
+        closed_form = catenary_statics(model, env, t, force_tolerance)
+        if closed_form is not None:
+            return closed_form
     _check_geometry(model, start, t)
     solution = _equilibrium(model, env, start, t, max_steps, force_tolerance, initial is None, _still_water(env))
     if not throw:
@@ -204,8 +225,12 @@ def prepare(
 ) -> None:
     """Start compiling the programs of `solve_statics(model, env, t=t, ...)` from the
     model's own start, in a background thread, where the command line keeps programs
-    (`jaxcable._programs`). Nothing
-    otherwise."""
+    (`jaxcable._programs`). Nothing otherwise, nor where the discrete catenary
+    applies (`jaxcable._catenary.applies`), which needs no program."""
+    from ._catenary import applies  # as in `solve_statics`
+
+    if applies(model, env, t):
+        return
     _required_strain.prepare(model, t)
     _equilibrium.prepare(model, env, model.node_positions, t, max_steps, force_tolerance, True, _still_water(env))
 

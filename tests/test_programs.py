@@ -234,12 +234,63 @@ def test_keys_are_the_same_in_every_process():
     assert len(keys) == 1 and len(keys.pop()) == 64
 
 
+_LIBRARY_SCRIPT = textwrap.dedent(
+    """
+    import equinox as eqx
+    import jax
+    import numpy as np
+    jax.config.update("jax_enable_x64", True)
+    from jax import monitoring
+    import jaxcable as jc
+    from jaxcable import _programs
+    from jaxcable.examples import seed003_line
+    loaded = []
+    def listen(event, **_):
+        if event == _programs.LOADED_EVENT:
+            loaded.append(event)
+    monitoring.register_event_listener(listen)
+    model, env = seed003_line(6)
+    # In a current: a single line in still water is solved in closed form, with no
+    # statics program (`jaxcable._catenary`).
+    env = eqx.tree_at(lambda e: e.current, env, np.array([0.2, 0.0, 0.0]))
+    static = jc.solve_statics(model, env)
+    print(len(loaded), float(static.state.positions[2, 2]).hex())
+    """
+)
+
+
+def test_a_scripts_second_process_loads_its_statics_program(tmp_path):
+    """The library keeps its programs by default, as the command line does: a script that
+    solves statics compiles their program in its first process and loads it in its
+    second, with the same answer."""
+    env = {**os.environ, "JAXCABLE_CACHE_DIR": str(tmp_path), "JAX_PLATFORMS": "cpu"}
+    env.pop("JAX_COMPILATION_CACHE_DIR", None)
+    runs = [
+        subprocess.run([sys.executable, "-c", _LIBRARY_SCRIPT], capture_output=True, text=True, env=env, check=True)
+        for _ in range(2)
+    ]
+    (first, z1), (second, z2) = (run.stdout.split() for run in runs)
+    assert (first, second) == ("0", "2") and z1 == z2  # statics' two programs, bitwise
+    assert any(p.name.startswith("_equilibrium-") for p in (tmp_path / "jaxcable-programs").iterdir())
+    # Off where the environment says so: nothing kept, nothing loaded.
+    off = subprocess.run(
+        [sys.executable, "-c", _LIBRARY_SCRIPT],
+        capture_output=True,
+        text=True,
+        env={**env, "JAXCABLE_CACHE_DIR": ""},
+        check=True,
+    )
+    assert off.stdout.split()[0] == "0"
+
+
 def test_statics_and_a_run_load_their_programs_bitwise(folder):
     """The engine's own programs, through `run_scene`: a second run in a new "process"
     (programs forgotten in memory) loads all of them and gives the same bits."""
-    from jaxcable import _blocks, _statics
+    from jaxcable import _blocks, _catenary
 
-    programs = (_statics._equilibrium, _statics._required_strain)
+    # Statics' program: the fairlead's position at t = 0 (the line's equilibrium is the
+    # discrete catenary, in numpy).
+    programs = (_catenary._displacements,)
     run = (_blocks._start, _blocks._block, _blocks._fixed_start, _blocks._fixed_block, _blocks._outputs)
 
     def new_process():  # what another test in this worker kept in memory is forgotten too
@@ -251,7 +302,7 @@ def test_statics_and_a_run_load_their_programs_bitwise(folder):
     new_process()
     first = jc.run_scene(scene, duration=0.5, dt_out=0.1)
     names = {p.split("-")[0] for p in _files(folder)}
-    assert {"_equilibrium", "_required_strain"} <= names and names & {"_start", "_fixed_start"}
+    assert "_displacements" in names and names & {"_start", "_fixed_start"}
     new_process()
     loaded = []
 

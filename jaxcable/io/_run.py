@@ -174,9 +174,11 @@ class SceneRun:
         how many programs came from JAX's persistent cache."""
         parts = []
         if self.static is not None:
+            # Which way statics went (`StaticSolution.method`): the compiled solver, or the
+            # single line's closed form, which compiles at most its supports' motion.
             parts.append(
-                f"statics {self.statics_seconds:.1f} s ({int(self.static.steps)} iterations; compile "
-                f"{self.statics_compile:.1f} s of it)"
+                f"statics {self.statics_seconds:.1f} s ({self.static.method}, {int(self.static.steps)} iterations; "
+                f"compile {self.statics_compile:.1f} s of it)"
             )
         if self.steps:
             run = max(self.dynamics_seconds - self.dynamics_compile, 0.0)
