@@ -264,10 +264,10 @@ def run_scene(
                     f"but the run needs 0 to {duration:g} s"
                 )
     built = scene.build()
+    for warning in check_size(built, duration, dt_out, solver):  # before any work on the model
+        warnings.warn(warning, stacklevel=2)
     model = built.model
     env = for_run(model, built.environment, duration)
-    for warning in check_size(built, duration, dt_out, solver):
-        warnings.warn(warning, stacklevel=2)
     statics = settings.statics if statics is None else statics
 
     ts = output_times(duration, dt_out)
