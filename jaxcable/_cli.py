@@ -17,8 +17,9 @@ name of a bundled example scene (see `jaxcable examples`). A RECORD is a towing 
 (CSV, see `jaxcable.io.read_record`) whose header names its rig, or the name of a
 bundled sample record.
 
-`--help` and `examples` answer without importing JAX (seconds); the other commands
-import the engine once their flags are read.
+`--help` and `examples` answer without importing JAX (seconds). `run` and `info` read
+and check their flags and input files first, in plain Python and numpy, so that a
+refused input is answered without JAX too; then they import the engine.
 """
 
 import argparse
@@ -30,15 +31,16 @@ import os
 import sys
 import warnings
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from ._names import DROPPED_KINDS, INTERPOLATIONS, SOLVER_NAMES
+from ._names import DROPPED_KINDS, INTERPOLATIONS, SMALLEST_RTOL, SOLVER_NAMES
 from .examples import record_names, record_path, scene_names, scene_path, scene_title
 
 if TYPE_CHECKING:
     from .io import RunSettings, Scene
+    from .io._scene import ParsedScene
 
 OPTIMIZERS = ("lbfgs", "adam")
 """The `calibrate` command's optimizers by name (`_optimizer`)."""
@@ -89,11 +91,22 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     if args.command == "examples":
         return _examples(args)
-    # Only now the engine, and JAX with it: --help and `examples` need neither.
+    from .io import SceneError  # plain Python, as the scene readers are (`jaxcable.io`)
+
+    # What the flags and the input files alone decide is checked before JAX is imported
+    # (1.3 s, most of a refusal's time otherwise): a number out of range, a malformed
+    # or missing scene file or motion table.
+    try:
+        _check_numbers(args)
+        given = _read_input(args) if args.command in ("run", "info") else None
+    except SceneError as error:
+        print(f"jaxcable: error: {error}", file=sys.stderr)
+        return 2
+    # Only now the engine, and JAX with it: --help, `examples` and a refused input
+    # need neither.
     import jax
 
     from . import _programs
-    from .io import SceneError
 
     # The command owns its process, so it may set JAX's global configuration, which
     # the library itself never does.
@@ -104,8 +117,10 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with warnings.catch_warnings():  # restores the display below when the command ends
             warnings.showwarning = _show_warning
-            _check_flags(args)
-            return args.handler(args)
+            _check_output_files(args)
+            if given is None:  # calibrate: its records are read with the engine's rigs
+                return args.handler(args)
+            return args.handler(args, given)
     except SceneError as error:
         print(f"jaxcable: error: {error}", file=sys.stderr)
         return 2
@@ -161,17 +176,13 @@ def _use_compilation_cache() -> None:
 
     from . import _programs
 
-    folder = os.environ.get("JAX_COMPILATION_CACHE_DIR")
-    if folder is None:
-        folder = os.environ.get("JAXCABLE_CACHE_DIR")
-        if folder is None:
-            folder = str(Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "jaxcable" / "xla")
-        if folder:
-            jax.config.update("jax_compilation_cache_dir", folder)
-            # Every program of a run is worth keeping: the small ones (an eager operation
-            # compiles in 15-30 ms, and loads in 5) add up to seconds.
-            jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
-    _programs.use_folder(Path(folder) / "jaxcable-programs" if folder else None)
+    root = _programs.cache_root()
+    if root is not None and "JAX_COMPILATION_CACHE_DIR" not in os.environ:  # JAX reads its own
+        jax.config.update("jax_compilation_cache_dir", str(root))
+        # Every program of a run is worth keeping: the small ones (an eager operation
+        # compiles in 15-30 ms, and loads in 5) add up to seconds.
+        jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
+    _programs.use_folder(_programs.default_folder())
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -283,16 +294,68 @@ def _input_path(args) -> Path:
     return path
 
 
-def _load(args) -> "Scene":
-    from .io._run import load_scene
+class _Input(NamedTuple):
+    """What `run` and `info` read and check before JAX is imported (`_read_input`).
+
+    - `parsed`: the input file, read and checked, with `--segments` applied.
+    - `motion`: `--motion`'s table, times (s) of shape `(samples,)` and positions (m)
+        of shape `(samples, coupled, 3)`; `None` without one.
+    - `duration`: the simulated time (s): `--duration`, or the motion table's last
+        time, or the file's.
+    - `settings`: the file's run settings, with `run`'s stepping flags.
+    """
+
+    parsed: "ParsedScene"
+    motion: tuple[np.ndarray, np.ndarray] | None
+    duration: float
+    settings: "RunSettings"
+
+
+def _read_input(args) -> _Input:
+    """Read and check the input file of `run` or `info`, and `run`'s motion table, in
+    plain Python and numpy, as [`jaxcable.load_scene`][] reads it: a jaxcable scene
+    if it ends in `.toml`, otherwise a MoorDyn file. `SceneError` for anything the
+    files and flags alone refuse: a malformed file, physics left out that
+    `--allow-ignored` does not allow, a motion table that does not fit the scene or
+    the duration, stepping flags that contradict each other or the file."""
+    from .io import SceneError
 
     path = _input_path(args)
+    if path.suffix.lower() == ".toml":
+        from .io._scene_file import parse_scene as parse
+    else:
+        from .io._moordyn import parse_moordyn as parse
+    parsed = parse(path)
+    if args.segments is not None:
+        parsed = dataclasses.replace(parsed, scene=parsed.scene.with_segments(args.segments))
+    scene = parsed.scene
+    duration = scene.run.duration if args.duration is None else args.duration
+    if args.command == "info":
+        return _Input(parsed, None, duration, scene.run)
+    _refuse_dropped(scene, _allowed(args))
+    motion = None
+    if args.motion is not None:
+        from .io import read_motion_file
+
+        coupled = scene.coupled_points
+        if not coupled:
+            raise SceneError(f"--motion {args.motion}: the scene has no coupled points to move")
+        times, positions = read_motion_file(args.motion, len(coupled))
+        if times[0] > 0:
+            raise SceneError(f"--motion {args.motion}: the table starts at {times[0]:g} s; it must cover t = 0")
+        if args.duration is None:
+            duration = times[-1]
+        if duration > times[-1]:
+            raise SceneError(f"--duration {duration:g} s runs past the motion table's last time, {times[-1]:g} s")
+        motion = (times, positions)
+    return _Input(parsed, motion, duration, _run_settings(scene, args))
+
+
+def _finish(parsed: "ParsedScene") -> "Scene":
+    """The scene `parsed` with the engine's parts made (`ParsedScene.finish`)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the command prints the scene's notes itself
-        scene = load_scene(path)
-    if args.segments is not None:
-        scene = scene.with_segments(args.segments)
-    return scene
+        return parsed.finish()
 
 
 def _allowed(args) -> set[str]:
@@ -324,12 +387,10 @@ def _refuse_dropped(scene: "Scene", allowed: set[str]) -> None:
         )
 
 
-def _check_flags(args) -> None:
-    """Refuse bad flag values before any work: a number out of range, or an output or
-    plot file that could not be written at the end of a run."""
-    from ._config import SMALLEST_RTOL
+def _check_numbers(args) -> None:
+    """Refuse a flag's number out of range, before any work (and before JAX is
+    imported)."""
     from .io import SceneError
-    from .io._output import check_output, check_writable
 
     for flag, value, allow_zero in (("--duration", "duration", True), ("--dt-out", "dt_out", False)):
         number = getattr(args, value, None)
@@ -350,6 +411,13 @@ def _check_flags(args) -> None:
             f"--rtol must be at least {SMALLEST_RTOL:g}, below which float64 rounding (ε = 2.2e-16) exceeds the "
             f"error the step controller allows and the step shrinks without end, got {rtol:g}"
         )
+
+
+def _check_output_files(args) -> None:
+    """Refuse an output or plot file that could not be written at the end of a run,
+    before the run."""
+    from .io._output import check_output, check_writable
+
     out = getattr(args, "out", None)
     if out is not None:
         if args.command == "run":
@@ -362,24 +430,14 @@ def _check_flags(args) -> None:
         check_plot_path(args.plot, "--plot")
 
 
-def _run(args) -> int:
-    from .io import SceneError, read_motion_file, write_output
+def _run(args, given: _Input) -> int:
+    from .io import write_output
     from .io._channels import default_channels, parse_channel
     from .io._run import run_scene
 
-    scene = _load(args)
-    _refuse_dropped(scene, _allowed(args))
-    duration = args.duration
-    if args.motion is not None:
-        coupled = scene.coupled_points
-        if not coupled:
-            raise SceneError(f"--motion {args.motion}: the scene has no coupled points to move")
-        times, positions = read_motion_file(args.motion, len(coupled))
-        if times[0] > 0:
-            raise SceneError(f"--motion {args.motion}: the table starts at {times[0]:g} s; it must cover t = 0")
-        duration = times[-1] if duration is None else duration
-        if duration > times[-1]:
-            raise SceneError(f"--duration {duration:g} s runs past the motion table's last time, {times[-1]:g} s")
+    scene = _finish(given.parsed)
+    if given.motion is not None:
+        times, positions = given.motion
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", UserWarning)
             scene = scene.with_motion_table(times, positions, f"--motion {args.motion}", args.motion_interpolation)
@@ -398,10 +456,10 @@ def _run(args) -> int:
     channels = tuple(args.channels or ())
     for name in channels or default_channels(scene):
         parse_channel(name, scene)  # fail now, not after the simulation
-    settings = _run_settings(scene, args)
+    settings = given.settings
     run = run_scene(
         scene,
-        duration=duration,
+        duration=given.duration,
         dt_out=args.dt_out,
         solver=settings.solver_config(),
         progress=not args.no_progress,
@@ -435,7 +493,7 @@ def _run(args) -> int:
 def _run_settings(scene: "Scene", args) -> "RunSettings":
     """The scene's run settings with the command line's `--solver`, `--dt`,
     `--adaptive`, `--rtol`, `--atol`, `--max-steps` and `--no-statics` (their values
-    checked by `_check_flags`); `SceneError` naming the flags that contradict each
+    checked by `_check_numbers`); `SceneError` naming the flags that contradict each
     other."""
     from .io import SceneError
 
@@ -458,17 +516,17 @@ def _run_settings(scene: "Scene", args) -> "RunSettings":
     return settings
 
 
-def _info(args) -> int:
+def _info(args, given: _Input) -> int:
     from ._advice import advise
     from ._stability import STABLE_GROWTH, fixed_step_growth
     from .io import advice_lines
     from .io._run import DEFAULT_DT_OUT, check_size
 
-    scene = _load(args)
+    scene = _finish(given.parsed)
     built = scene.build()
     model = built.model
     water = scene.water
-    duration = scene.run.duration if args.duration is None else args.duration
+    duration = given.duration
     # The advice solves statics: refuse a model too large for memory first.
     for warning in check_size(built, duration, scene.run.dt_out or DEFAULT_DT_OUT, scene.run.solver_config()):
         print(f"warning: {warning}", file=sys.stderr)

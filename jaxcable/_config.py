@@ -15,15 +15,9 @@ import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float
 
 from . import _checks as checks
+from ._names import SMALLEST_RTOL as SMALLEST_RTOL
 from ._picard import PicardTrapezoid
 from ._rk4 import RK4
-
-SMALLEST_RTOL = 1e-13
-"""The tightest relative tolerance (–) a step-size controller may be given: about 450
-float64 epsilons (2.2e-16). A step's error estimate is a difference of two solutions,
-each carrying rounding of a few ε |y| from its stage sums, so a tighter tolerance
-cannot be met: the controller shrinks the step until it runs out of steps (an rtol of
-1e-300 ran on towards `max_steps` with no message)."""
 
 
 def default_solver() -> diffrax.AbstractSolver:

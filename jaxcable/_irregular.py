@@ -377,11 +377,3 @@ def _variance_condition(sea, spectrum, low, high, components) -> checks.Conditio
         f"must hold the spectrum's m₀ within {100 * VARIANCE_TOLERANCE:g} %",
         detail,
     )
-
-
-def moordyn_phase(phase: RealLike, *, sine: bool) -> np.ndarray:
-    """θ₀ (rad) for a MoorDyn component of complex amplitude phase φ = arg Z: MoorDyn's
-    summed components (`WaveKin = 7`) write η = |Z| sin(ωt − kx + φ), its FFT grids
-    (`WaveKin = 2, 3`) η = |Z| cos(ωt − kx + φ); jaxcable's θ = kx − ωt + θ₀."""
-    phase = np.asarray(phase, dtype=float)
-    return np.pi / 2 - phase if sine else -phase

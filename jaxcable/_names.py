@@ -1,7 +1,9 @@
-"""Names the command line offers before it imports JAX (`jaxcable --help` answers
-without it): the solvers, the motion tables' interpolations, and the kinds of physics
-a MoorDyn file may ask for that jaxcable leaves out. Plain data, importing nothing;
-the modules that use them import them from here."""
+"""Names and limits the command line offers and checks before it imports JAX
+(`jaxcable --help` answers without it, and a refused input file is answered without
+it): the solvers and their tightest tolerance, the mass matrices and hydrodynamic
+forms, the motion tables' interpolations, and the kinds of physics a MoorDyn file may
+ask for that jaxcable leaves out. Plain data, importing nothing; the modules that use
+them import them from here."""
 
 SOLVER_NAMES = (
     "dopri5",
@@ -17,6 +19,20 @@ SOLVER_NAMES = (
     "picard",
 )
 """The keys of [`jaxcable.SOLVERS`][], in its order (a test holds them equal)."""
+
+SMALLEST_RTOL = 1e-13
+"""The tightest relative tolerance (–) a step-size controller may be given: about 450
+float64 epsilons (2.2e-16). A step's error estimate is a difference of two solutions,
+each carrying rounding of a few ε |y| from its stage sums, so a tighter tolerance
+cannot be met: the controller shrinks the step until it runs out of steps (an rtol of
+1e-300 ran on towards `max_steps` with no message)."""
+
+MASS_MATRICES = ("consistent", "lumped")
+"""The mass matrices of [`jaxcable.CableNetwork`][]."""
+
+HYDRODYNAMICS = ("segments", "nodes")
+"""Where [`jaxcable.CableNetwork`][] takes drag and added mass: on the segments, or
+lumped at the nodes (MoorDyn's form)."""
 
 INTERPOLATIONS = ("cubic", "pchip", "linear")
 """How [`jaxcable.Sampled`][] interpolates between its samples."""

@@ -22,10 +22,9 @@ from ._environment import Environment
 from ._indexing import incidence
 from ._materials import AbstractTensionLaw
 from ._motion import AbstractMotion
+from ._names import HYDRODYNAMICS as HYDRODYNAMICS
+from ._names import MASS_MATRICES as MASS_MATRICES
 from ._typing import RealLike
-
-MASS_MATRICES = ("consistent", "lumped")
-HYDRODYNAMICS = ("segments", "nodes")
 
 
 class LineType(eqx.Module):

@@ -8,70 +8,85 @@ imports from here: data flows scene → model → equations → solver → resul
 The scene entry points, [`jaxcable.read_scene`][], [`jaxcable.read_moordyn`][],
 [`jaxcable.load_scene`][] and [`jaxcable.run_scene`][], are in `jaxcable` itself; this
 module holds what they take and give, and the rest of the file formats.
+
+The names are imported when first used (PEP 562), as `jaxcable`'s are: the scene
+readers are plain Python and numpy, and the command line reads and refuses an input
+file through them before it imports JAX (1.3 s); the runner and the writers import it.
 """
 
-from .._records import (
-    COLUMNS as COLUMNS,
-)
-from .._records import (
-    CONDITIONS as CONDITIONS,
-)
-from .._records import (
-    UNITS as UNITS,
-)
-from .._records import (
-    RecordError as RecordError,
-)
-from .._records import (
-    TowingRecord as TowingRecord,
-)
-from .._records import (
-    to_si as to_si,
-)
-from ._advice_text import advice_lines as advice_lines
-from ._moordyn_water import write_wave_frequencies as write_wave_frequencies
-from ._motion_file import read_motion_file as read_motion_file
-from ._output import write as write_output  # noqa: F401 (re-exported under a new name)
-from ._records import read_record as read_record
-from ._records import read_records as read_records
-from ._records import write_record as write_record
-from ._run import SceneRun as SceneRun
-from ._scene import (
-    BuiltScene as BuiltScene,
-)
-from ._scene import (
-    CurrentProfileSpec as CurrentProfileSpec,
-)
-from ._scene import (
-    LineSpec as LineSpec,
-)
-from ._scene import (
-    LineTypeSpec as LineTypeSpec,
-)
-from ._scene import (
-    PointSpec as PointSpec,
-)
-from ._scene import (
-    RunSettings as RunSettings,
-)
-from ._scene import (
-    Scene as Scene,
-)
-from ._scene import (
-    SceneError as SceneError,
-)
-from ._scene import (
-    SeabedSpec as SeabedSpec,
-)
-from ._scene import (
-    SeaStateSpec as SeaStateSpec,
-)
-from ._scene import (
-    Water as Water,
-)
-from ._scene import (
-    WaveComponentsSpec as WaveComponentsSpec,
-)
-from ._scene import (
-    WaveSpec as WaveSpec,
-)
+import importlib
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .._records import COLUMNS as COLUMNS
+    from .._records import CONDITIONS as CONDITIONS
+    from .._records import UNITS as UNITS
+    from .._records import RecordError as RecordError
+    from .._records import TowingRecord as TowingRecord
+    from .._records import to_si as to_si
+    from ._advice_text import advice_lines as advice_lines
+    from ._moordyn_water import write_wave_frequencies as write_wave_frequencies
+    from ._motion_file import read_motion_file as read_motion_file
+    from ._output import write as write_output  # noqa: F401 (re-exported under a new name)
+    from ._records import read_record as read_record
+    from ._records import read_records as read_records
+    from ._records import write_record as write_record
+    from ._run import SceneRun as SceneRun
+    from ._scene import BuiltScene as BuiltScene
+    from ._scene import CurrentProfileSpec as CurrentProfileSpec
+    from ._scene import LineSpec as LineSpec
+    from ._scene import LineTypeSpec as LineTypeSpec
+    from ._scene import PointSpec as PointSpec
+    from ._scene import RunSettings as RunSettings
+    from ._scene import Scene as Scene
+    from ._scene import SceneError as SceneError
+    from ._scene import SeabedSpec as SeabedSpec
+    from ._scene import SeaStateSpec as SeaStateSpec
+    from ._scene import Water as Water
+    from ._scene import WaveComponentsSpec as WaveComponentsSpec
+    from ._scene import WaveSpec as WaveSpec
+
+_NAMES = {
+    "COLUMNS": (".._records", "COLUMNS"),
+    "CONDITIONS": (".._records", "CONDITIONS"),
+    "UNITS": (".._records", "UNITS"),
+    "RecordError": (".._records", "RecordError"),
+    "TowingRecord": (".._records", "TowingRecord"),
+    "to_si": (".._records", "to_si"),
+    "advice_lines": ("._advice_text", "advice_lines"),
+    "write_wave_frequencies": ("._moordyn_water", "write_wave_frequencies"),
+    "read_motion_file": ("._motion_file", "read_motion_file"),
+    "write_output": ("._output", "write"),
+    "read_record": ("._records", "read_record"),
+    "read_records": ("._records", "read_records"),
+    "write_record": ("._records", "write_record"),
+    "SceneRun": ("._run", "SceneRun"),
+    "BuiltScene": ("._scene", "BuiltScene"),
+    "CurrentProfileSpec": ("._scene", "CurrentProfileSpec"),
+    "LineSpec": ("._scene", "LineSpec"),
+    "LineTypeSpec": ("._scene", "LineTypeSpec"),
+    "PointSpec": ("._scene", "PointSpec"),
+    "RunSettings": ("._scene", "RunSettings"),
+    "Scene": ("._scene", "Scene"),
+    "SceneError": ("._scene", "SceneError"),
+    "SeabedSpec": ("._scene", "SeabedSpec"),
+    "SeaStateSpec": ("._scene", "SeaStateSpec"),
+    "Water": ("._scene", "Water"),
+    "WaveComponentsSpec": ("._scene", "WaveComponentsSpec"),
+    "WaveSpec": ("._scene", "WaveSpec"),
+}
+"""Each public name, the module it comes from and its name there."""
+
+
+def __getattr__(name: str):
+    """Import a public name on first use, and keep it."""
+    if name not in _NAMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module, original = _NAMES[name]
+    value = getattr(importlib.import_module(module, __name__), original)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_NAMES))

@@ -32,21 +32,27 @@ constant `EI` is read as the line type's `bending_stiffness` (`jaxcable._bending
 MoorDyn's lines end at points, which are pinned, as jaxcable's line ends are. MoorDyn's steady
 current profile and its wave spectrum and elevation files are read into the water
 (`jaxcable.io._moordyn_water`).
+
+The reader is plain Python and numpy: `parse_moordyn` reads and checks a file without
+JAX, and the points' bodies are made when the scene is finished
+(`jaxcable.io._scene.ParsedScene`).
 """
 
 import contextlib
+import functools
 import math
 import re
 import warnings
 from pathlib import Path
 
 from .._names import DROPPED_KINDS as DROPPED_KINDS
-from .._network import Body
 from . import _moordyn_water as moordyn_water
 from ._parse import is_number, read_text, unique_names
 from ._scene import (
+    EnginePart,
     LineSpec,
     LineTypeSpec,
+    ParsedScene,
     PointSpec,
     RunSettings,
     Scene,
@@ -54,6 +60,7 @@ from ._scene import (
     SeabedSpec,
     Water,
     located,
+    make_body,
 )
 
 # Section names as MoorDyn recognises them, most specific first: a header matches the
@@ -152,6 +159,22 @@ def read_moordyn(path: str | Path) -> Scene:
     not exist, a non-positive length, a non-numeric field, or a feature jaxcable does
     not model.
     """
+    scene = parse_moordyn(path).finish()
+    for _, note in scene.dropped:
+        warnings.warn(note, stacklevel=2)
+    return scene
+
+
+def parse_moordyn(path: str | Path) -> ParsedScene:
+    """Read and check a MoorDyn v2 input file without JAX: [`jaxcable.read_moordyn`][]
+    but for the points' bodies, which `ParsedScene.finish` makes (and checks), and
+    without warning of the physics left out (`Scene.dropped`).
+
+    **Raises:**
+
+    [`jaxcable.io.SceneError`][] as [`jaxcable.read_moordyn`][] does, but for a body's
+    values, which `finish` refuses.
+    """
     path = Path(path)
     lines = read_text(path).splitlines()
     sections = _find_sections(lines)
@@ -171,7 +194,9 @@ def read_moordyn(path: str | Path) -> Scene:
 
     line_types = tuple(_line_type(source, n, row, dropped) for n, row in _rows(lines, sections, "LINE TYPES"))
     unique_names(line_types, "line type", source)
-    points = tuple(_point(source, n, row, k) for k, (n, row) in enumerate(_rows(lines, sections, "POINTS")))
+    read = [_point(source, n, row, k) for k, (n, row) in enumerate(_rows(lines, sections, "POINTS"))]
+    points = tuple(point for point, _ in read)
+    bodies = tuple(body for _, body in read if body is not None)
     type_names = [t.name for t in line_types]
     mdlines = tuple(
         _line(source, n, row, k, len(points), type_names) for k, (n, row) in enumerate(_rows(lines, sections, "LINES"))
@@ -204,10 +229,11 @@ def read_moordyn(path: str | Path) -> Scene:
         statics="tmaxic" not in options,
         **_stepping(options, notes),
     )
-    for _, note in dropped:
-        warnings.warn(note, stacklevel=2)
     notes = [note for _, note in dropped] + notes
-    return Scene(points, line_types, mdlines, water, run, channels, tuple(notes), source, _title(lines), tuple(dropped))
+    scene = Scene(
+        points, line_types, mdlines, water, run, channels, tuple(notes), source, _title(lines), tuple(dropped)
+    )
+    return ParsedScene(scene, bodies)
 
 
 def _find_sections(lines: list[str]) -> dict[str, int]:
@@ -304,7 +330,8 @@ def _line_type(source: str, line: int, fields: list[str], dropped: list[tuple[st
         )
 
 
-def _point(source: str, line: int, fields: list[str], index: int) -> PointSpec:
+def _point(source: str, line: int, fields: list[str], index: int) -> tuple[PointSpec, EnginePart | None]:
+    """The point of a POINTS row, and its body's part, if it has one."""
     _require(source, line, fields, _POINT_COLUMNS, "POINTS")
     where = f"{source}, line {line}"
     columns = _POINT_FORCE_COLUMNS if len(fields) >= len(_POINT_FORCE_COLUMNS) else _POINT_COLUMNS
@@ -333,16 +360,17 @@ def _point(source: str, line: int, fields: list[str], index: int) -> PointSpec:
         )
     body = None
     if any(number[c] for c in ("Mass", "Volume", "CdA", "Ca")) or any(forces):
-        with located(where):
-            body = Body(
-                mass=number["Mass"],
-                volume=number["Volume"],
-                drag_area=number["CdA"],
-                added_mass=number["Ca"],
-                force=forces,
-            )
+        make = functools.partial(
+            make_body,
+            mass=number["Mass"],
+            volume=number["Volume"],
+            drag_area=number["CdA"],
+            added_mass=number["Ca"],
+            force=forces,
+        )
+        body = EnginePart(make, where, index, "body")
     position = (number["X"], number["Y"], number["Z"])
-    return PointSpec(str(index + 1), kinds[0], position, body, None, where)
+    return PointSpec(str(index + 1), kinds[0], position, where=where), body
 
 
 def _line(source: str, line: int, fields: list[str], index: int, n_points: int, type_names: list[str]) -> LineSpec:
@@ -541,9 +569,8 @@ def _seabed(source, options, points, notes, dropped) -> tuple[float | None, Seab
                 "without a static-to-dynamic ratio)",
             )
         )
-    with located(where):
-        seabed = SeabedSpec(stiffness, damping, friction, SeabedSpec().friction_speed, where, friction_damping=fricdamp)
-        seabed.seabed()
+    # `_options` checked the values as the engine's Seabed does; it is made with the scene.
+    seabed = SeabedSpec(stiffness, damping, friction, SeabedSpec().friction_speed, where, friction_damping=fricdamp)
     return depth, seabed
 
 

@@ -37,15 +37,26 @@ back as the same sea.
 """
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._irregular import WaveComponents, moordyn_phase
 from ._scene import CurrentProfileSpec, SceneError, WaveComponentsSpec
+
+if TYPE_CHECKING:  # the readers are plain numpy: the command line reads a file before it imports JAX
+    from .._irregular import WaveComponents
 
 CUTOFF = 2 * np.pi * 0.5
 """MoorDyn's cut of an elevation record's spectrum (rad/s): components above 0.5 Hz
 are zeroed (WaveGrid.cpp), "to avoid FFT noise getting amplified"."""
+
+
+def moordyn_phase(phase: np.ndarray, *, sine: bool) -> np.ndarray:
+    """θ₀ (rad) for a MoorDyn component of complex amplitude phase φ = arg Z: MoorDyn's
+    summed components (`WaveKin = 7`) write η = |Z| sin(ωt − kx + φ), its FFT grids
+    (`WaveKin = 2, 3`) η = |Z| cos(ωt − kx + φ); jaxcable's θ = kx − ωt + θ₀."""
+    phase = np.asarray(phase, dtype=float)
+    return np.pi / 2 - phase if sine else -phase
 
 
 def _table(path: Path, skip: int, columns: int, what: str) -> tuple[np.ndarray, list[int]]:
@@ -185,7 +196,7 @@ def elevation_record(path: Path, step: float) -> tuple[WaveComponentsSpec, list[
     return spec, notes
 
 
-def write_wave_frequencies(path: str | Path, sea: WaveComponents) -> Path:
+def write_wave_frequencies(path: str | Path, sea: "WaveComponents") -> Path:
     """Write `sea` as MoorDyn's `wave_frequencies.txt` for its summed components
     (`WaveKin = 7`): a first row at ω = 0, then one row `ω Re(Z) Im(Z) β` (rad/s, m,
     m, rad) per component in increasing ω, with |Z| = a_i and arg Z = π/2 − θ₀_i

@@ -7,26 +7,29 @@ the line that wrote it. [`jaxcable.io.Scene.build`][] turns it into the engine's
 [`jaxcable.CableNetwork`][] and [`jaxcable.Environment`][]; readers
 ([`jaxcable.read_scene`][], [`jaxcable.read_moordyn`][]) and the command line only ever
 produce and consume scenes.
+
+This module is plain Python and numpy: each method that makes an engine object imports
+the engine itself, so that a file is read and checked without JAX (`ParsedScene`), and
+the command line refuses a malformed one before it imports JAX (1.3 s).
 """
 
 import dataclasses
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, NamedTuple
 
-import diffrax
 import numpy as np
 
-from .._advice import Labels
-from .._cnoidal import Cnoidal
-from .._config import SOLVERS, SolverConfig
-from .._environment import CurrentProfile, Environment, Seabed
-from .._irregular import WaveComponents
-from .._materials import KelvinVoigt
-from .._motion import AbstractMotion, Fixed, Sampled
-from .._network import Body, Branch, CableNetwork, LineType, below_seabed
-from .._spectrum import Jonswap
-from .._statics import MAX_REQUIRED_STRAIN
-from .._waves import AbstractWave, Airy
+if TYPE_CHECKING:
+    from .._advice import Labels
+    from .._config import SolverConfig
+    from .._environment import CurrentProfile, Environment, Seabed
+    from .._irregular import WaveComponents
+    from .._motion import AbstractMotion
+    from .._network import Body, CableNetwork, LineType
+    from .._spectrum import Jonswap
+    from .._waves import AbstractWave
 
 POINT_KINDS = ("fixed", "coupled", "free")
 WAVE_THEORIES = ("airy", "cnoidal")
@@ -49,8 +52,10 @@ class CurrentProfileSpec:
     heading: float = 0.0
     where: str = ""
 
-    def profile(self) -> CurrentProfile:
+    def profile(self) -> "CurrentProfile":
         """The engine's [`jaxcable.CurrentProfile`][]."""
+        from .._environment import CurrentProfile
+
         with located(self.where):
             return CurrentProfile(self.heights, self.speeds, self.heading)
 
@@ -77,7 +82,7 @@ class WaveSpec:
     wheeler: bool = False
     where: str = ""
 
-    def wave(self, depth: float, gravity: float) -> AbstractWave:
+    def wave(self, depth: float, gravity: float) -> "AbstractWave":
         """The engine's wave in water of `depth` (m) under `gravity` (m/s²).
 
         **Raises:**
@@ -92,6 +97,9 @@ class WaveSpec:
             raise SceneError(f"{self.where}: give exactly one of height and steepness")
         if self.wheeler and self.theory != "airy":
             raise SceneError(f"{self.where}: Wheeler stretching applies to Airy waves only")
+        from .._cnoidal import Cnoidal
+        from .._waves import Airy
+
         kinds = {"airy": Airy, "cnoidal": Cnoidal}
         kind = kinds[self.theory]
         options = {"gravity": gravity, "heading": self.heading, "phase": self.phase}
@@ -123,9 +131,11 @@ class WaveComponentsSpec:
     wheeler: bool = False
     where: str = ""
 
-    def wave(self, depth: float, gravity: float) -> AbstractWave:
+    def wave(self, depth: float, gravity: float) -> "AbstractWave":
         """The engine's [`jaxcable.WaveComponents`][] in water of `depth` (m) under
         `gravity` (m/s²); [`jaxcable.io.SceneError`][] at `where` for a value it rejects."""
+        from .._irregular import WaveComponents
+
         with located(self.where):
             return WaveComponents(
                 self.amplitudes,
@@ -174,18 +184,22 @@ class SeaStateSpec:
     wheeler: bool = False
     where: str = ""
 
-    def sea_state(self) -> Jonswap:
+    def sea_state(self) -> "Jonswap":
         """The engine's [`jaxcable.Jonswap`][]."""
+        from .._spectrum import Jonswap
+
         if self.spectrum not in SPECTRA:
             raise SceneError(f"{self.where}: unknown spectrum {self.spectrum!r}; expected one of {SPECTRA}")
         gamma = 1.0 if self.spectrum == "pierson-moskowitz" else self.peak_enhancement
         with located(self.where):
             return Jonswap(self.significant_height, self.peak_period, gamma)
 
-    def wave(self, depth: float, gravity: float) -> WaveComponents:
+    def wave(self, depth: float, gravity: float) -> "WaveComponents":
         """The engine's [`jaxcable.WaveComponents`][], realised in water of `depth` (m)
         under `gravity` (m/s²); [`jaxcable.io.SceneError`][] at `where` for a value it
         rejects (a band that misses the spectrum among them)."""
+        from .._irregular import WaveComponents
+
         spectrum = self.sea_state()
         with located(self.where):
             return WaveComponents.from_spectrum(
@@ -227,8 +241,10 @@ class SeabedSpec:
     where: str = ""
     friction_damping: float | None = None
 
-    def seabed(self) -> Seabed:
+    def seabed(self) -> "Seabed":
         """The engine's [`jaxcable.Seabed`][]."""
+        from .._environment import Seabed
+
         with located(self.where):
             return Seabed(self.stiffness, self.damping, self.friction, self.friction_speed, self.friction_damping)
 
@@ -266,7 +282,7 @@ class Water:
     wave_ramp: float = 0.0
     where: str = ""
 
-    def environment(self) -> Environment:
+    def environment(self) -> "Environment":
         """The engine's [`jaxcable.Environment`][].
 
         **Raises:**
@@ -275,6 +291,8 @@ class Water:
         seabed without a depth, both a uniform current and a profile, or a value out of
         range.
         """
+        from .._environment import Environment
+
         where = self.where or "[water]"
         for item, what in ((self.waves[0] if self.waves else None, "waves"), (self.seabed, "a seabed")):
             if item is not None and self.depth is None:
@@ -349,13 +367,16 @@ class LineTypeSpec:
         ratio_part = self.axial_damping_ratio * segment_length * (np.sqrt(product) if product >= 0 else np.nan)
         return self.axial_damping + ratio_part
 
-    def line_type(self, segment_length: float) -> LineType:
+    def line_type(self, segment_length: float) -> "LineType":
         """The engine's [`jaxcable.LineType`][] for segments of `segment_length` (m)."""
         if self.axial_damping and self.axial_damping_ratio:
             raise SceneError(
                 f"{self.where}: give one of axial_damping ({self.axial_damping}) or "
                 f"axial_damping_ratio ({self.axial_damping_ratio}), not both"
             )
+        from .._materials import KelvinVoigt
+        from .._network import LineType
+
         with located(self.where):
             law = KelvinVoigt(
                 self.axial_stiffness,
@@ -391,8 +412,8 @@ class PointSpec:
     name: str
     kind: str
     position: tuple[float, float, float]
-    body: Body | None = None
-    motion: AbstractMotion | None = None
+    body: "Body | None" = None
+    motion: "AbstractMotion | None" = None
     where: str = ""
 
 
@@ -433,10 +454,14 @@ class RunSettings:
     hydrodynamics: str = "segments"
     statics: bool = True
 
-    def solver_config(self) -> SolverConfig:
+    def solver_config(self) -> "SolverConfig":
         """`SOLVERS[solver](rtol=rtol, atol=atol, max_steps=max_steps)`, or with `dt`
         fixed steps of `dt` (`dt0=dt`, `diffrax.ConstantStepSize()`; the tolerances
         unused); `ValueError` naming the solver and the choices for an unknown name."""
+        import diffrax
+
+        from .._config import SOLVERS
+
         if self.dt is not None:
             return SOLVERS[self.solver](
                 dt0=self.dt, stepsize_controller=diffrax.ConstantStepSize(), max_steps=self.max_steps
@@ -523,6 +548,8 @@ class Scene:
             raise SceneError(
                 f"{where}: expected positions for {len(coupled)} coupled point(s), got shape {positions.shape[1:]}"
             )
+        from .._motion import Sampled
+
         points = list(self.points)
         for column, k in enumerate(coupled):
             displacements = positions[:, column, :] - np.asarray(points[k].position)
@@ -539,6 +566,9 @@ class Scene:
         [`jaxcable.io.SceneError`][] naming the item's place in the file when a value is
         out of range, or a fixed or coupled point is below the seabed.
         """
+        from .._motion import Fixed
+        from .._network import Branch, CableNetwork, below_seabed
+
         for line in self.lines:
             if not line.length > 0:
                 raise SceneError(f"{line.where}: length must be positive, got {line.length}")
@@ -592,11 +622,79 @@ class Scene:
         return BuiltScene(self, model, environment, tuple(line_nodes), tuple(line_segments))
 
 
+class EnginePart(NamedTuple):
+    """A part of a scene file that only the engine can make or judge: a point's body or
+    motion, or a check of the engine's on a value the reader took (a wave's breaking
+    height, a solver's tolerances). See `ParsedScene`.
+
+    - `make`: makes it, importing the engine; its result is kept only for a point's part.
+    - `where`: where in the file it was written, for the engine's errors.
+    - `point`, `field`: the index of the point whose `field` (`"body"` or `"motion"`) it
+        is; `None` for a check alone.
+    - `noted`: the place its warnings (a spline's overshoot, a cnoidal wave's low Ursell
+        number) are noted at, among the scene's notes; `None` to let them through as
+        warnings.
+    """
+
+    make: Callable[[], Any]
+    where: str
+    point: int | None = None
+    field: str = ""
+    noted: str | None = None
+
+
+@dataclass(frozen=True)
+class ParsedScene:
+    """A scene file read and checked in plain Python and numpy, without JAX: every
+    refusal that the reader itself makes (syntax, a missing key or section, a number
+    that is not one, a name or point that does not exist, a value out of range, an
+    unreadable motion table) is made here. The command line reads its input this way
+    before it imports JAX, so that a malformed file is answered at once.
+
+    - `scene`: the scene, but for the bodies and motions of its points, which are
+        `None` until `finish` makes them.
+    - `parts`: what only the engine makes or judges, in file order.
+    """
+
+    scene: Scene
+    parts: tuple[EnginePart, ...] = ()
+
+    def finish(self) -> Scene:
+        """The complete scene: each part made by the engine, its warnings noted.
+
+        **Raises:**
+
+        [`jaxcable.io.SceneError`][] at a part's place in the file for a value the
+        engine refuses; [`jaxcable.Float64Error`][] if JAX's float64 is off.
+        """
+        points, notes = list(self.scene.points), list(self.scene.notes)
+        for part in self.parts:
+            with warnings.catch_warnings(record=part.noted is not None) as caught:
+                if part.noted is not None:
+                    warnings.simplefilter("always", UserWarning)
+                with located(part.where):
+                    made = part.make()
+            notes += [f"{part.noted}: {w.message}" for w in caught or ()]
+            if part.point is not None:
+                points[part.point] = dataclasses.replace(points[part.point], **{part.field: made})
+        return self.scene.replace(points=tuple(points), notes=tuple(notes))
+
+
+def make_body(**values) -> "Body":
+    """`jaxcable.Body(**values)`, for a reader's `EnginePart` (the engine is imported
+    only when the part is made)."""
+    from .._network import Body
+
+    return Body(**values)
+
+
 def _check_reach(line: LineSpec, start: PointSpec, end: PointSpec) -> None:
     """Refuse a line whose ends sit at one point (its start shape has no direction),
     or whose held ends are farther apart than it can reach without stretching more
     than `MAX_REQUIRED_STRAIN`: a length or a position in the wrong unit, most likely,
     which statics would otherwise report only as a failure to converge."""
+    from .._statics import MAX_REQUIRED_STRAIN
+
     chord = float(np.linalg.norm(np.subtract(end.position, start.position)))
     if chord == 0.0:
         raise SceneError(
@@ -624,15 +722,17 @@ class BuiltScene:
     """
 
     scene: Scene
-    model: CableNetwork
-    environment: Environment
+    model: "CableNetwork"
+    environment: "Environment"
     line_nodes: tuple[np.ndarray, ...] = field(repr=False)
     line_segments: tuple[np.ndarray, ...] = field(repr=False)
 
     @property
-    def labels(self) -> Labels:
+    def labels(self) -> "Labels":
         """The scene's names for the model's lines, line types and points, for
         [`jaxcable.advise`][]."""
+        from .._advice import Labels
+
         return Labels(
             tuple(
                 (line.name, nodes, segments)

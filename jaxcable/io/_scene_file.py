@@ -105,17 +105,20 @@ Errors name the file, the line and the key. Waves take the water's depth and gra
 see [`jaxcable.Environment`][], [`jaxcable.Airy`][], [`jaxcable.Cnoidal`][],
 [`jaxcable.Jonswap`][], [`jaxcable.WaveComponents.from_spectrum`][] and
 [`jaxcable.Seabed`][] for the physics.
+
+The reader is plain Python: `parse_scene` reads and checks a file without JAX, and the
+engine's objects (bodies, motions) and checks (waves, tolerances) are made when the
+scene is finished (`jaxcable.io._scene.ParsedScene`).
 """
 
+import functools
 import math
 import tomllib
-import warnings
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from .._config import SOLVERS
-from .._motion import Harmonic, Sampled
-from .._network import HYDRODYNAMICS, MASS_MATRICES, Body
+from .._names import HYDRODYNAMICS, MASS_MATRICES, SOLVER_NAMES
 from ._motion_file import read_motion_file
 from ._parse import read_text, unique_names
 from ._scene import (
@@ -123,8 +126,10 @@ from ._scene import (
     SPECTRA,
     WAVE_THEORIES,
     CurrentProfileSpec,
+    EnginePart,
     LineSpec,
     LineTypeSpec,
+    ParsedScene,
     PointSpec,
     RunSettings,
     Scene,
@@ -133,8 +138,11 @@ from ._scene import (
     SeaStateSpec,
     Water,
     WaveSpec,
-    located,
+    make_body,
 )
+
+if TYPE_CHECKING:
+    from .._motion import AbstractMotion, Harmonic, Sampled
 
 _TOP = ("title", "water", "waves", "seabed", "simulation", "line_types", "points", "lines", "output")
 _WATER = ("density", "gravity", "depth", "current", "current_profile", "free_surface", "fluid_inertia", "wave_ramp")
@@ -195,6 +203,19 @@ def read_scene(path: str | Path) -> Scene:
     unknown or missing keys, values of the wrong type, points or line types that do
     not exist, and values out of range.
     """
+    return parse_scene(path).finish()
+
+
+def parse_scene(path: str | Path) -> ParsedScene:
+    """Read and check a jaxcable scene file (TOML) without JAX: [`jaxcable.read_scene`][]
+    but for the engine's parts, which `ParsedScene.finish` makes.
+
+    **Raises:**
+
+    [`jaxcable.io.SceneError`][] as [`jaxcable.read_scene`][] does, but for the values
+    only the engine judges (a wave's breaking height, a body's or a motion's values, a
+    solver's tolerances), which `finish` refuses.
+    """
     path = Path(path)
     text = read_text(path)
     try:
@@ -204,8 +225,8 @@ def read_scene(path: str | Path) -> Scene:
     reader = _Reader(path, text)
     reader.keys(data, (), _TOP)
 
-    notes: list[str] = []
-    water_spec = _water(reader, data, notes)
+    parts: list[EnginePart] = []  # in file order: the water's, the run's, the points'
+    water_spec = _water(reader, data, parts)
 
     simulation = reader.table(data, ("simulation",))
     reader.keys(simulation, ("simulation",), _SIMULATION)
@@ -222,7 +243,7 @@ def read_scene(path: str | Path) -> Scene:
         hydrodynamics=reader.string(simulation, ("simulation", "hydrodynamics"), defaults.hydrodynamics),
         statics=reader.boolean(simulation, ("simulation", "statics"), defaults.statics),
     )
-    for key, allowed in (("solver", tuple(SOLVERS)), ("mass_matrix", MASS_MATRICES), ("hydrodynamics", HYDRODYNAMICS)):
+    for key, allowed in (("solver", SOLVER_NAMES), ("mass_matrix", MASS_MATRICES), ("hydrodynamics", HYDRODYNAMICS)):
         if getattr(run, key) not in allowed:
             raise SceneError(
                 f"{reader.where(('simulation', key))}: must be one of {allowed}, got {getattr(run, key)!r}"
@@ -236,8 +257,8 @@ def read_scene(path: str | Path) -> Scene:
         value = getattr(run, key)
         if value is not None and not value > 0:
             raise SceneError(f"{reader.where(('simulation', key))}: must be positive, got {value:g}")
-    with located(reader.where(("simulation",))):
-        run.solver_config()  # the solver's own checks on its tolerances, now, not when the run starts
+    # The solver's own checks on its tolerances, when the scene is finished, not when the run starts.
+    parts.append(EnginePart(run.solver_config, reader.where(("simulation",))))
     if not run.duration >= 0:
         raise SceneError(f"{reader.where(('simulation', 'duration'))}: must not be negative, got {run.duration:g}")
 
@@ -265,21 +286,18 @@ def read_scene(path: str | Path) -> Scene:
                 f"{reader.where((*keys, 'type'))}: unknown point type {kind!r}; expected one of {POINT_KINDS}"
             )
         position = reader.vector(table, (*keys, "position"))
-        body = None
         if any(k in table for k in _BODY + _BODY_VECTORS):
             numbers = {k: reader.number(table, (*keys, k)) for k in _BODY if k in table}
             vectors = {k: reader.vector(table, (*keys, k)) for k in _BODY_VECTORS if k in table}
-            with located(reader.where(keys)):
-                body = Body(**numbers, **vectors)
-        motion = None
+            make = functools.partial(make_body, **numbers, **vectors)
+            parts.append(EnginePart(make, reader.where(keys), len(points), "body"))
         if "motion" in table:
             if kind != "coupled":
                 raise SceneError(f"{reader.where((*keys, 'motion'))}: only a coupled point can have a motion")
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always", UserWarning)
-                motion = reader.motion(table, (*keys, "motion"), position)
-            notes += [f"{reader.where((*keys, 'motion'))}: {w.message}" for w in caught]  # a spline's overshoot
-        points.append(PointSpec(name, kind, position, body, motion, reader.where(keys)))
+            make, where = reader.motion(table, (*keys, "motion"), position)
+            # A spline's overshoot is noted at the motion's key.
+            parts.append(EnginePart(make, where, len(points), "motion", reader.where((*keys, "motion"))))
+        points.append(PointSpec(name, kind, position, where=reader.where(keys)))
     index = {p.name: k for k, p in enumerate(points)}
 
     lines = []
@@ -322,13 +340,15 @@ def read_scene(path: str | Path) -> Scene:
     if not (isinstance(channels, list) and all(isinstance(c, str) for c in channels)):
         raise SceneError(f"{reader.where(('output', 'channels'))}: expected a list of channel names")
     title = reader.string(data, ("title",), "")
-    return Scene(
-        tuple(points), tuple(line_types), tuple(lines), water_spec, run, tuple(channels), tuple(notes), str(path), title
+    scene = Scene(
+        tuple(points), tuple(line_types), tuple(lines), water_spec, run, tuple(channels), (), str(path), title
     )
+    return ParsedScene(scene, tuple(parts))
 
 
-def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
-    """`[water]`, its current profile, `[[waves]]` and `[seabed]`."""
+def _water(reader: "_Reader", data: dict, parts: list[EnginePart]) -> Water:
+    """`[water]`, its current profile, `[[waves]]` and `[seabed]`; the engine's checks
+    of the profile and the waves are added to `parts`."""
     water = reader.table(data, ("water",))
     reader.keys(water, ("water",), _WATER)
     depth = reader.number(water, ("water", "depth"), None)
@@ -350,7 +370,7 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
             heading=reader.number(table, (*keys, "heading"), 0.0),
             where=reader.where(keys),
         )
-        profile.profile()  # the engine's checks: lengths match, heights increase
+        parts.append(EnginePart(profile.profile, profile.where))  # the engine's checks: lengths match, heights increase
 
     waves = []
     rows = data.get("waves", [])
@@ -361,7 +381,7 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
         if not isinstance(row, dict):
             raise SceneError(f"{reader.where(keys)}: expected a [[waves]] table")
         if "spectrum" in row:
-            waves.append(_sea_state(reader, row, keys, depth, gravity))
+            waves.append(_sea_state(reader, row, keys, depth, gravity, parts))
             continue
         reader.keys(row, keys, _WAVE)
         theory = reader.string(row, (*keys, "theory"))
@@ -390,10 +410,9 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
             where=reader.where(keys),
             **values,
         )
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", UserWarning)
-            spec.wave(depth, gravity)  # the engine's checks: breaking, period range
-        notes += [f"{spec.where}: {w.message}" for w in caught]
+        # The engine's checks: breaking, period range; its warnings (a cnoidal wave's
+        # low Ursell number) are noted.
+        parts.append(EnginePart(functools.partial(spec.wave, depth, gravity), spec.where, noted=spec.where))
         waves.append(spec)
 
     seabed = None
@@ -412,8 +431,7 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
                 raise SceneError(f"{reader.where((*keys, key))}: must be {kind}, got {value:g}")
         if depth is None:
             raise SceneError(f"{reader.where(keys)}: a seabed needs the water depth: give [water] depth")
-        seabed = SeabedSpec(**values, where=reader.where(keys))
-        seabed.seabed()
+        seabed = SeabedSpec(**values, where=reader.where(keys))  # its values checked above, as the engine's Seabed does
 
     wave_ramp = reader.number(water, ("water", "wave_ramp"), 0.0)
     if wave_ramp < 0:
@@ -433,8 +451,11 @@ def _water(reader: "_Reader", data: dict, notes: list[str]) -> Water:
     )
 
 
-def _sea_state(reader: "_Reader", row: dict, keys: tuple, depth: float | None, gravity: float) -> SeaStateSpec:
-    """A `[[waves]]` table with a `spectrum`: an irregular sea."""
+def _sea_state(
+    reader: "_Reader", row: dict, keys: tuple, depth: float | None, gravity: float, parts: list[EnginePart]
+) -> SeaStateSpec:
+    """A `[[waves]]` table with a `spectrum`: an irregular sea; the engine's check of it
+    is added to `parts`."""
     reader.keys(row, keys, _SEA_STATE)
     spectrum = reader.string(row, (*keys, "spectrum"))
     if spectrum not in SPECTRA:
@@ -480,7 +501,8 @@ def _sea_state(reader: "_Reader", row: dict, keys: tuple, depth: float | None, g
         **values,
         **counts,
     )
-    spec.wave(depth, gravity)  # the engine's checks: γ, breaking, the band against m₀
+    # The engine's checks, when the scene is finished: γ, breaking, the band against m₀.
+    parts.append(EnginePart(functools.partial(spec.wave, depth, gravity), spec.where))
     return spec
 
 
@@ -591,21 +613,25 @@ class _Reader:
         x, y, z = value
         return float(x), float(y), float(z)
 
-    def motion(self, table: dict, keys: tuple, position: tuple[float, float, float]):
+    def motion(
+        self, table: dict, keys: tuple, position: tuple[float, float, float]
+    ) -> tuple[Callable[[], "AbstractMotion"], str]:
+        """A point's `motion = { ... }`: a function that makes the engine's motion, and
+        the place its errors are reported at."""
         spec = table[keys[-1]]
         if not isinstance(spec, dict):
             raise SceneError(f'{self.where(keys)}: expected a table such as {{ type = "harmonic", ... }}')
         kind = self.string(spec, (*keys, "type"))
         if kind == "harmonic":
             self.keys(spec, keys, _HARMONIC)
-            with located(self.where(keys)):
-                return Harmonic(
-                    amplitude=self.number(spec, (*keys, "amplitude")),
-                    period=self.number(spec, (*keys, "period")),
-                    direction=self.vector(spec, (*keys, "direction"), (1.0, 0.0, 0.0)),
-                    phase=self.number(spec, (*keys, "phase"), 0.0),
-                    ramp=self.number(spec, (*keys, "ramp"), 0.0),
-                )
+            values = dict(
+                amplitude=self.number(spec, (*keys, "amplitude")),
+                period=self.number(spec, (*keys, "period")),
+                direction=self.vector(spec, (*keys, "direction"), (1.0, 0.0, 0.0)),
+                phase=self.number(spec, (*keys, "phase"), 0.0),
+                ramp=self.number(spec, (*keys, "ramp"), 0.0),
+            )
+            return functools.partial(_harmonic, **values), self.where(keys)
         if kind == "table":
             self.keys(spec, keys, ("type", "file", "interpolation"))
             file = self.path.parent / self.string(spec, (*keys, "file"))
@@ -614,9 +640,24 @@ class _Reader:
                 times, positions = read_motion_file(file, 1)
             except SceneError as error:  # its own messages name the table's file and line, not this key
                 raise SceneError(f"{self.where((*keys, 'file'))}: {error}") from None
-            with located(self.where((*keys, "interpolation") if "interpolation" in spec else keys)):
-                return Sampled(times, positions[:, 0, :] - tuple(position), interpolation)
+            make = functools.partial(_sampled, times, positions[:, 0, :] - tuple(position), interpolation)
+            return make, self.where((*keys, "interpolation") if "interpolation" in spec else keys)
         raise SceneError(f"{self.where((*keys, 'type'))}: unknown motion type {kind!r}; expected 'harmonic' or 'table'")
+
+
+def _harmonic(**values) -> "Harmonic":
+    """`jaxcable.Harmonic(**values)`, imported only when the scene is finished."""
+    from .._motion import Harmonic
+
+    return Harmonic(**values)
+
+
+def _sampled(times, displacements, interpolation: str) -> "Sampled":
+    """`jaxcable.Sampled(times, displacements, interpolation)` (s, m), imported only when
+    the scene is finished."""
+    from .._motion import Sampled
+
+    return Sampled(times, displacements, interpolation)
 
 
 _REQUIRED = ...  # the default of a key that must be given
