@@ -227,10 +227,11 @@ def test_shared_steps_input_errors(kwargs, match):
 
 _SHARDED = textwrap.dedent(
     """
+    import diffrax
     import equinox as eqx
     import jax
     import numpy as np
-    from jaxcable import SolverConfig, sweep
+    from jaxcable import RK4, SolverConfig, sweep
     from jaxcable.examples import seed003_line
 
     assert len(jax.devices()) == 2, jax.devices()
@@ -281,6 +282,18 @@ _SHARDED = textwrap.dedent(
     alone = sweep(build, odd, 1.0, steps="shared", devices=[jax.devices()[0]], chunks=1, **options)
     assert all(both.success), both.status
     np.testing.assert_array_equal(both.simulation.stats["num_steps"], alone.simulation.stats["num_steps"])
+    np.testing.assert_allclose(both.simulation.tension, alone.simulation.tension, rtol=1e-9)
+
+    # Fixed steps, which mask no case, and a shared equilibrium (the stiffness scale is
+    # the same in every case, the amplitude does not move the top at t = 0), split
+    # across both devices as on one.
+    fixed = SolverConfig(RK4(), dt0=0.01, stepsize_controller=diffrax.ConstantStepSize())
+    same = {"amplitude": odd["amplitude"], "stiffness_scale": [1.0, 1.0, 1.0]}
+    both = sweep(build, same, 1.0, ts=options["ts"], solver=fixed)
+    alone = sweep(build, same, 1.0, ts=options["ts"], solver=fixed, devices=[jax.devices()[0]])
+    assert both.statics_shared and alone.statics_shared and all(both.success), both.status
+    assert both.statics.tension.shape == (3, 4)
+    np.testing.assert_array_equal(both.simulation.stats["num_steps"], [100, 100, 100])
     np.testing.assert_allclose(both.simulation.tension, alone.simulation.tension, rtol=1e-9)
     print("sharded sweep OK")
     """
@@ -435,3 +448,144 @@ def test_sweep_over_wave_steepness_equals_single_runs():
     # stirring only the top of a 200 m line in 1.5 s), far above the 1e-8 agreement.
     difference = np.abs(np.asarray(swept.case(2).tension - swept.case(0).tension)).max()
     assert difference > 1e-5 * float(swept.peak_tension[0])
+
+
+# A sweep over the top's harmonic amplitude: with zero phase the top is at rest at
+# t = 0 (A sin 0 = 0), so every case has the same equilibrium.
+AMPLITUDES = {"amplitude": [0.8, 1.6, 2.4]}
+
+
+def driven(amplitude=1.6, phase=0.0, current=0.0, wave_height=None, length_scale=1.0):
+    """`base()` with the top's amplitude A (m) and phase φ (rad), a current along x
+    (m/s), an Airy wave of that height (m; none by default) and the segments'
+    unstretched lengths scaled."""
+    model, env = base()
+    model = eqx.tree_at(
+        lambda m: (m.motions[1].amplitude, m.motions[1].phase, m.segment_length),
+        model,
+        (jnp.asarray(amplitude, float), jnp.asarray(phase, float), model.segment_length * length_scale),
+    )
+    waves = () if wave_height is None else (jc.Airy(wave_height, 5.6, 200.0),)
+    current = jnp.stack([jnp.asarray(current, float), 0.0, 0.0])
+    return model, jc.Environment(depth=200.0 if waves else None, current=current, waves=waves)
+
+
+def test_statics_solved_once_where_the_parameters_cannot_change_it(monkeypatch):
+    """An amplitude sweep solves statics once, before the batch, and gives every case
+    that equilibrium: the same result, to the statics' tolerance, as the per-case
+    solves inside the batch (forced here), and each case as its single run from that
+    equilibrium."""
+    once = sweep(driven, AMPLITUDES, T1, ts=TS)
+    assert once.statics_shared and all(once.success), once.status
+    assert once.summary().splitlines()[-1] == "statics solved once: the swept parameters do not change the equilibrium"
+    assert once.statics.tension.shape == (3, 4) and once.statics.state.positions.shape == (3, 5, 3)
+    model, env = driven(0.8)
+    alone = jc.solve_statics(model, env)
+    for field in ("positions", "velocities"):
+        np.testing.assert_array_equal(getattr(once.statics.state, field), np.stack(3 * [getattr(alone.state, field)]))
+
+    monkeypatch.setattr(jc._sweep, "_statics_differ", lambda *arguments: True)
+    per_case = sweep(driven, AMPLITUDES, T1, ts=TS)
+    assert not per_case.statics_shared and all(per_case.success), per_case.status
+    assert "statics solved once" not in per_case.summary()
+    # Both equilibria leave forces within 1e-6 of the force scale (the statics'
+    # tolerance): a position difference of that over the stiffness, and tensions that
+    # agree to about that fraction.
+    scale = float(alone.force_scale)
+    stiffness = float(model.line.tension_law.axial_stiffness[0]) / float(model.segment_length[0])
+    np.testing.assert_allclose(
+        once.statics.state.positions, per_case.statics.state.positions, atol=1e-6 * scale / stiffness
+    )
+    np.testing.assert_allclose(once.statics.tension, per_case.statics.tension, atol=1e-6 * scale)
+    peak = float(np.max(per_case.peak_tension))
+    np.testing.assert_allclose(once.simulation.tension, per_case.simulation.tension, atol=1e-5 * peak)
+    # The cases differ (by their amplitude), far beyond that.
+    assert abs(float(once.peak_tension[2] / once.peak_tension[0]) - 1) > 0.05
+
+    single = jc.simulate(*driven(2.4), T1, ts=TS, initial=alone.state, solver=jc.SolverConfig())
+    np.testing.assert_allclose(once.case(2).tension, single.tension, rtol=1e-8)
+
+
+def test_statics_refused_before_solving_is_reported_per_case():
+    """A shared equilibrium that eager statics refuses (segments a billionth of their
+    length: the line would have to stretch 1e11 %) is left to the batch, whose cases
+    report it as their own failed statics, as where the cases differ."""
+
+    def short(amplitude):
+        return driven(amplitude, length_scale=1e-9)
+
+    result = sweep(short, AMPLITUDES, T1, ts=TS)
+    assert not result.statics_shared and not any(result.success)
+    for status in result.status:
+        assert status.startswith(
+            "statics failed: solve_statics: the segments between two constrained nodes must stretch"
+        )
+    assert np.all(np.asarray(result.simulation.stats["num_steps"]) == 0)
+
+
+def _differ(build, values, t0=0.0):
+    reference = jc._sweep._build_first(build, values)
+    batched, unbatched = jc._sweep._build_batch(build, values, reference)
+    return jc._sweep._statics_differ(batched, unbatched, t0)
+
+
+@pytest.mark.parametrize(
+    ("parameters", "fixed", "t0", "differ"),
+    [
+        (AMPLITUDES, {}, 0.0, False),
+        # A sin(ω t0) moves the top with A once t0 is not a multiple of the half period.
+        (AMPLITUDES, {}, 0.7, True),
+        # A phase moves the top at t = 0 (A sin φ), with or without an amplitude swept.
+        ({"phase": [0.0, 0.3, 0.6]}, {}, 0.0, True),
+        (AMPLITUDES, {"phase": 0.3}, 0.0, True),
+        # Loads and the line itself: the current's drag, the waves' at t0, the lengths.
+        ({"current": [0.0, 0.5, 1.0]}, {}, 0.0, True),
+        ({"wave_height": [1.0, 2.0, 3.0]}, {}, 0.0, True),
+        ({"length_scale": [1.0, 1.001, 1.002]}, {}, 0.0, True),
+        # Values, not tracers, are compared: a traced leaf equal in every case is shared.
+        ({"current": [0.2, 0.2, 0.2], "amplitude": [0.8, 1.6, 2.4]}, {}, 0.0, False),
+    ],
+)
+def test_statics_shared_only_where_no_input_of_statics_differs(parameters, fixed, t0, differ):
+    """The decision compares exactly what statics reads: every float leaf of the model
+    and the water but the motions, and the supports' positions at t0."""
+
+    def build(**case):
+        return driven(**{**fixed, **case})
+
+    assert _differ(build, parameters, t0) is differ
+
+
+def test_statics_of_differing_cases_solved_per_case(swept):
+    # Stiffness and lengths change the equilibrium: each case has its own.
+    assert not swept.statics_shared
+    assert "statics solved once" not in swept.summary()
+    assert abs(float(swept.statics.tension[1, 0] / swept.statics.tension[0, 0]) - 1) > 1e-4
+
+
+def test_fixed_steps_equal_single_runs():
+    """With fixed steps every case takes the same steps and the batch's loops mask no
+    case; each case still equals its single run, and the cases that are not integrated
+    (statics failed, invalid) are reported as with adaptive steps, with no steps
+    counted. RK4 at 10 ms is within its stability limit for every case but the stiff
+    case 2 (ω_n = 632 rad/s needs dt < 2.83/ω_n = 4.5 ms), whose state goes non-finite."""
+    config = jc.SolverConfig(jc.RK4(), dt0=0.01, stepsize_controller=diffrax.ConstantStepSize())
+    fixed = sweep(build, CASES, T1, ts=TS, solver=config)
+    assert not fixed.statics_shared
+    np.testing.assert_array_equal(fixed.success, [True, True, False, False, False, True])
+    assert (
+        fixed.status[2] == "Nonfinite (inf or nan) values detected during solve. (stopped after 100 steps, 0 rejected)"
+    )
+    assert fixed.status[3].startswith("statics failed: solve_statics: the segments between two constrained nodes")
+    assert fixed.status[4].startswith("invalid input: case 4: LineType.tension_law.axial_stiffness must be positive")
+    steps = np.asarray(fixed.simulation.stats["num_steps"])
+    np.testing.assert_array_equal(steps, [100, 100, 100, 0, 0, 100])
+    for i in (3, 4):
+        assert np.all(np.isinf(np.asarray(fixed.simulation.tension[i])))
+    for i in (0, 1, 5):
+        model, env = build(**case(i))
+        start = jc.State(fixed.statics.state.positions[i], fixed.statics.state.velocities[i])
+        single = jc.simulate(model, env, T1, ts=TS, initial=start, solver=config)
+        np.testing.assert_allclose(fixed.case(i).tension, single.tension, rtol=1e-10)
+        np.testing.assert_allclose(fixed.case(i).positions, single.positions, rtol=1e-12, atol=1e-10)
+        np.testing.assert_allclose(fixed.case(i).reactions, single.reactions, rtol=1e-10, atol=1e-6)
