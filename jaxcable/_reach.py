@@ -145,7 +145,7 @@ def seabed_reach(model: CableNetwork, env: Environment, duration: float | None =
     if env.seabed is None or env.depth is None:
         return np.zeros(model.n_segments, bool)
     reaches = reach_bounds(model, duration)[0] <= -float(env.depth)
-    return reaches[np.asarray(model.segment_nodes)].any(axis=1)
+    return np.any(reaches[np.asarray(model.segment_nodes)], axis=1)
 
 
 def surface_reach(model: CableNetwork, duration: float | None = None) -> np.ndarray:
@@ -154,7 +154,7 @@ def surface_reach(model: CableNetwork, duration: float | None = None) -> np.ndar
     same bound as [`seabed_reach`][jaxcable._reach.seabed_reach]. A segment whose ends
     stay at or below z = 0 is wholly submerged, as without the surface."""
     reaches = reach_bounds(model, duration)[1] > 0.0
-    return reaches[np.asarray(model.segment_nodes)].any(axis=1)
+    return np.any(reaches[np.asarray(model.segment_nodes)], axis=1)
 
 
 def for_run(model: CableNetwork, env: Environment, duration: float | None = None) -> Environment:
