@@ -720,7 +720,13 @@ def parts(r: dict) -> str:
 
 def report(path: Path) -> None:
     s = json.loads(path.read_text())[-1]
-    changed = {k: v for k, v in s["settings"].items() if k in DEFAULTS and v != DEFAULTS[k]}
+    # Fewer repeats, a shorter table, fewer cases or scenes than the measurement's: a check.
+    # More repeats measure the same thing better.
+    changed = {
+        k: v
+        for k, v in s["settings"].items()
+        if k in DEFAULTS and v != DEFAULTS[k] and not (k == "repeats" and v > DEFAULTS[k])
+    }
     print(
         f"Session {s['time']}, commit {s['commit']}, {s['machine']}, jax {s['jax']}, MoorDyn {s['moordyn']}, "
         f"OPENBLAS_NUM_THREADS={s['openblas_num_threads']}; load average {s['load_average_start']} at the start, "
