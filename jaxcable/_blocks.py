@@ -19,12 +19,10 @@ time in one compiled `lax.scan`, so the program depends on the model's structure
 on the duration, and Python reports progress between blocks.
 
 With a fixed step (`diffrax.ConstantStepSize`, as MoorDyn steps at its `dtM`) each
-interval is `n` equal steps, `n` the fewest that keep the step at or below `dt0`: no
-step-size control to carry, and no interpolation, since every output time ends a step.
-diffrax would check the given `dt0` with a callback, so these steps are not taken
-through `diffeqsolve`. An explicit Runge–Kutta method is stepped from its Butcher
-tableau here (`_explicit_step`), without the error estimate and dense output that
-diffrax's `step` also computes; any other method by its own `step`.
+interval is `n` equal steps of the solver's own `step`, `n` the fewest that keep the
+step at or below `dt0`: no step-size control to carry, and no interpolation, since
+every output time ends a step. diffrax would check the given `dt0` with a callback, so
+these steps are not taken through `diffeqsolve`.
 """
 
 import functools
@@ -275,58 +273,13 @@ def substeps_per_interval(ts: Float[np.ndarray, " times"], dt: float) -> int:
 
 @program
 def _fixed_start(model, env, initial, t0, t1, config: SolverConfig):
-    """As `_start`, for a fixed step: the carry is the free state, then for an explicit
-    Runge–Kutta method (`_tableau`) the derivative there where its first stage is the
-    last one's (FSAL: Dopri5, Tsit5, Bosh3; else nothing), and otherwise diffrax's
-    solver state and `made_jump`."""
+    """As `_start`, for a fixed step: the carry is the free state, the solver's state
+    and `made_jump`."""
     free = model.free_nodes
     y0 = (initial[0][free], initial[1][free])
     terms, solver = terms_for(config.solver), config.solver
-    tableau = _tableau(solver)
-    if tableau is not None:
-        carry = (y0, terms.vf(t0, y0, (model, env)) if tableau.fsal else None)
-    else:
-        carry = (y0, solver.init(terms, t0, t1, y0, (model, env)), False)
+    carry = (y0, solver.init(terms, t0, t1, y0, (model, env)), False)
     return jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), carry)
-
-
-def _tableau(solver: diffrax.AbstractSolver) -> diffrax.ButcherTableau | None:
-    """The Butcher tableau of an explicit Runge–Kutta `solver`, which `_fixed_block`
-    steps itself; `None` for any other (Euler, implicit and implicit–explicit methods,
-    Picard), which it steps through the solver's own `step`."""
-    tableau = getattr(solver, "tableau", None)
-    if isinstance(solver, diffrax.AbstractERK) and isinstance(tableau, diffrax.ButcherTableau):
-        return None if tableau.implicit else tableau
-    return None
-
-
-def _explicit_step(tableau: diffrax.ButcherTableau, field, t0, h, y, args, first):
-    """One explicit Runge–Kutta step of size `h` (s) from `(t0, y)`: the stages
-    `fᵢ = f(t0 + cᵢ h, y + h Σⱼ aᵢⱼ fⱼ)` and `y1 = y + h Σᵢ bᵢ fᵢ`, as diffrax's
-    `AbstractERK.step` computes them (to rounding), without its error estimate and dense
-    output, which fixed steps never use: on a 40-segment line, the midpoint rule's step
-    cost 11 µs through diffrax against 8.8 µs here, for two evaluations of 2.9 µs.
-    `first` is f(t0, y) where the method is FSAL (else `None`, and it is evaluated);
-    returns `y1` and, for FSAL, the last stage, f(t0 + h, y1)."""
-
-    def combine(weights, stages):
-        # y + h Σ wⱼ fⱼ over the stages of nonzero weight only.
-        used = [(float(w), f) for w, f in zip(weights, stages) if w != 0]
-        coefficients = [w for w, _ in used]
-
-        def one(y0, *fs):
-            return y0 + h * sum(w * f for w, f in zip(coefficients, fs))
-
-        return jax.tree.map(one, y, *(f for _, f in used))
-
-    stages = [field(t0, y, args) if first is None else first]
-    z = y
-    for c, row in zip(tableau.c, tableau.a_lower):
-        z = combine(row, stages)
-        stages.append(field(t0 + float(c) * h, z, args))
-    # Where the last stage is taken at the solution (SSAL), its z is y1.
-    y1 = z if tableau.ssal else combine(tableau.b_sol, stages)
-    return y1, (stages[-1] if tableau.fsal else None)
 
 
 @program
@@ -344,7 +297,6 @@ def _fixed_block(
     explicit method's step cannot fail; an implicit one's root finder can, and the
     first failure is kept."""
     terms, solver = terms_for(config.solver), config.solver
-    tableau = _tableau(solver)
     args = (model, env)
 
     def interval(carry, piece):
@@ -352,13 +304,9 @@ def _fixed_block(
         dt = (t1 - t0) / substeps
 
         def step(inner, k):
-            state, failure = inner
+            (y, solver_state, made_jump), failure = inner
             a = t0 + k * dt
             b = jnp.where(k == substeps - 1, t1, a + dt)
-            if tableau is not None:
-                y, first = state
-                return (_explicit_step(tableau, terms.vf, a, b - a, y, args, first), failure), None
-            y, solver_state, made_jump = state
             y, _, _, solver_state, result = solver.step(terms, a, b, y, args, solver_state, made_jump)
             failure = diffrax.RESULTS.where(failure == diffrax.RESULTS.successful, result, failure)
             return ((y, solver_state, jnp.asarray(False)), failure), None

@@ -11,7 +11,6 @@ from helpers import compilations
 import jaxcable as jc
 from jaxcable import _blocks, examples
 from jaxcable._simulate import as_config, for_model
-from jaxcable._simulate import terms_for as _simulate_terms
 
 # Three blocks, the last padded: 150 intervals of 0.04 s.
 TS = np.linspace(0.0, 6.0, 151)
@@ -104,40 +103,6 @@ def test_fixed_steps_are_one_simulate_call_with_the_same_steps(driven_line):
     np.testing.assert_allclose(blocks.tension, whole.tension, rtol=0, atol=1e-4 * np.max(whole.tension))
     assert blocks.stats == {"num_steps": 6000, "num_accepted_steps": 6000, "num_rejected_steps": 0}
     assert int(whole.stats["num_steps"]) == 6000
-
-
-@pytest.mark.parametrize("solver", [diffrax.Midpoint(), diffrax.Heun(), jc.RK4(), diffrax.Bosh3(), diffrax.Tsit5()])
-def test_a_tableau_step_is_diffraxs_step(driven_line, solver):
-    """Ten steps from the Butcher tableau against ten of diffrax's own `step`, FSAL
-    methods (Bosh3, Tsit5) carrying their last stage: the same stages, so the same
-    states to rounding (the stiff line's accelerations cancel large forces: 1e-11 of a
-    velocity after ten steps, where a wrong coefficient gives 1e-3)."""
-    model, env, static = driven_line
-    free = model.free_nodes
-    y = ours = (static.state.positions[free], static.state.velocities[free])
-    terms, args, dt = _simulate_terms(solver), (model, env), 2e-3
-    tableau = _blocks._tableau(solver)
-    assert tableau is not None
-    state = solver.init(terms, 0.0, dt, y, args)
-    first = terms.vf(0.0, y, args) if tableau.fsal else None
-    for k in range(10):
-        y, _, _, state, _ = solver.step(terms, k * dt, (k + 1) * dt, y, args, state, False)
-        ours, first = _blocks._explicit_step(tableau, terms.vf, k * dt, dt, ours, args, first)
-    for theirs, mine in zip(y, ours):
-        np.testing.assert_allclose(mine, theirs, rtol=1e-9, atol=1e-10 * float(np.max(np.abs(theirs))))
-    # The methods the tableau stepper leaves to their own `step`.
-    for other in (diffrax.Euler(), diffrax.Kvaerno3(), diffrax.KenCarp3()):
-        assert _blocks._tableau(other) is None
-
-
-def test_a_method_without_a_tableau_takes_its_own_fixed_steps(driven_line):
-    # Euler: diffrax writes it out without a tableau, and its own `step` takes it.
-    model, env, static = driven_line
-    ts = TS[:11]
-    config = jc.SolverConfig(diffrax.Euler(), dt0=1e-4, stepsize_controller=diffrax.ConstantStepSize())
-    whole = jc.simulate(model, env, ts[-1], ts=ts, initial=static.state, solver=config)
-    blocks = _blocks.simulate_in_blocks(model, env, ts, static.state, config)
-    np.testing.assert_allclose(blocks.positions, whole.positions, rtol=0, atol=1e-9)
 
 
 def test_a_fixed_block_has_no_host_callback_and_compiles_once(driven_line):
