@@ -592,24 +592,20 @@ def row_lowe_langley(args) -> list[dict]:
             + ", ".join(f"{r['split'].get('statics_s', float('nan')):g}" for r in runs["warm"])
             + " s",
         ),
+    ] + [
         row(
-            "Low & Langley case 1: first `jaxcable run` ÷ MoorDyn's process",
-            jaxcable=runs["cold"],
+            f"Low & Langley case 1: {which} ÷ MoorDyn's process",
+            jaxcable=runs[key],
             moordyn=runs["moordyn"],
             figure="ratio",
-            target=2.0,
+            target=target,
             accuracy=accuracy,
             notes="target: the speed table's",
-        ),
-        row(
-            "Low & Langley case 1: second `jaxcable run` (warm cache) ÷ MoorDyn's process",
-            jaxcable=runs["warm"],
-            moordyn=runs["moordyn"],
-            figure="ratio",
-            target=1.0,
-            accuracy=accuracy,
-            notes="target: the speed table's",
-        ),
+        )
+        for which, key, target in (
+            ("first `jaxcable run`", "cold", 2.0),
+            ("second `jaxcable run` (warm cache)", "warm", 1.0),
+        )
     ]
 
 
