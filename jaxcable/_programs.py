@@ -306,7 +306,13 @@ class Program:
         path = self._path(key)
         try:
             blob, in_tree, out_tree, tree = _loads(path.read_bytes())
-            executable = serialize_executable.deserialize_and_load(blob, in_tree, out_tree)
+            # On the device it was compiled for (`_program`'s): by default JAX loads an
+            # executable onto every device, and where there are several (a sweep's
+            # process) it then asks each argument for one shard per device.
+            device = jax.devices()[0]
+            executable = serialize_executable.deserialize_and_load(
+                blob, in_tree, out_tree, backend=device.client, execution_devices=[device]
+            )
         except FileNotFoundError:
             return None
         except Exception:  # noqa: BLE001 (any unreadable file is only a cache miss)

@@ -36,11 +36,10 @@ def pytest_configure(config):
     if cache is not None and "JAX_COMPILATION_CACHE_DIR" not in os.environ:
         jax.config.update("jax_compilation_cache_dir", str(cache.mkdir("jax-compilation-cache")))
     # jaxcable's own programs (statics', the scene runs'), which the library keeps in the
-    # user's cache folder by default: here in pytest's, beside JAX's.
-    if cache is not None and "JAXCABLE_CACHE_DIR" not in os.environ:
-        from jaxcable import _programs
-
-        _programs.use_folder(cache.mkdir("jaxcable-programs"))
+    # user's cache folder by default: here in pytest's, beside JAX's, for this process and
+    # the processes the tests start (which read the environment).
+    if cache is not None and not {"JAXCABLE_CACHE_DIR", "JAX_COMPILATION_CACHE_DIR"} & set(os.environ):
+        os.environ["JAXCABLE_CACHE_DIR"] = str(cache.mkdir("jaxcable"))
 
 
 @pytest.fixture(autouse=True, scope="module")

@@ -283,6 +283,42 @@ def test_a_scripts_second_process_loads_its_statics_program(tmp_path):
     assert off.stdout.split()[0] == "0"
 
 
+_DEVICES_SCRIPT = textwrap.dedent(
+    """
+    import jax
+    import jax.numpy as jnp
+    from jax import monitoring
+    from jaxcable import _programs
+    assert len(jax.devices()) == 2, jax.devices()
+    loaded = []
+    monitoring.register_event_listener(lambda event, **_: loaded.append(event == _programs.LOADED_EVENT))
+    def double(x):
+        return 2.0 * x
+    y = _programs.Program(double)(jnp.arange(3.0))
+    print(sum(loaded), float(y[2]))
+    """
+)
+
+
+def test_a_kept_program_runs_in_a_process_with_several_devices(tmp_path):
+    """A sweep's process has several devices; a program kept from one such process
+    loads in the next on the default device alone, as it was compiled (loaded onto
+    every device, it asked each argument for a shard per device and failed)."""
+    env = {
+        **os.environ,
+        "JAXCABLE_CACHE_DIR": str(tmp_path),
+        "JAX_PLATFORMS": "cpu",
+        "XLA_FLAGS": "--xla_force_host_platform_device_count=2",
+    }
+    env.pop("JAX_COMPILATION_CACHE_DIR", None)
+    runs = [
+        subprocess.run([sys.executable, "-c", _DEVICES_SCRIPT], capture_output=True, text=True, env=env)
+        for _ in range(2)
+    ]
+    assert all(run.returncode == 0 for run in runs), runs[-1].stderr[-3000:]
+    assert [run.stdout.split() for run in runs] == [["0", "4.0"], ["1", "4.0"]]
+
+
 def test_statics_and_a_run_load_their_programs_bitwise(folder):
     """The engine's own programs, through `run_scene`: a second run in a new "process"
     (programs forgotten in memory) loads all of them and gives the same bits."""
