@@ -215,7 +215,12 @@ def float_array(name: str, value: RealLike, shape: tuple[int, ...] | None = None
     """
     require_float64()
     try:
-        concrete = value if isinstance(value, jax.core.Tracer) else np.asarray(value, dtype=float)
+        if traced(value):
+            # A tracer, or a tuple or list holding one (`current=(c, 0.0, 0.0)` under
+            # `vmap` or `grad`): numpy cannot hold it, JAX can.
+            concrete = value if isinstance(value, jax.core.Tracer) else jnp.asarray(value, dtype=float)
+        else:
+            concrete = np.asarray(value, dtype=float)
     except (TypeError, ValueError):  # a string, None, a ragged list: numpy's message names no field
         raise ValueError(f"{name} must be a number or an array of numbers, got {value!r}") from None
     enforce([finite(name, concrete)])

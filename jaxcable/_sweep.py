@@ -102,6 +102,10 @@ class SweepResult(eqx.Module):
     - `status`: one human-readable line per case: `"successful"`, diffrax's message,
         `"statics failed: ..."`, or `"invalid input: ..."` naming the case, the field
         and the value.
+
+    `times`, `positions`, `velocities`, `strain`, `tension`, `reactions`, `stats` and
+    `result` are the simulation's, as a [`jaxcable.SimulationResult`][] names them:
+    `result.tension` is `result.simulation.tension`.
     """
 
     parameters: dict[str, Float[Array, " cases"]]
@@ -115,6 +119,49 @@ class SweepResult(eqx.Module):
     def n_cases(self) -> int:
         """The number of cases."""
         return len(self.status)
+
+    # What a `SimulationResult` exposes, with the case axis first, so that code written
+    # for one run reads a sweep as it reads `simulate`'s result.
+    @property
+    def times(self) -> Float[Array, "cases times"]:
+        """The output times (s), shape `(cases, times)` (`simulation.times`)."""
+        return self.simulation.times
+
+    @property
+    def positions(self) -> Float[Array, "cases times nodes 3"]:
+        """The nodes' positions (m), shape `(cases, times, nodes, 3)` (`simulation.positions`)."""
+        return self.simulation.positions
+
+    @property
+    def velocities(self) -> Float[Array, "cases times nodes 3"]:
+        """The nodes' velocities (m/s), shape `(cases, times, nodes, 3)` (`simulation.velocities`)."""
+        return self.simulation.velocities
+
+    @property
+    def strain(self) -> Float[Array, "cases times segments"]:
+        """The segments' axial strain (–), shape `(cases, times, segments)` (`simulation.strain`)."""
+        return self.simulation.strain
+
+    @property
+    def tension(self) -> Float[Array, "cases times segments"]:
+        """The segments' tension (N), shape `(cases, times, segments)` (`simulation.tension`)."""
+        return self.simulation.tension
+
+    @property
+    def reactions(self) -> Float[Array, "cases times constrained 3"]:
+        """The force (N) of each constrained node's support on the network, shape
+        `(cases, times, constrained, 3)` (`simulation.reactions`)."""
+        return self.simulation.reactions
+
+    @property
+    def stats(self) -> dict[str, Any]:
+        """diffrax's step counts per case (`simulation.stats`)."""
+        return self.simulation.stats
+
+    @property
+    def result(self) -> diffrax.RESULTS:
+        """diffrax's code per case (`simulation.result`); `success` also counts statics."""
+        return self.simulation.result
 
     @property
     def failed(self) -> np.ndarray:

@@ -86,6 +86,26 @@ def test_sweep_equals_single_runs(swept, i):
     assert abs(float(swept.peak_tension[1] / swept.peak_tension[0]) - 1) > 0.5
 
 
+def test_a_sweep_reads_as_a_simulation(swept):
+    """The fields of `SimulationResult` are the sweep's too, case axis first."""
+    for name in ("times", "positions", "velocities", "strain", "tension", "reactions", "stats", "result"):
+        ours, theirs = getattr(swept, name), getattr(swept.simulation, name)
+        assert jax.tree.structure(ours) == jax.tree.structure(theirs), name
+        for a, b in zip(jax.tree.leaves(ours), jax.tree.leaves(theirs)):
+            np.testing.assert_array_equal(a, b)
+    assert swept.tension.shape == (6, len(TS), 4)
+
+
+def test_a_tuple_of_swept_scalars_is_an_array():
+    """`current=(c, 0.0, 0.0)`, as the README writes it, with `c` traced (a sweep's
+    `vmap`, a derivative)."""
+    currents = jax.vmap(lambda c: jc.Environment(current=(c, 0.0, 0.0)).current)(jnp.array([0.1, 0.2]))
+    np.testing.assert_array_equal(currents, [[0.1, 0.0, 0.0], [0.2, 0.0, 0.0]])
+    assert float(jax.grad(lambda c: jc.Environment(current=[0.0, 2.0 * c, 0.0]).current[1])(0.3)) == 2.0
+    with pytest.raises(ValueError, match="Environment.current must be a number or an array of numbers"):
+        jax.vmap(lambda c: jc.Environment(current=(c, "east", 0.0)))(jnp.array([0.1]))
+
+
 def test_failures_are_reported_per_case(swept):
     assert swept.n_cases == 6
     np.testing.assert_array_equal(swept.success, [True, True, False, False, False, True])
