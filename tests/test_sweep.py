@@ -102,6 +102,10 @@ def test_a_tuple_of_swept_scalars_is_an_array():
     currents = jax.vmap(lambda c: jc.Environment(current=(c, 0.0, 0.0)).current)(jnp.array([0.1, 0.2]))
     np.testing.assert_array_equal(currents, [[0.1, 0.0, 0.0], [0.2, 0.0, 0.0]])
     assert float(jax.grad(lambda c: jc.Environment(current=[0.0, 2.0 * c, 0.0]).current[1])(0.3)) == 2.0
+
+
+@pytest.mark.unchecked  # jaxtyping's checker would refuse the string first, by annotation
+def test_a_tuple_with_a_word_among_traced_scalars_is_refused_by_name():
     with pytest.raises(ValueError, match="Environment.current must be a number or an array of numbers"):
         jax.vmap(lambda c: jc.Environment(current=(c, "east", 0.0)))(jnp.array([0.1]))
 
