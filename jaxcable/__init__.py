@@ -7,7 +7,7 @@ A model built without it raises [`jaxcable.Float64Error`][], which says so.
 
 The names here are the ones a user needs day to day: the model and the sea (regular
 waves, and irregular ones realised from a spectrum), the motions of supports, the entry
-points (simulate, solve_statics, stiffness, sweep, calibrate, advise, and reading and
+points (simulate, solve_statics, stiffness, sweep, calibrate, advise, check_derivative, and reading and
 running scenes) with their results, the extremes of a response over realisations, and
 the solvers. The rest is grouped in
 public modules:
@@ -45,6 +45,9 @@ if TYPE_CHECKING:
     from ._config import SolverConfig as SolverConfig
     from ._config import default_solver as default_solver
     from ._config import stiff_solver as stiff_solver
+    from ._derivative_check import DerivativeCheck as DerivativeCheck
+    from ._derivative_check import DerivativeWarning as DerivativeWarning
+    from ._derivative_check import check_derivative as check_derivative
     from ._environment import CurrentProfile as CurrentProfile
     from ._environment import Environment as Environment
     from ._environment import Seabed as Seabed
@@ -102,6 +105,9 @@ _NAMES = {
     "Float64Error": "._checks",
     "Cnoidal": "._cnoidal",
     "cnoidal_coefficients": "._cnoidal",
+    "DerivativeCheck": "._derivative_check",
+    "DerivativeWarning": "._derivative_check",
+    "check_derivative": "._derivative_check",
     "SOLVERS": "._config",
     "SolverConfig": "._config",
     "default_solver": "._config",

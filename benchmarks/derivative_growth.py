@@ -1,0 +1,178 @@
+"""Derivatives through slack and snap loads: how the tangent grows, and which
+statistics' derivatives can be trusted.
+
+The line is the README's anchored line (20 segments, C_E = 3e7 N, C_E1 = 3e6 N, no
+axial damping, 1.57 m top motion at 5.6 s, 0.5 m/s current), started from statics. Its
+top segment goes slack at about 3.0 s. The parameter is every segment's unstretched
+length at once (m), moved by `eqx.tree_at`; statics is solved once, at the nominal
+length, so that the derivative is the dynamics' alone.
+
+1. **The tangent against time** (`--part tangent`): the forward-mode tangent of the top
+   tension, d T_top / d l (N/m), and the largest |d x / d l| over the nodes (m/m), beside
+   central differences at h = 1e-3 ... 1e-9 m. The steps are fixed (Dopri5, dt =
+   2e-4 s), so that the discrete solution is a smooth function of the length and its
+   differences must converge to its derivative as h shrinks: where they do, the tangent
+   is exact, whatever its size. Before the slack the two agree at every h; after it,
+   only at smaller and smaller h, as the tangent grows by one to three orders of
+   magnitude every quarter second (an exponential sensitivity, not a jump).
+2. **Statistics** (`--part statistics`): the mean, RMS and maximum of the top tension
+   over windows [0, t], by `jax.grad` through `jc.simulate` with its default solver and
+   adjoint, judged by `jc.check_derivative` against central differences at h = 0.2 m
+   ... 2e-6 m.
+
+    python benchmarks/derivative_growth.py                  # both parts (about 10 min on 2 cores)
+    python benchmarks/derivative_growth.py --part tangent   # part 1 alone
+    python benchmarks/derivative_growth.py --report         # the latest session's tables
+
+Results are appended to benchmarks/results/derivative_growth.json.
+"""
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import diffrax
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+
+jax.config.update("jax_enable_x64", True)
+
+from _results import append_session  # noqa: E402
+
+import jaxcable as jc  # noqa: E402
+
+RESULTS = Path(__file__).parent / "results" / "derivative_growth.json"
+WINDOWS = (1.5, 2.5, 5.0, 10.0)
+STATISTICS = {
+    "mean": lambda t: jnp.mean(t),
+    "rms": lambda t: jnp.sqrt(jnp.mean(t**2)),
+    "max": lambda t: jnp.max(t),
+}
+
+
+def readme_line():
+    """The README's line and water, and the statics to start from."""
+    law = jc.NonlinearElastic(axial_stiffness=3.0e7, quadratic_stiffness=3.0e6)
+    line = jc.LineType(mass_per_length=3.0, diameter=0.0195, tension_law=law, normal_drag=1.2, tangential_drag=0.01)
+    model = jc.CableNetwork.from_branches(
+        junctions=[[0.0, 0.0, -200.0], [346.4, 0.0, 0.0]],
+        branches=[jc.Branch(0, 1, line, length=400.0, segments=20)],
+        constraints={0: jc.Fixed(), 1: jc.Harmonic(amplitude=1.57, period=5.6)},
+    )
+    env = jc.Environment(water_density=1025.0, current=(0.5, 0.0, 0.0))
+    return model, env, jc.solve_statics(model, env).state
+
+
+def lengthened(model, change):
+    return eqx.tree_at(lambda m: m.segment_length, model, model.segment_length + change)
+
+
+def tangent_part(t1=4.0, dt=2e-4, steps=(1e-3, 1e-5, 1e-7, 1e-9)):
+    model, env, start = readme_line()
+    ts = jnp.linspace(0.0, t1, int(round(t1 / 0.25)) + 1)
+    config = jc.SolverConfig(
+        diffrax.Dopri5(),
+        dt0=dt,
+        stepsize_controller=diffrax.ConstantStepSize(),
+        adjoint=diffrax.ForwardMode(),
+        max_steps=int(t1 / dt) + 10,
+    )
+
+    def run(change):
+        r = jc.simulate(lengthened(model, change), env, t1=t1, ts=ts, initial=start, solver=config)
+        return r.tension[:, -1], r.positions, jnp.min(r.tension, axis=1)
+
+    (tension, _, lowest), (d_tension, d_positions, _) = jax.jvp(run, (0.0,), (1.0,))
+    differences = {h: (run(h)[0] - run(-h)[0]) / (2 * h) for h in steps}
+    rows = []
+    for i, t in enumerate(ts.tolist()):
+        rows.append(
+            {
+                "t": t,
+                "top_tension": float(tension[i]),
+                "lowest_tension": float(lowest[i]),
+                "max_position_tangent": float(jnp.max(jnp.abs(d_positions[i]))),
+                "tension_tangent": float(d_tension[i]),
+                "differences": {f"{h:g}": float(d[i]) for h, d in differences.items()},
+            }
+        )
+    return {"t1": t1, "dt": dt, "rows": rows}
+
+
+def statistics_part(windows=WINDOWS):
+    model, env, start = readme_line()
+    records = []
+    for window in windows:
+        ts = jnp.linspace(0.0, window, int(round(window / 0.05)) + 1)
+        for name, statistic in STATISTICS.items():
+
+            def f(change, statistic=statistic, ts=ts, window=window):
+                r = jc.simulate(lengthened(model, change), env, t1=window, ts=ts, initial=start)
+                return statistic(r.tension[:, -1])
+
+            began = time.perf_counter()
+            check = jc.check_derivative(f, 0.0, steps=[0.2 * 10.0**-k for k in range(6)], warn=False)
+            records.append(
+                {
+                    "window": window,
+                    "statistic": name,
+                    "value": check.value,
+                    "derivative": check.derivative,
+                    "steps": list(check.steps),
+                    "differences": list(check.differences),
+                    "reference": check.reference,
+                    "verdict": check.verdict,
+                    "seconds": time.perf_counter() - began,
+                }
+            )
+            print(f"[0, {window:g}] s, {name}: {check.verdict}", flush=True)
+    return {"records": records}
+
+
+def report(session):
+    if "tangent" in session:
+        part = session["tangent"]
+        steps = list(part["rows"][0]["differences"])
+        print(f"The tangent against time (fixed Dopri5 steps of {part['dt']:g} s), d/d(segment length):\n")
+        head = ["t (s)", "top T (N)", "least T (N)", "max abs dx/dl", "dT/dl, tangent", *(f"CD h={h}" for h in steps)]
+        print("| " + " | ".join(head) + " |")
+        print("|---" * (5 + len(steps)) + "|")
+        for r in part["rows"]:
+            cells = [f"{r['t']:.2f}", f"{r['top_tension']:.4g}", f"{r['lowest_tension']:.3g}"]
+            cells += [f"{r['max_position_tangent']:.3g}", f"{r['tension_tangent']:.4g}"]
+            cells += [f"{r['differences'][h]:.4g}" for h in steps]
+            print("| " + " | ".join(cells) + " |")
+    if "statistics" in session:
+        print("\nStatistics of the top tension over [0, t], jax.grad against central differences", end="")
+        print(" (h = 0.2 ... 2e-6 m):\n")
+        print("| window | statistic | derivative (N/m) | settled difference (N/m) | verdict |")
+        print("|---|---|---|---|---|")
+        for r in session["statistics"]["records"]:
+            reference = "none" if r["reference"] is None else f"{r['reference']:.4g}"
+            cells = [f"[0, {r['window']:g}] s", r["statistic"], f"{r['derivative']:.4g}", reference, r["verdict"]]
+            print("| " + " | ".join(cells) + " |")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--part", choices=("tangent", "statistics", "both"), default="both")
+    parser.add_argument("--report", action="store_true", help="print the latest session's tables and stop")
+    args = parser.parse_args()
+    if args.report:
+        report(json.loads(RESULTS.read_text())[-1])
+        return
+    session = {}
+    began = time.perf_counter()
+    if args.part in ("tangent", "both"):
+        session["tangent"] = tangent_part()
+    if args.part in ("statistics", "both"):
+        session["statistics"] = statistics_part()
+    session["seconds"] = time.perf_counter() - began
+    append_session(RESULTS, **session)
+    report(session)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,124 @@
+"""`jc.check_derivative`: each verdict on a function whose derivative is known, and on
+the README's anchored line before and after its first slack."""
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxcable as jc
+
+
+@jax.custom_jvp
+def _sine_with_double_slope(x):
+    return jnp.sin(x)
+
+
+# A wrong derivative on purpose: twice the slope of the sine.
+_sine_with_double_slope.defjvp(lambda primals, tangents: (jnp.sin(primals[0]), 2 * jnp.cos(primals[0]) * tangents[0]))
+
+
+def test_a_smooth_derivative_agrees():
+    check = jc.check_derivative(lambda x: jnp.sin(x) * x**2, 1.3)
+    assert check.verdict == "agrees" and check.trusted
+    exact = np.cos(1.3) * 1.3**2 + 2 * 1.3 * np.sin(1.3)
+    assert check.derivative == pytest.approx(exact, rel=1e-12)
+    assert check.reference == pytest.approx(exact, rel=1e-6)
+    assert len(check.differences) == len(check.steps) == len(jc._derivative_check.DEFAULT_STEPS)
+    assert "agrees with central differences within 2 %" in str(check)
+
+
+def test_a_wrong_derivative_disagrees_and_warns():
+    with pytest.warns(jc.DerivativeWarning, match="disagrees with central differences, which settle on 0.921"):
+        check = jc.check_derivative(_sine_with_double_slope, 0.4)
+    assert check.verdict == "disagrees" and not check.trusted
+    assert check.derivative == pytest.approx(2 * np.cos(0.4))
+    assert check.reference == pytest.approx(np.cos(0.4), rel=1e-6)
+
+
+def test_a_function_rough_below_the_steps_is_ill_conditioned():
+    """A slope of 1 at scales above 1e-6, ripples of 1e-3 below: the exact derivative
+    (1 + 1000 cos(1e6 x)) is the ripples', and the differences move towards it as h
+    shrinks."""
+    check = jc.check_derivative(lambda x: x + 1e-3 * jnp.sin(1e6 * x), 0.7, steps=[1.0, 0.5, 0.1, 1e-7], warn=False)
+    assert check.verdict == "ill-conditioned" and not check.trusted
+    assert check.reference == pytest.approx(1.0, rel=0.02)
+    assert abs(check.derivative) > 100
+    assert "settle on 0.9996" in str(check) and "move towards the derivative" in str(check)
+
+
+def test_differences_that_never_settle_are_ill_conditioned():
+    check = jc.check_derivative(lambda x: x + 1e-3 * jnp.sin(1e6 * x), 0.7, warn=False)
+    assert check.verdict == "ill-conditioned" and check.reference is None
+    assert not any(check.settled)
+
+
+def test_a_directional_derivative_in_forward_mode():
+    x, direction = jnp.array([1.0, 2.0, -0.5]), jnp.array([0.0, 1.0, 2.0])
+    check = jc.check_derivative(lambda v: jnp.sum(v**3), x, direction=direction, mode="forward")
+    assert check.trusted
+    assert check.derivative == pytest.approx(float(jnp.dot(3 * x**2, direction)))
+    # The default steps scale with |x| / |direction|.
+    assert check.steps[0] == pytest.approx(1e-2 * float(jnp.linalg.norm(x) / jnp.linalg.norm(direction)))
+
+
+@pytest.mark.parametrize(
+    ("keywords", "message"),
+    [
+        ({"direction": jnp.ones(2)}, "direction must have the shape of x, (), got (2,)"),
+        ({"direction": 0.0}, "direction must be finite and not all zero"),
+        ({"steps": [0.1, -1.0]}, "steps must be positive finite numbers"),
+        ({"rtol": 0.0}, "rtol must be positive, got 0.0"),
+    ],
+)
+def test_bad_arguments_are_refused_by_name(keywords, message):
+    with pytest.raises(ValueError, match=f"check_derivative: {message}".replace("(", r"\(").replace(")", r"\)")):
+        jc.check_derivative(jnp.sin, 0.3, **keywords)
+
+
+@pytest.mark.unchecked  # jaxtyping's checker would refuse the mode first, by annotation
+def test_an_unknown_mode_is_refused_by_name():
+    with pytest.raises(ValueError, match="check_derivative: mode must be 'reverse' or 'forward', got 'backward'"):
+        jc.check_derivative(jnp.sin, 0.3, mode="backward")  # pyright: ignore[reportArgumentType]
+
+
+def test_a_function_that_returns_no_scalar_is_refused():
+    with pytest.raises(ValueError, match=r"f must return a scalar, got shape \(2,\)"):
+        jc.check_derivative(lambda x: jnp.array([x, x]), 0.3)
+
+
+def _readme_line():
+    law = jc.NonlinearElastic(axial_stiffness=3.0e7, quadratic_stiffness=3.0e6)
+    line = jc.LineType(mass_per_length=3.0, diameter=0.0195, tension_law=law, normal_drag=1.2, tangential_drag=0.01)
+    model = jc.CableNetwork.from_branches(
+        junctions=[[0.0, 0.0, -200.0], [346.4, 0.0, 0.0]],
+        branches=[jc.Branch(0, 1, line, length=400.0, segments=20)],
+        constraints={0: jc.Fixed(), 1: jc.Harmonic(amplitude=1.57, period=5.6)},
+    )
+    env = jc.Environment(water_density=1025.0, current=(0.5, 0.0, 0.0))
+    return model, env, jc.solve_statics(model, env).state
+
+
+@pytest.mark.slow
+def test_the_mean_top_tension_of_the_readme_line_before_and_through_its_first_slack():
+    """d(mean top tension over [0, t])/d(segment length): trusted over 1.5 s, before any
+    segment goes slack; ill-conditioned over 5 s, through the slack at 3 s and the snap
+    after it (`benchmarks/derivative_growth.py` measures the tangent's growth)."""
+    model, env, start = _readme_line()
+
+    def mean_top_tension(window):
+        def f(change):
+            lengthened = eqx.tree_at(lambda m: m.segment_length, model, model.segment_length + change)
+            result = jc.simulate(lengthened, env, t1=window, ts=jnp.linspace(0.0, window, 31), initial=start)
+            return jnp.mean(result.tension[:, -1])
+
+        return f
+
+    steps = [0.2 * 10.0**-k for k in range(6)]
+    smooth = jc.check_derivative(mean_top_tension(1.5), 0.0, steps=steps)
+    assert smooth.trusted, smooth
+    with pytest.warns(jc.DerivativeWarning, match="ill-conditioned"):
+        rough = jc.check_derivative(mean_top_tension(5.0), 0.0, steps=steps)
+    assert rough.verdict == "ill-conditioned"
+    assert abs(rough.derivative) > 1e6 * abs(smooth.derivative)
