@@ -785,10 +785,11 @@ def network_conditions(model: CableNetwork, env: Environment) -> list[checks.Con
     ]
 
 
-def check_held(model: CableNetwork) -> None:
-    """Raise `ValueError` unless every connected part of the graph has a constrained
-    node: a part that nothing holds has no static equilibrium. The topology is static,
-    so this runs under `jit` and `vmap` too, when tracing."""
+def unheld_nodes(model: CableNetwork) -> np.ndarray | None:
+    """The nodes of the first connected part of the graph with no constrained node (a
+    part that nothing holds, which has no static equilibrium), or `None` where every
+    part is held. The topology is static, so this runs under `jit` and `vmap` too,
+    when tracing."""
     edges = np.asarray(model.segment_nodes)
     constrained = np.asarray(model.constrained_nodes)
     labels = np.arange(model.n_nodes)
@@ -804,10 +805,18 @@ def check_held(model: CableNetwork) -> None:
     held = set(labels[constrained].tolist())
     for component in np.unique(labels):
         if component not in held:
-            members = np.flatnonzero(labels == component)
-            shown = ", ".join(map(str, members[:8])) + (", ..." if members.size > 8 else "")
-            raise ValueError(
-                f"solve_statics: nodes [{shown}] form a part of the network with no constrained "
-                "node, so it has no equilibrium; fix or prescribe the motion of at least one of "
-                "them, or simulate it from a given initial state"
-            )
+            return np.flatnonzero(labels == component)
+    return None
+
+
+def check_held(model: CableNetwork) -> None:
+    """Raise `ValueError` unless every connected part of the graph has a constrained
+    node (see `unheld_nodes`)."""
+    members = unheld_nodes(model)
+    if members is not None:
+        shown = ", ".join(map(str, members[:8])) + (", ..." if members.size > 8 else "")
+        raise ValueError(
+            f"solve_statics: nodes [{shown}] form a part of the network with no constrained "
+            "node, so it has no equilibrium; fix or prescribe the motion of at least one of "
+            "them, or simulate it from a given initial state"
+        )

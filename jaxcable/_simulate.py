@@ -1,11 +1,12 @@
 """Time integration with diffrax, and the result object users read tensions from."""
 
-from typing import Any
+from typing import Any, Literal
 
 import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import optimistix as optx
 from jaxtyping import Array, Float
 
 from . import _checks as checks
@@ -13,8 +14,9 @@ from . import _lagrangian as lag
 from ._config import SolverConfig
 from ._environment import Environment
 from ._jacobian import with_network_jacobian
-from ._network import CableNetwork, network_conditions
+from ._network import CableNetwork, network_conditions, unheld_nodes
 from ._state import State
+from ._statics import solve_statics
 from ._typing import RealLike, RealScalarLike
 
 
@@ -77,6 +79,9 @@ def nonstiff_field(t, y, args):
     return jnp.zeros_like(free_velocities), a_free
 
 
+INITIAL_STATES = ("statics", "rest")
+"""The named starts of `simulate` and `sweep`, besides a `State`."""
+
 IMEX_SOLVERS = (diffrax.KenCarp3, diffrax.KenCarp4, diffrax.KenCarp5, diffrax.Sil3)
 """Implicit–explicit solvers, which [`jaxcable.simulate`][] gives the split
 `MultiTerm(nonstiff_field, stiff_field)` rather than the whole vector field."""
@@ -97,7 +102,7 @@ def simulate(
     *,
     t0: RealScalarLike = 0.0,
     ts: RealLike | None = None,
-    initial: State | None = None,
+    initial: State | Literal["statics", "rest"] = "statics",
     solver: SolverConfig | None = None,
     progress: bool = False,
     throw: bool = True,
@@ -114,8 +119,14 @@ def simulate(
     - `t1`, `t0`: end and start time (s); traced values are allowed (records of
         different spans in one `vmap`).
     - `ts`: output times (s); 201 evenly spaced times from `t0` to `t1` by default.
-    - `initial`: the initial [`jaxcable.State`][]; `model.node_positions` at rest by
-        default. Use `solve_statics(...).state` to start from equilibrium.
+    - `initial`: where to start. `"statics"` (default): the static equilibrium with
+        constrained nodes at their positions at `t0`, from
+        [`jaxcable.solve_statics`][] (solved inside the caller's `jit`, `vmap` or
+        derivative, where there is one, so that a derivative includes the
+        equilibrium's); a network with a part that nothing holds has none and
+        starts at rest. `"rest"`: `model.node_positions` at rest (a drop test).
+        A [`jaxcable.State`][]: as given (`solve_statics(...).state`, say, solved
+        once for many runs).
     - `solver`: how to integrate, a [`jaxcable.SolverConfig`][]: the diffrax solver,
         step-size controller, tolerances, first step, step limit and adjoint.
         `SolverConfig()` by default: Dopri5 with a PIDController at rtol = atol = 1e-6
@@ -144,9 +155,15 @@ def simulate(
     with a fixed step, which cannot reject, a state that goes non-finite fails the
     solve (`diffrax.RESULTS.nonfinite`).
     """
-    for name, value, kind in (("model", model, CableNetwork), ("env", env, Environment), ("initial", initial, State)):
-        if not isinstance(value, kind) and not (name == "initial" and value is None):
+    for name, value, kind in (("model", model, CableNetwork), ("env", env, Environment)):
+        if not isinstance(value, kind):
             raise ValueError(f"simulate: {name} must be a jaxcable.{kind.__name__}, got {type(value).__name__}")
+    if isinstance(initial, str):
+        checks.option("simulate: initial", initial, INITIAL_STATES)
+    elif not isinstance(initial, State):
+        raise ValueError(
+            f"simulate: initial must be 'statics', 'rest' or a jaxcable.State, got {type(initial).__name__}"
+        )
     t0, t1 = jnp.asarray(t0, dtype=float), jnp.asarray(t1, dtype=float)
     # An infinite t1 would step until `max_steps`.
     t0, t1 = checks.check((t0, t1), [checks.finite("simulate: t0", t0), checks.finite("simulate: t1", t1)])
@@ -169,8 +186,9 @@ def simulate(
             checks.increasing("simulate: ts", ts),
         ],
     )
-    initial_positions = model.node_positions if initial is None else initial.positions
-    initial_velocities = jnp.zeros_like(initial_positions) if initial is None else initial.velocities
+    given = isinstance(initial, State)
+    initial_positions = initial.positions if given else model.node_positions
+    initial_velocities = initial.velocities if given else jnp.zeros_like(initial_positions)
     if initial_positions.shape != model.node_positions.shape:
         raise ValueError(
             f"simulate: initial.positions must have shape {model.node_positions.shape}, got {initial_positions.shape}"
@@ -188,6 +206,17 @@ def simulate(
             checks.finite("simulate: initial.velocities", initial_velocities),
         ],
     )
+    statics_result = None
+    if initial == "statics" and unheld_nodes(model) is None:
+        try:
+            statics = solve_statics(model, env, t=t0, throw=throw)
+        except RuntimeError as error:
+            raise type(error)(
+                f"simulate: the start, initial='statics', failed: {error}\n(initial='rest' starts at rest, "
+                "initial=State(...) where given)"
+            ) from None
+        initial_positions, initial_velocities = statics.state.positions, statics.state.velocities
+        statics_result = statics.result
     start = (initial_positions, initial_velocities)
     # Called eagerly, the solve is compiled without error checks, which are raised here
     # after it returns (`checks.raise_if`): a program with them could not be kept in
@@ -218,6 +247,15 @@ def simulate(
             "solver=SolverConfig(adjoint=diffrax.ForwardMode()); the default adjoint, "
             f"{type(config.adjoint).__name__}, supports reverse mode (jax.grad, jax.jacrev) only"
         ) from None
+    if statics_result is not None:
+        # A start that is not an equilibrium fails the run, as a failed case of a sweep
+        # does (reachable with `throw=False` only: otherwise statics raised).
+        failed = statics_result != optx.RESULTS.successful
+        result = eqx.tree_at(
+            lambda r: r.result,
+            result,
+            diffrax.RESULTS.where(failed, diffrax.RESULTS.promote(statics_result), result.result),
+        )
     if throw and not inside:
         checks.raise_if(None, result.result != diffrax.RESULTS.successful, failure_message(result.result))
     return result

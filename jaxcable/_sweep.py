@@ -45,13 +45,21 @@ from . import _lagrangian as lag
 from ._config import SolverConfig
 from ._environment import Environment
 from ._extremes import ExtremeStatistics, extreme_statistics
-from ._network import CableNetwork, network_conditions
-from ._simulate import IMEX_SOLVERS, SimulationResult, _simulate, as_config, for_model, result_of, vector_field
+from ._network import CableNetwork, network_conditions, unheld_nodes
+from ._simulate import (
+    IMEX_SOLVERS,
+    INITIAL_STATES,
+    SimulationResult,
+    _simulate,
+    as_config,
+    for_model,
+    result_of,
+    vector_field,
+)
 from ._state import State
 from ._statics import StaticSolution, failure_message, solve_statics
 from ._typing import RealLike
 
-INITIAL_STATES = ("statics", "rest")
 STEPS = ("per_case", "shared")
 
 # The mesh axis that cases are split along.
@@ -355,7 +363,8 @@ def sweep(
         10.3 s instead of 19.6 s. `SweepResult.statics_shared` and the summary say
         so. A shared equilibrium agrees with the per-case ones to the statics'
         tolerance, not to rounding.
-        `"rest"`: `model.node_positions` at rest.
+        A network with a part that nothing holds has no equilibrium and starts at
+        rest, as in [`jaxcable.simulate`][]. `"rest"`: `model.node_positions` at rest.
         A [`jaxcable.State`][]: positions and velocities of shape `(nodes, 3)` shared by
         all cases, or `(cases, nodes, 3)`, one per case.
     - `solver`: a [`jaxcable.SolverConfig`][], as for [`jaxcable.simulate`][]
@@ -444,6 +453,8 @@ def sweep(
         "solver": for_model(config, reference[0]),
     }
     mode = initial if isinstance(initial, str) else "state"
+    if mode == "statics" and unheld_nodes(reference[0]) is not None:
+        mode = "rest"  # a part that nothing holds has no equilibrium, as in `simulate`
     if mode == "statics" and n_cases > 1 and not _statics_differ(batched, unbatched, t0):
         good = next(i for i in range(n_cases) if i not in invalid)
         model, env = eqx.combine(jax.tree.map(lambda x: x[good], batched), unbatched)

@@ -602,7 +602,9 @@ def test_solver_tolerance_that_is_not_a_number_is_named():
 
 @pytest.mark.unchecked
 def test_simulate_names_an_initial_state_that_is_not_a_state():
-    with pytest.raises(ValueError, match=r"simulate: initial must be a jaxcable.State, got ndarray"):
+    with pytest.raises(
+        ValueError, match=r"simulate: initial must be 'statics', 'rest' or a jaxcable.State, got ndarray"
+    ):
         jc.simulate(*small_line(), 1.0, initial=np.zeros((5, 3)))  # pyright: ignore[reportArgumentType]
 
 
@@ -611,7 +613,7 @@ def test_forward_mode_derivative_says_which_adjoint_to_pass():
 
     def tension(scale):
         scaled = eqx.tree_at(lambda m: m.line.normal_drag, model, scale * model.line.normal_drag)
-        return jc.simulate(scaled, env, 0.5, ts=[0.5]).tension[-1, 0]
+        return jc.simulate(scaled, env, 0.5, ts=[0.5], initial="rest").tension[-1, 0]
 
     with pytest.raises(TypeError, match=r"needs solver=SolverConfig\(adjoint=diffrax.ForwardMode\(\)\)"):
         jax.jacfwd(tension)(1.0)

@@ -328,7 +328,9 @@ def sinking():
     out = {}
     for name, (body, coefficient) in cases.items():
         model = sinking_model(body)
-        result = jc.simulate(model, ENV, 3.0, ts=ts, solver=jc.SolverConfig(diffrax.Tsit5(), rtol=1e-10, atol=1e-10))
+        result = jc.simulate(
+            model, ENV, 3.0, ts=ts, initial="rest", solver=jc.SolverConfig(diffrax.Tsit5(), rtol=1e-10, atol=1e-10)
+        )
         out[name] = (result, coefficient)
     return ts, out
 

@@ -88,7 +88,13 @@ def with_parameters(p):
 
 def simulate_with(p, throw=True):
     return jc.simulate(
-        with_parameters(p), ENV, T1, ts=TS, solver=jc.SolverConfig(diffrax.Tsit5(), rtol=TOL, atol=TOL), throw=throw
+        with_parameters(p),
+        ENV,
+        T1,
+        ts=TS,
+        initial="rest",
+        solver=jc.SolverConfig(diffrax.Tsit5(), rtol=TOL, atol=TOL),
+        throw=throw,
     )
 
 
@@ -244,7 +250,12 @@ def test_jit_with_jax_array_output_times():
     def final_positions(amplitude):
         p = jnp.asarray(P0).at[5].set(amplitude)
         return jc.simulate(
-            with_parameters(p), ENV, T1, ts=ts, solver=jc.SolverConfig(diffrax.Tsit5(), rtol=TOL, atol=TOL)
+            with_parameters(p),
+            ENV,
+            T1,
+            ts=ts,
+            initial="rest",
+            solver=jc.SolverConfig(diffrax.Tsit5(), rtol=TOL, atol=TOL),
         ).positions[-1]
 
     np.testing.assert_allclose(np.asarray(jax.jit(final_positions)(1.3)), np.asarray(final_positions(1.3)), rtol=1e-12)

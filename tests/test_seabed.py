@@ -105,7 +105,9 @@ def test_friction_holds_a_dragged_chain_at_mu_times_its_weight():
         constraints={1: Towed()},
     )
     env = jc.Environment(RHO, G, depth=DEPTH, seabed=jc.Seabed(friction=mu, friction_speed=0.002))
-    result = jc.simulate(model, env, 8.0, ts=np.linspace(6.0, 8.0, 11), solver=jc.SolverConfig(rtol=1e-7, atol=1e-7))
+    result = jc.simulate(
+        model, env, 8.0, ts=np.linspace(6.0, 8.0, 11), initial="rest", solver=jc.SolverConfig(rtol=1e-7, atol=1e-7)
+    )
     pull = np.asarray(result.reactions[:, 0, 0])
     regularised = speed / np.hypot(speed, 0.002)  # 0.99995: sliding far above v_s
     np.testing.assert_allclose(pull, mu * WET_WEIGHT * length * regularised, rtol=1e-3)

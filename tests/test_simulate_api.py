@@ -2,6 +2,7 @@
 
 import diffrax
 import equinox as eqx
+import jax
 import numpy as np
 import pytest
 from helpers import compilations
@@ -42,6 +43,54 @@ def test_failure_is_reported_without_throw(driven_line):
     result = jc.simulate(model, env, 1.0, initial=static.state, solver=jc.SolverConfig(max_steps=5), throw=False)
     assert not bool(result.success)
     assert result.result == diffrax.RESULTS.max_steps_reached
+
+
+def test_the_default_start_is_statics_as_in_a_sweep(driven_line):
+    """`simulate` without `initial` starts where `sweep` does: from statics, solved at
+    `t0` (here 1 s, where the top's harmonic motion has moved it), inside a derivative
+    too; `"rest"` is the drop test."""
+    model, env, _ = driven_line
+    ts = np.linspace(1.0, 1.5, 3)
+    default = jc.simulate(model, env, 1.5, t0=1.0, ts=ts)
+    given = jc.simulate(model, env, 1.5, t0=1.0, ts=ts, initial=jc.solve_statics(model, env, t=1.0).state)
+    np.testing.assert_array_equal(default.tension, given.tension)
+    swept = jc.sweep(lambda c: (model, jc.Environment(current=(c, 0.0, 0.0))), {"c": [0.3]}, 1.5, t0=1.0, ts=ts)
+    np.testing.assert_allclose(swept.tension[0], default.tension, rtol=1e-9)
+    rest = jc.simulate(model, env, 1.5, t0=1.0, ts=ts, initial="rest")
+    assert np.abs(np.asarray(rest.tension - default.tension)).max() > 1.0  # N: a different start
+
+    def top_tension(scale):
+        scaled = eqx.tree_at(lambda m: m.line.normal_drag, model, scale * model.line.normal_drag)
+        tight = jc.SolverConfig(rtol=1e-10, atol=1e-10)  # at 1e-6 the two differ by 0.3 %
+        return jc.simulate(scaled, env, 1.5, t0=1.0, ts=[1.5], solver=tight).tension[-1, -1]
+
+    # The derivative includes the equilibrium's dependence on the drag (whose own
+    # derivative, 87 N, is the larger part and of the other sign).
+    central = (top_tension(1.001) - top_tension(0.999)) / 0.002
+    assert float(jax.grad(top_tension)(1.0)) == pytest.approx(float(central), rel=1e-4)
+
+
+def test_a_network_that_nothing_holds_starts_at_rest():
+    """A free line has no equilibrium: `"statics"` starts it at rest, as `sweep` does."""
+
+    def free_line(mass_per_length):
+        line = jc.LineType(mass_per_length=mass_per_length, diameter=0.03, tension_law=jc.LinearElastic(2e6))
+        return jc.CableNetwork([[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]], [[0, 1]], [10.0], line, {}), jc.Environment()
+
+    model, env = free_line(2.0)
+    ts = np.linspace(0.0, 0.5, 3)
+    np.testing.assert_array_equal(
+        jc.simulate(model, env, 0.5, ts=ts).positions, jc.simulate(model, env, 0.5, ts=ts, initial="rest").positions
+    )
+    swept = jc.sweep(free_line, {"mass_per_length": [2.0]}, 0.5, ts=ts)
+    np.testing.assert_allclose(swept.positions[0], jc.simulate(model, env, 0.5, ts=ts).positions, rtol=1e-12)
+
+
+@pytest.mark.unchecked  # jaxtyping's checker would refuse the word first, by annotation
+def test_an_unknown_start_is_refused_by_name(driven_line):
+    model, env, _ = driven_line
+    with pytest.raises(ValueError, match=r"simulate: initial must be one of \('statics', 'rest'\), got 'equilibrium'"):
+        jc.simulate(model, env, 1.0, initial="equilibrium")  # pyright: ignore[reportArgumentType]
 
 
 @pytest.mark.slow
