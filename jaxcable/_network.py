@@ -582,6 +582,9 @@ class CableNetwork(eqx.Module):
         starts on a catenary sagging downward, stretched by 0.1 % so that every segment
         carries tension. That makes a good initial guess for
         [`jaxcable.solve_statics`][]: a stiff line starts close to its equilibrium.
+        Traced lengths or junctions (a function of them under `jax.grad`, `jit` or
+        `vmap`) are accepted, and every branch then starts on its chord: statics finds
+        the shape, and only `simulate(..., initial="rest")` would start from there.
 
         **Arguments:**
 
@@ -596,7 +599,13 @@ class CableNetwork(eqx.Module):
             raise ValueError(f"junctions must have shape (junctions, 3), got {junctions.shape}")
         if not branches:
             raise ValueError("branches must not be empty")
-        positions = [np.asarray(junctions)]
+        # Lengths and junctions are data, not topology: traced (under `jax.grad` of a
+        # function that builds the model, say), they are kept in JAX, and each branch's
+        # nodes start on its chord, since the catenary guess is solved in numpy. Statics
+        # puts every run of segments on its analytic shape first, from either start.
+        lazy = checks.traced((junctions, [branch.length for branch in branches]))
+        xp = jnp if lazy else np
+        positions = [junctions if lazy else np.asarray(junctions)]
         edges, lengths = [], []
         next_node = junctions.shape[0]
         for b, branch in enumerate(branches):
@@ -606,19 +615,23 @@ class CableNetwork(eqx.Module):
                 k = getattr(branch, name)
                 if not 0 <= k < junctions.shape[0]:
                     raise ValueError(f"branches[{b}].{name} = {k} is out of range for {junctions.shape[0]} junctions")
-            checks.positive(f"branches[{b}].length", checks.float_array(f"branches[{b}].length", branch.length))
+            length = checks.float_array(f"branches[{b}].length", branch.length, ())
+            checks.positive(f"branches[{b}].length", length)
             n = branch.segments
             start, end = positions[0][branch.start], positions[0][branch.end]
-            positions.append(_initial_chain(start, end, n, float(branch.length))[1:-1])
+            if lazy:
+                positions.append(start + jnp.linspace(0.0, 1.0, n + 1)[1:-1, None] * (end - start))
+            else:
+                positions.append(_initial_chain(start, end, n, float(length))[1:-1])
             chain = [branch.start, *range(next_node, next_node + n - 1), branch.end]
             next_node += n - 1
             edges += list(zip(chain[:-1], chain[1:]))
-            lengths.append(np.full(n, branch.length / n))
+            lengths.append(xp.full(n, length / n))
         line_ends = [*range(junctions.shape[0]), *options.pop("line_ends", ())]
         return cls(
-            node_positions=np.concatenate(positions),
+            node_positions=xp.concatenate(positions),
             segment_nodes=np.asarray(edges),
-            segment_length=np.concatenate(lengths),
+            segment_length=xp.concatenate(lengths),
             line=_stack_lines(branches),
             constraints=constraints,
             bodies=bodies,
