@@ -622,7 +622,7 @@ class CableNetwork(eqx.Module):
             if lazy:
                 positions.append(start + jnp.linspace(0.0, 1.0, n + 1)[1:-1, None] * (end - start))
             else:
-                positions.append(_initial_chain(start, end, n, float(length))[1:-1])
+                positions.append(_initial_chain(np.asarray(start), np.asarray(end), n, float(length))[1:-1])
             chain = [branch.start, *range(next_node, next_node + n - 1), branch.end]
             next_node += n - 1
             edges += list(zip(chain[:-1], chain[1:]))
