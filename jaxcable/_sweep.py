@@ -46,6 +46,7 @@ from ._config import SolverConfig
 from ._environment import Environment
 from ._extremes import ExtremeStatistics, extreme_statistics
 from ._network import CableNetwork, network_conditions, unheld_nodes
+from ._programs import program
 from ._simulate import (
     IMEX_SOLVERS,
     INITIAL_STATES,
@@ -798,8 +799,10 @@ def _cores() -> int:
 
 
 def _split(per_case, chunks: int) -> list:
-    """`per_case` cut into `chunks` equal runs of consecutive cases."""
+    """`per_case` cut into `chunks` equal runs of consecutive cases, as numpy arrays:
+    JAX would compile a slicing program for each chunk's offset."""
     size = len(per_case["valid"]) // chunks
+    per_case = jax.tree.map(np.asarray, per_case)
 
     def part(i):
         return jax.tree.map(lambda x: x[i * size : (i + 1) * size], per_case)
@@ -861,12 +864,7 @@ def _invalid_cases(batched, unbatched, reference) -> dict[int, str]:
     here; the first case's concrete build gives their names and order.
     """
     conditions = network_conditions(*reference)
-
-    def one(case):
-        model, env = eqx.combine(case, unbatched)
-        return checks.violations(network_conditions(model, env))
-
-    broken, first = jax.tree.map(np.asarray, jax.vmap(one)(batched))
+    broken, first = jax.tree.map(np.asarray, _case_violations(batched, unbatched))
     invalid = {}
     for i in range(broken.shape[0]):
         message = checks.first_violation(conditions, broken[i], first[i])
@@ -895,13 +893,62 @@ def _statics_differ(batched, unbatched, t0) -> bool:
     """
     motions = (jax.tree_util.SequenceKey(0), jax.tree_util.GetAttrKey("motions"))
     leaves = [x for path, x in jax.tree_util.tree_flatten_with_path(batched)[0] if tuple(path[:2]) != motions]
+    leaves.append(_held_at(batched, unbatched, np.asarray(t0, dtype=float)))
+    return not all(np.array_equal(x, np.broadcast_to(x[:1], x.shape), equal_nan=True) for x in map(np.asarray, leaves))
 
-    def held(case):
+
+# Each one compiled program, kept on disk (`jaxcable._programs`), rather than run as
+# eager operations under `vmap`, each of which compiled a program of its own: 2.6 s of
+# a 32-case sweep's set-up on seed 003's line.
+@program
+def _case_violations(batched, unbatched):
+    """`checks.violations` of each case's model and water: whether each condition is
+    broken, and its first bad value, with a leading case axis."""
+
+    def one(case):
+        model, env = eqx.combine(case, unbatched)
+        return checks.violations(network_conditions(model, env))
+
+    return jax.vmap(one)(batched)
+
+
+@program
+def _held_at(batched, unbatched, t0):
+    """Each case's constrained nodes' positions (m) at `t0` (s), shape
+    `(cases, constrained, 3)`."""
+
+    def one(case):
         model, _ = eqx.combine(case, unbatched)
         return lag.constrained_motion(model, t0)[0]
 
-    leaves.append(jax.vmap(held)(batched))
-    return not all(np.array_equal(x, np.broadcast_to(x[:1], x.shape), equal_nan=True) for x in map(np.asarray, leaves))
+    return jax.vmap(one)(batched)
+
+
+# Each one compiled program, kept on disk (`jaxcable._programs`), rather than run as
+# eager operations under `vmap`, each of which compiled a program of its own: 2.6 s of
+# a 32-case sweep's set-up on seed 003's line.
+@program
+def _case_violations(batched, unbatched):
+    """`checks.violations` of each case's model and water: whether each condition is
+    broken, and its first bad value, with a leading case axis."""
+
+    def one(case):
+        model, env = eqx.combine(case, unbatched)
+        return checks.violations(network_conditions(model, env))
+
+    return jax.vmap(one)(batched)
+
+
+@program
+def _held_at(batched, unbatched, t0):
+    """Each case's constrained nodes' positions (m) at `t0` (s), shape
+    `(cases, constrained, 3)`."""
+
+    def one(case):
+        model, _ = eqx.combine(case, unbatched)
+        return lag.constrained_motion(model, t0)[0]
+
+    return jax.vmap(one)(batched)
 
 
 def _build_batch(build, values, reference):
