@@ -15,12 +15,20 @@ running: lineax, which the statics and implicit solvers use, rejects the
 manual-axis shardings that values carry inside it, with JAX 0.10 and lineax 0.1.)
 On one device no mesh is built: the sweep is a plain `jit(vmap(...))`.
 
-On a CPU the batch is also split into chunks, one or two per core, each run by the same
-compiled program on its own thread. XLA's CPU backend ran a batched step's kernels on
-about one core (128 cases of seed 003's line: 32.7 s in one batch, 17.3 s in two
-chunks on two cores), and JAX releases the GIL while a program runs, so the threads
-keep every core busy without the process-wide `XLA_FLAGS` that would split the host
-into devices.
+On a CPU the batch is also split into chunks, run by the same compiled program on
+threads, one a core. XLA's CPU backend ran a batched step's kernels on about one core
+(128 cases of seed 003's line: 32.7 s in one batch, 17.3 s in two chunks on two
+cores), and JAX releases the GIL while a program runs, so the threads keep every core
+busy without the process-wide `XLA_FLAGS` that would split the host into devices.
+
+There, on one device, cases that choose their own adaptive steps are not batched at
+all: each chunk's cases run one after another (`lax.map`), each chunk one case by
+default. In lockstep under `vmap` every case waits for the slowest, and the while loop
+selects every carried array between each case's old and new value at every step; on a
+CPU that cost more than it saved (seed 003's line, 20 segments, Dopri5 over 10 s: 28 µs
+a case and step for 16 cases in lockstep, 21 µs for one case alone, and 32 cases over
+60 s took 17,100 to 58,700 steps each). Fixed steps, shared steps and other devices keep
+the batch.
 """
 
 import inspect
@@ -320,19 +328,22 @@ def sweep(
     enter the compiled solve as data.
 
     Each case matches its single [`jaxcable.simulate`][] run to rounding at first
-    (1e-11 of the peak tension over seed 003's first second). The batched and single
+    (1e-11 of the peak tension over seed 003's first second). Batched and single
     compiled code round differently, though, and over long snapping histories that can
     change the adaptive steps: over 4 s, step counts differed by up to 4 % and
     tensions at a given time by up to 3 % of the peak, the same order as the solver's
     own error at `rtol = 1e-6`. Tighten `rtol` when histories must agree pointwise.
+    On a CPU with one device, cases with their own adaptive steps are not batched
+    but integrated one at a time (see `chunks`), and each equals its single run
+    bitwise, steps included.
 
     !!! note
 
-        The batch integrates in lockstep: a vmapped while loop runs until its slowest
-        case finishes, and finished cases wait. So a case that runs out of `max_steps`
-        costs every case on its device `max_steps` steps. Set the configuration's
-        `max_steps` to a few times what a good case needs, rather than leaving it at a
-        million.
+        Where the batch integrates in lockstep (on other devices, or on several
+        CPU devices), a vmapped while loop runs until its slowest case finishes, and
+        finished cases wait. So a case that runs out of `max_steps` costs every case
+        on its device `max_steps` steps. Set the configuration's `max_steps` to a few
+        times what a good case needs, rather than leaving it at a million.
 
     **Arguments:**
 
@@ -386,12 +397,15 @@ def sweep(
         *Sweeps*). One case that fails (too many steps, a collapsing step) fails the
         others of its chunk; explicit solvers only. With `chunks`, each chunk has its
         own shared step.
-    - `chunks`: how many groups of consecutive cases to run at once, each on its own
-        thread through the same compiled program. By default, on CPU devices, two per
-        core this process may use, over the number of devices, where each keeps at
-        least 16 cases (4 on a 2-core machine with one device from 64 cases), else
-        one per core; 1 on other devices. Each chunk equals what a sweep of its cases
-        alone would give.
+    - `chunks`: how many groups of consecutive cases to run, on threads through the
+        same compiled program. By default, on CPU devices, two per core this process
+        may use, over the number of devices, where each keeps at least 16 cases (4 on
+        a 2-core machine with one device from 64 cases), else one per core; 1 on other
+        devices. Each chunk equals what a sweep of its cases alone would give. On a
+        CPU with one device and `steps="per_case"` with an adaptive controller, the
+        cases of a chunk run one after another, not batched, and the default is one
+        case a chunk, on as many threads as cores: each thread takes the next case
+        when it finishes one.
     - `devices`: the JAX devices to split the cases (of each chunk) across;
         `jax.devices()` by default.
 
@@ -428,7 +442,15 @@ def sweep(
     config = as_config("sweep", solver)
     checks.option("sweep: steps", steps, STEPS)
     devices = _check_devices(devices)
-    chunks = min(_check_chunks(chunks, devices, n_cases), n_cases)
+    # On one CPU device, cases with their own adaptive steps run one at a time (see the
+    # module's notes): a chunk a case unless told otherwise.
+    in_turn = (
+        steps == "per_case"
+        and len(devices) == 1
+        and devices[0].platform == "cpu"
+        and not isinstance(config.stepsize_controller, _FIXED_STEPS)
+    )
+    chunks = n_cases if in_turn and chunks is None else min(_check_chunks(chunks, devices, n_cases), n_cases)
     if steps == "shared":
         if isinstance(config.solver, IMEX_SOLVERS) or isinstance(config.solver, diffrax.AbstractImplicitSolver):
             raise ValueError(f"sweep: steps='shared' takes an explicit solver, got {type(config.solver).__name__}")
@@ -495,14 +517,17 @@ def sweep(
         shared = _place(shared, NamedSharding(mesh, PartitionSpec()))
 
     if chunks == 1:
-        simulation, statics, success = _run(parts[0], shared, mode, steps, mesh)
+        simulation, statics, success = _run(parts[0], shared, mode, steps, mesh, in_turn)
     else:
         # Compiled ahead of the threads: called first through `jit`, the chunks of a
         # first call ran one after the other (a 128-case run: 5.0 s against 2.4 s warm).
-        compiled = _run.lower(parts[0], shared, mode, steps, mesh).compile()
-        with ThreadPoolExecutor(chunks) as pool:
+        compiled = _run.lower(parts[0], shared, mode, steps, mesh, in_turn).compile()
+        # Chunks run in turn take a core each; batched chunks each take a thread, as
+        # measured where their default was chosen (`_check_chunks`).
+        threads = min(chunks, _cores()) if in_turn else chunks
+        with ThreadPoolExecutor(threads) as pool:
             outputs = list(
-                pool.map(lambda part: jax.block_until_ready(compiled(part, shared, mode, steps, mesh)), parts)
+                pool.map(lambda part: jax.block_until_ready(compiled(part, shared, mode, steps, mesh, in_turn)), parts)
             )
         simulation, statics, success = jax.tree.map(lambda *x: jnp.concatenate(x), *outputs)
         if mesh is not None:
@@ -522,10 +547,11 @@ def sweep(
 
 
 @eqx.filter_jit
-def _run(per_case, shared, mode, steps, mesh):
+def _run(per_case, shared, mode, steps, mesh, in_turn):
     """The compiled batch: `vmap` over cases, split across the devices of `mesh` (if
-    given) by the sharding of the inputs. Returns the batched `SimulationResult`,
-    `StaticSolution` (or `None`) and success flags.
+    given) by the sharding of the inputs; or, `in_turn`, each case's statics and
+    solve one after another (`lax.map`), each with its own adaptive steps. Returns the
+    batched `SimulationResult`, `StaticSolution` (or `None`) and success flags.
 
     Compiled once per model structure (topology, static options), batch size, mesh
     and options: the model arrives as data, not through the user's `build`, so a new
@@ -586,7 +612,10 @@ def _run(per_case, shared, mode, steps, mesh):
         simulation = eqx.tree_at(lambda s: s.result, simulation, result)
         return simulation, statics, simulation.result == diffrax.RESULTS.successful
 
-    systems, starts, statics, valid, ok = jax.vmap(prepare, in_axes=(0, None))(per_case, shared)
+    if in_turn:
+        systems, starts, statics, valid, ok = jax.lax.map(lambda case: prepare(case, shared), per_case)
+    else:
+        systems, starts, statics, valid, ok = jax.vmap(prepare, in_axes=(0, None))(per_case, shared)
     if steps == "shared":
         simulation = _shared_steps(systems, starts, ok, eqx.combine(shared, shared_static))
     else:
@@ -610,7 +639,12 @@ def _run(per_case, shared, mode, steps, mesh):
             # t1 = t0 diffrax takes no step, so it cannot hold the batch's loop (or its
             # max_steps) hostage.
             t1, ts, axis = jnp.where(ok, t1, t0), jnp.where(ok[:, None], ts, t0), 0
-        simulation = jax.vmap(own_steps, in_axes=(0, 0, None, axis, axis))(systems, starts, shared, t1, ts)
+        if in_turn:
+            simulation = jax.lax.map(
+                lambda case: own_steps(case[0], case[1], shared, case[2], case[3]), (systems, starts, t1, ts)
+            )
+        else:
+            simulation = jax.vmap(own_steps, in_axes=(0, 0, None, axis, axis))(systems, starts, shared, t1, ts)
     outputs = jax.vmap(finish)(simulation, statics, valid, ok)
     if mesh is not None:
         # Keep every output split by case, as the inputs are, so that no device
@@ -895,33 +929,6 @@ def _statics_differ(batched, unbatched, t0) -> bool:
     leaves = [x for path, x in jax.tree_util.tree_flatten_with_path(batched)[0] if tuple(path[:2]) != motions]
     leaves.append(_held_at(batched, unbatched, np.asarray(t0, dtype=float)))
     return not all(np.array_equal(x, np.broadcast_to(x[:1], x.shape), equal_nan=True) for x in map(np.asarray, leaves))
-
-
-# Each one compiled program, kept on disk (`jaxcable._programs`), rather than run as
-# eager operations under `vmap`, each of which compiled a program of its own: 2.6 s of
-# a 32-case sweep's set-up on seed 003's line.
-@program
-def _case_violations(batched, unbatched):
-    """`checks.violations` of each case's model and water: whether each condition is
-    broken, and its first bad value, with a leading case axis."""
-
-    def one(case):
-        model, env = eqx.combine(case, unbatched)
-        return checks.violations(network_conditions(model, env))
-
-    return jax.vmap(one)(batched)
-
-
-@program
-def _held_at(batched, unbatched, t0):
-    """Each case's constrained nodes' positions (m) at `t0` (s), shape
-    `(cases, constrained, 3)`."""
-
-    def one(case):
-        model, _ = eqx.combine(case, unbatched)
-        return lag.constrained_motion(model, t0)[0]
-
-    return jax.vmap(one)(batched)
 
 
 # Each one compiled program, kept on disk (`jaxcable._programs`), rather than run as

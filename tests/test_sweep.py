@@ -198,8 +198,8 @@ def test_default_chunks_are_two_a_core_where_each_keeps_sixteen_cases(monkeypatc
 
 def test_chunks_equal_one_batch(swept, monkeypatch):
     """Chunks run on threads change where the cases run, not what they give: six cases
-    in four chunks (padded to eight) equal the batch of `swept` (two chunks by default
-    on a 2-core CPU) and one batch of six, case by case, status included."""
+    in four chunks (padded to eight) equal `swept` (one case a chunk by default on one
+    CPU device) and one chunk of six, case by case, status included."""
     calls = []
     split = jc._sweep._split
 
@@ -220,6 +220,36 @@ def test_chunks_equal_one_batch(swept, monkeypatch):
         ok = np.asarray(swept.success)
         np.testing.assert_allclose(result.simulation.tension[ok], swept.simulation.tension[ok], rtol=1e-8)
         np.testing.assert_allclose(result.statics.tension[ok], swept.statics.tension[ok], rtol=1e-9)
+
+
+def test_cases_with_their_own_steps_run_in_turn_as_their_single_runs(monkeypatch):
+    """On one CPU device, cases with their own adaptive steps are not batched: by
+    default each is a chunk of its own, and each equals its single `simulate` run
+    bitwise, steps included, over snap loads and slack (seed 003's line over 3.5 s:
+    over 2,000 steps each), where batched code rounds differently."""
+    chunked = []
+    split = jc._sweep._split
+
+    def counted(per_case, chunks):
+        chunked.append(chunks)
+        return split(per_case, chunks)
+
+    monkeypatch.setattr(jc._sweep, "_split", counted)
+
+    def amplitude_build(amplitude):
+        model, env = seed003_line()
+        top = list(np.asarray(model.constrained_nodes)).index(1)  # the fairlead's motion
+        return eqx.tree_at(lambda m: m.motions[top].amplitude, model, amplitude), env
+
+    amplitudes, ts = np.array([1.2, 2.0]), np.linspace(0.0, 3.5, 351)
+    swept = sweep(amplitude_build, {"amplitude": amplitudes}, 3.5, ts=ts, devices=jax.devices("cpu")[:1])
+    assert chunked == [2]
+    for i, amplitude in enumerate(amplitudes):
+        single = jc.simulate(*amplitude_build(amplitude), t1=3.5, ts=ts)
+        assert int(swept.stats["num_steps"][i]) == int(single.stats["num_steps"]) > 2000
+        np.testing.assert_array_equal(swept.tension[i], single.tension)
+        # The histories went slack: a sensitive window, where rounding would show.
+        assert float(jnp.min(single.tension[:, -1])) == 0.0
 
 
 def test_shared_steps_are_per_chunk():
