@@ -15,6 +15,7 @@ from ._config import SolverConfig
 from ._environment import Environment
 from ._jacobian import with_network_jacobian
 from ._network import CableNetwork, network_conditions, unheld_nodes
+from ._progress import SimulatedTime
 from ._state import State
 from ._statics import solve_statics
 from ._typing import RealLike, RealScalarLike
@@ -132,7 +133,9 @@ def simulate(
         `SolverConfig()` by default: Dopri5 with a PIDController at rtol = atol = 1e-6
         and at most 1,000,000 steps. A new tolerance or first step reuses the
         compiled solve.
-    - `progress`: show a tqdm progress bar over simulated time.
+    - `progress`: show a progress bar on stderr in simulated seconds
+        (`simulate: |███   | 12.3/60.0 s simulated`); where stderr is not a terminal
+        (a log), a line at most every 20 s of wall time and the last.
     - `throw`: raise on solver failure (default). Set `False` inside `vmap` sweeps and
         read `result.success` per case instead.
 
@@ -232,7 +235,9 @@ def simulate(
             t1,
             ts,
             config,
-            diffrax.TqdmProgressMeter() if progress else diffrax.NoProgressMeter(),
+            SimulatedTime(jnp.asarray(t0, dtype=float), jnp.asarray(t1, dtype=float))
+            if progress
+            else diffrax.NoProgressMeter(),
             inside,
         )
     except TypeError as error:

@@ -5,7 +5,6 @@ steady, and `--help` without JAX. MoorDyn (the `moordyn` package) is the referen
 where it is installed."""
 
 import contextlib
-import io
 import os
 import subprocess
 import sys
@@ -369,31 +368,6 @@ def test_a_held_run_is_steady_not_peaked(hanging):
     summary = run.summary()
     assert "tensions steady" in summary and "at t = " not in summary
     assert "statics" in summary.splitlines()[-1]
-
-
-def test_progress_for_a_log_writes_a_few_lines(monkeypatch):
-    """Where stderr is not a terminal the bar writes a line per `LOG_INTERVAL` of wall
-    time and the last one, counting simulated seconds: 1,000 updates over 100 s of
-    (faked) wall time make 5 lines and the final one."""
-    clock = [0.0]
-    monkeypatch.setattr(_run.time, "monotonic", lambda: clock[0])
-    stream = io.StringIO()  # not a terminal
-    monkeypatch.setattr(_run.sys, "stderr", stream)
-    with _run._progress_bar(60.0, True) as reached:
-        assert reached is not None
-        for k in range(1, 1001):
-            clock[0] = k * 0.1
-            reached(k * 0.06)
-    lines = stream.getvalue().splitlines()
-    assert len(lines) == 5
-    assert lines[0] == "simulate: 12.0/60.0 s simulated, 0:00:20 wall"
-    assert lines[-1] == "simulate: 60.0/60.0 s simulated, 0:01:40 wall"
-    stream = io.StringIO()
-    monkeypatch.setattr(_run.sys, "stderr", stream)
-    with _run._progress_bar(60.0, True) as reached:
-        assert reached is not None
-        reached(30.0)
-    assert stream.getvalue().splitlines() == ["simulate: 30.0/60.0 s simulated, 0:00:00 wall"]
 
 
 def test_cli_runs_without_statics_and_writes_point_channels(hanging, hanging_run, tmp_path, capsys):

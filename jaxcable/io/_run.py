@@ -1,11 +1,10 @@
 """Running a scene: statics, then dynamics, with the results as numpy arrays."""
 
 import os
-import sys
 import threading
 import time
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,6 +18,7 @@ from .._blocks import prepare as prepare_blocks
 from .._blocks import simulate_in_blocks, substeps_per_interval
 from .._config import SolverConfig
 from .._motion import Sampled
+from .._progress import progress_bar
 from .._reach import for_run
 from .._simulate import simulate
 from .._stability import STABLE_GROWTH, fixed_step_growth
@@ -35,9 +35,6 @@ DEFAULT_DT_OUT = 0.1  # s
 # A tension history whose spread is below this, relative to its largest value, is
 # steady: the ripple of rounding and of a fixed-step solver on a held line, not a peak.
 STEADY = 1e-6
-# With stderr not a terminal (a log), the progress bar writes a line at most this often
-# (s of wall time), and at the end.
-LOG_INTERVAL = 20.0
 
 # What a run costs, for the estimate that `check_size` gives before any work. An
 # explicit Dopri5 step is six force evaluations of 144 ns per node and 13.5 µs of
@@ -229,7 +226,7 @@ def run_scene(
     - `solver`: a [`jaxcable.SolverConfig`][]; the scene's by default
         (`scene.run.solver_config()`: its named solver and tolerances).
     - `progress`: show a progress bar over simulated time on stderr: redrawn on a
-        terminal, and otherwise (a log) a line at most every `LOG_INTERVAL` seconds.
+        terminal, and otherwise (a log) a line at most every 20 s of wall time.
     - `statics`: solve statics first (the scene's `run.statics` by default); without,
         lines start as MoorDyn starts them with `TmaxIC = 0`, on their elastic catenary
         between their ends or straight (`jaxcable.io._initial_shape`), at rest.
@@ -334,7 +331,7 @@ def run_scene(
         if blocks:
             # Interval by interval, so that the compiled solve has no host callback and
             # a second run loads it from JAX's persistent cache (see `jaxcable._blocks`).
-            with _progress_bar(duration, progress) as bar:
+            with progress_bar(duration, progress) as bar:
                 result = simulate_in_blocks(model, env, ts, initial, solver, on_block=bar)
         else:
             # diffrax checks an adaptive solve's given first step with a callback, so
@@ -539,61 +536,6 @@ def check_size(built: BuiltScene, duration: float, dt_out: float, solver: Solver
         + "; ".join(parts)
         + "; fewer segments cut both",
     )
-
-
-@contextmanager
-def _progress_bar(duration: float, show: bool) -> Iterator[Callable[[float], None] | None]:
-    """A bar on stderr over `duration` (s) of simulated time, or none; yields the
-    function to call with the time reached.
-
-    On a terminal it is a tqdm bar counting simulated seconds (`12.3/60.0 s`). Where
-    stderr is not a terminal (a log file, a pipe) a redrawn bar would write a line per
-    update, so it writes `simulate: 12.3/60.0 s simulated, 0:00:41 wall` at most once
-    every `LOG_INTERVAL` seconds of wall time, and once at the end.
-    """
-    if not show:
-        yield None
-        return
-    stream = sys.stderr
-    if not stream.isatty():
-        yield from _log_progress(duration, stream)
-        return
-    from tqdm import tqdm
-
-    with tqdm(
-        total=duration,
-        file=stream,
-        desc="simulate",
-        bar_format="{desc}: |{bar}| {n:.1f}/{total:.1f} s simulated [{elapsed}<{remaining}]",
-    ) as bar:
-
-        def reached(t: float) -> None:
-            bar.update(t - bar.n)
-
-        yield reached
-
-
-def _log_progress(duration: float, stream) -> Iterator[Callable[[float], None]]:
-    """[`_progress_bar`][]'s lines for a log: see there."""
-    start = time.monotonic()
-    last = [start]  # when the last line was written
-    times = {"reached": 0.0, "written": -1.0}  # simulated
-
-    def write(t: float) -> None:
-        last[0] = time.monotonic()
-        times["written"] = t
-        elapsed = int(last[0] - start)
-        wall = f"{elapsed // 3600}:{elapsed // 60 % 60:02d}:{elapsed % 60:02d}"
-        print(f"simulate: {t:.1f}/{duration:.1f} s simulated, {wall} wall", file=stream, flush=True)
-
-    def reached(t: float) -> None:
-        times["reached"] = t
-        if time.monotonic() - last[0] >= LOG_INTERVAL:
-            write(t)
-
-    yield reached
-    if times["written"] != times["reached"]:
-        write(times["reached"])
 
 
 def _water_notes(built: BuiltScene, positions: np.ndarray) -> tuple[str, ...]:
