@@ -425,10 +425,10 @@ def sweep(
     `ValueError` naming the parameter and value if `parameters` is empty, a parameter
     is not 1-D, empty, not finite, of a different length from the others, or not a
     keyword `build` takes; if `build` does not return `(CableNetwork, Environment)`,
-    uses a parameter's value in Python, or returns a topology that depends on the
-    parameters; if every case's values are invalid (naming the first); and for bad
-    times, `initial`, `solver` or `devices`. Errors raised by `build` on the first case
-    propagate, with a note naming the case.
+    uses a parameter's value in Python, returns a topology that depends on the
+    parameters, or returns nothing that depends on them; if every case's values are
+    invalid (naming the first); and for bad times, `initial`, `solver` or `devices`.
+    Errors raised by `build` on the first case propagate, with a note naming the case.
     """
     values = _check_parameters(parameters)
     n_cases = len(next(iter(values.values())))
@@ -464,6 +464,12 @@ def sweep(
 
     reference = _build_first(build, values)
     batched, unbatched = _build_batch(build, values, reference)
+    if not jax.tree.leaves(batched):
+        raise ValueError(
+            f"sweep: build returned the same model and water for every case: nothing it returns depends on "
+            f"{', '.join(map(repr, values))}, so the cases would not differ. Use the parameters in build "
+            "(jax.numpy on them, or eqx.tree_at on a prebuilt model's float leaves)"
+        )
     invalid = _invalid_cases(batched, unbatched, reference)
     if len(invalid) == n_cases:
         raise ValueError(f"sweep: every case is invalid; {invalid[0]}")

@@ -469,6 +469,17 @@ def test_input_errors(kwargs, match):
         sweep(arguments.pop("build"), arguments.pop("parameters"), arguments.pop("t1"), **arguments)
 
 
+def test_a_build_that_ignores_its_parameters_is_refused_by_name():
+    """A build whose model and water do not depend on the swept values would give the
+    same case again and again: refused, naming the parameter."""
+
+    def ignoring(stiffness_scale):
+        return base()
+
+    with pytest.raises(ValueError, match="nothing it returns depends on 'stiffness_scale'"):
+        sweep(ignoring, {"stiffness_scale": [1.0, 2.0]}, T1)
+
+
 def test_build_errors_name_the_first_case():
     # A constructor's own check on a real value still fires (under vmap it could not),
     # and a note says which case raised it.
