@@ -53,15 +53,9 @@ STATISTICS = {
 
 
 def readme_line():
-    """The README's line and water, and the statics to start from."""
-    law = jc.NonlinearElastic(axial_stiffness=3.0e7, quadratic_stiffness=3.0e6)
-    line = jc.LineType(mass_per_length=3.0, diameter=0.0195, tension_law=law, normal_drag=1.2, tangential_drag=0.01)
-    model = jc.CableNetwork.from_branches(
-        junctions=[[0.0, 0.0, -200.0], [346.4, 0.0, 0.0]],
-        branches=[jc.Branch(0, 1, line, length=400.0, segments=20)],
-        constraints={0: jc.Fixed(), 1: jc.Harmonic(amplitude=1.57, period=5.6)},
-    )
-    env = jc.Environment(water_density=1025.0, current=(0.5, 0.0, 0.0))
+    """The README's line and water (`jaxcable.examples.anchored_line_in_current`), and
+    the statics to start from."""
+    model, env = jc.examples.anchored_line_in_current()
     return model, env, jc.solve_statics(model, env).state
 
 

@@ -4,7 +4,8 @@ Python builders returning `(model, environment)`.
 
 The builders are re-exported here; each paper's constants (its cable, bodies and sea) live in
 its module: `jaxcable.examples.seed001` (growing elements), `.seed002` (the towed trawl),
-`.seed002_net` (the moored net of buoys) and `.seed003` (the anchored line). The studies that
+`.seed002_net` (the moored net of buoys) and `.seed003` (the anchored line);
+`.anchored_line` holds the README's line in a current. The studies that
 reproduce the papers are not part of the package: they are in the repository's `studies/`."""
 
 import importlib
@@ -14,6 +15,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from .._waves import seed003_amplitude as seed003_amplitude
+    from .anchored_line import anchored_line_in_current as anchored_line_in_current
     from .seed001 import seed001_element as seed001_element
     from .seed002 import start_tow as start_tow
     from .seed002 import towed_trawl as towed_trawl
@@ -23,6 +25,7 @@ if TYPE_CHECKING:
 # The builders import JAX: they are imported on first use (PEP 562), so that listing
 # the bundled scenes (`jaxcable examples`) does not.
 _BUILDERS = {
+    "anchored_line_in_current": ".anchored_line",
     "seed003_amplitude": ".._waves",
     "seed001_element": ".seed001",
     "start_tow": ".seed002",
