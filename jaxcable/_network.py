@@ -592,7 +592,7 @@ class CableNetwork(eqx.Module):
         - `branches`: the edges, as [`jaxcable.Branch`][]. All must use the same class
             of tension law; use [`jaxcable.KelvinVoigt`][] with zero coefficients to mix.
         - `constraints`, `bodies`, `**options`: as for [`jaxcable.CableNetwork`][],
-            indexed by junction; a key that is not a junction is refused.
+            indexed by junction.
         """
         junctions = checks.float_array("CableNetwork.from_branches junctions", junctions)
         if junctions.ndim != 2 or junctions.shape[1] != 3:
@@ -627,15 +627,6 @@ class CableNetwork(eqx.Module):
             next_node += n - 1
             edges += list(zip(chain[:-1], chain[1:]))
             lengths.append(xp.full(n, length / n))
-        # Interior nodes are numbered after the junctions, so a key past them would name
-        # an interior node silently: the user meant a junction that does not exist.
-        for name, mapping in (("constraints", constraints), ("bodies", bodies or {})):
-            for k in mapping:
-                if not (isinstance(k, int | np.integer) and 0 <= k < junctions.shape[0]):
-                    raise ValueError(
-                        f"CableNetwork.from_branches: {name} key {k!r} is not a junction: there are "
-                        f"{junctions.shape[0]} (keys 0 to {junctions.shape[0] - 1})"
-                    )
         line_ends = [*range(junctions.shape[0]), *options.pop("line_ends", ())]
         return cls(
             node_positions=xp.concatenate(positions),

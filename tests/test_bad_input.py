@@ -569,23 +569,6 @@ API_CASES = {
         lambda: jc.Sampled([0.0, 1.0], np.zeros((2, 3)), interpolation="spline"),
         r"Sampled.interpolation must be one of \('cubic', 'pchip', 'linear'\), got 'spline'",
     ),
-    "constraint on a junction that does not exist": (
-        lambda: jc.CableNetwork.from_branches(
-            [[0.0, 0.0, -30.0], [30.0, 0.0, 0.0]],
-            [jc.Branch(0, 1, jc.LineType(2.0, 0.03, jc.LinearElastic(2e6)), 43.0, 4)],
-            {0: jc.Fixed(), 7: jc.Fixed()},
-        ),
-        r"from_branches: constraints key 7 is not a junction: there are 2 \(keys 0 to 1\)",
-    ),
-    "body on a junction that does not exist": (
-        lambda: jc.CableNetwork.from_branches(
-            [[0.0, 0.0, -30.0], [30.0, 0.0, 0.0]],
-            [jc.Branch(0, 1, jc.LineType(2.0, 0.03, jc.LinearElastic(2e6)), 43.0, 4)],
-            {0: jc.Fixed(), 1: jc.Fixed()},
-            bodies={3: jc.Body(mass=10.0)},
-        ),
-        r"from_branches: bodies key 3 is not a junction",
-    ),
     "sweep of falling laws": (
         lambda: jc.sweep(lambda c: (with_quadratic(c), small_line()[1]), {"c": [-2e6, -4e6]}, 1.0),
         r"every case is invalid; invalid input: case 0: LineType.tension_law.quadratic_stiffness must be at least "
