@@ -15,6 +15,9 @@ length, so that the derivative is the dynamics' alone.
    is exact, whatever its size. Before the slack the two agree at every h; after it,
    only at smaller and smaller h, as the tangent grows by one to three orders of
    magnitude every quarter second (an exponential sensitivity, not a jump).
+   `--part jumper` does the same on the Low & Langley jumper (`lowe_langley.py`'s file
+   and case 1 motion, 10 m surge at 27 s, with its EI), whose top segment stays taut:
+   fixed Dopri5 steps of 5e-4 s over its first 54 s.
 2. **Statistics** (`--part statistics`): the mean, RMS and maximum of the top tension
    over windows [0, t], by `jax.grad` through `jc.simulate` with its default solver and
    adjoint, judged by `jc.check_derivative` against central differences at h = 0.2 m
@@ -22,6 +25,7 @@ length, so that the derivative is the dynamics' alone.
 
     python benchmarks/derivative_growth.py                  # both parts (about 10 min on 2 cores)
     python benchmarks/derivative_growth.py --part tangent   # part 1 alone
+    python benchmarks/derivative_growth.py --part jumper    # part 1 on the jumper (about 2 min)
     python benchmarks/derivative_growth.py --report         # the latest session's tables
 
 Results are appended to benchmarks/results/derivative_growth.json.
@@ -36,6 +40,7 @@ import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 jax.config.update("jax_enable_x64", True)
 
@@ -95,6 +100,49 @@ def tangent_part(t1=4.0, dt=2e-4, steps=(1e-3, 1e-5, 1e-7, 1e-9)):
     return {"t1": t1, "dt": dt, "rows": rows}
 
 
+def jumper_part(t1=54.0, dt=5e-4, every=2.0, steps=(1e-3, 1e-5, 1e-7, 1e-9)):
+    """`tangent_part` on the Low & Langley jumper, case 1: the top segment's tension
+    and its tangent in every segment's unstretched length, against central
+    differences."""
+    import lowe_langley as ll
+
+    line_file = ll.DATA / "line.txt"
+    t = np.arange(0.0, t1 + ll.PERIOD / 2, 0.1)
+    scene = jc.load_scene(line_file).with_motion_table(t, ll.top_position(t, 1, ll.top_rest(line_file))[:, None, :])
+    built = scene.build()
+    model, env = built.model, built.environment
+    start = jc.solve_statics(model, env).state
+    top = int(np.flatnonzero((np.asarray(model.segment_nodes) == 1).any(axis=1))[0])  # point 2 keeps node 1
+    ts = jnp.linspace(0.0, t1, int(round(t1 / every)) + 1)
+    config = jc.SolverConfig(
+        diffrax.Dopri5(),
+        dt0=dt,
+        stepsize_controller=diffrax.ConstantStepSize(),
+        adjoint=diffrax.ForwardMode(),
+        max_steps=int(t1 / dt) + 10,
+    )
+
+    def run(change):
+        r = jc.simulate(lengthened(model, change), env, t1=t1, ts=ts, initial=start, solver=config)
+        return r.tension[:, top], r.positions, jnp.min(r.tension, axis=1)
+
+    (tension, _, lowest), (d_tension, d_positions, _) = jax.jvp(run, (0.0,), (1.0,))
+    differences = {h: (run(h)[0] - run(-h)[0]) / (2 * h) for h in steps}
+    rows = []
+    for i, time_ in enumerate(ts.tolist()):
+        rows.append(
+            {
+                "t": time_,
+                "top_tension": float(tension[i]),
+                "lowest_tension": float(lowest[i]),
+                "max_position_tangent": float(jnp.max(jnp.abs(d_positions[i]))),
+                "tension_tangent": float(d_tension[i]),
+                "differences": {f"{h:g}": float(d[i]) for h, d in differences.items()},
+            }
+        )
+    return {"t1": t1, "dt": dt, "segments": model.n_segments, "rows": rows}
+
+
 def statistics_part(windows=WINDOWS):
     model, env, start = readme_line()
     records = []
@@ -126,10 +174,12 @@ def statistics_part(windows=WINDOWS):
 
 
 def report(session):
-    if "tangent" in session:
-        part = session["tangent"]
+    for key, what in (("tangent", "the README's line"), ("jumper", "the Low & Langley jumper")):
+        if key not in session:
+            continue
+        part = session[key]
         steps = list(part["rows"][0]["differences"])
-        print(f"The tangent against time (fixed Dopri5 steps of {part['dt']:g} s), d/d(segment length):\n")
+        print(f"The tangent against time on {what} (fixed Dopri5 steps of {part['dt']:g} s), d/d(segment length):\n")
         head = ["t (s)", "top T (N)", "least T (N)", "max abs dx/dl", "dT/dl, tangent", *(f"CD h={h}" for h in steps)]
         print("| " + " | ".join(head) + " |")
         print("|---" * (5 + len(steps)) + "|")
@@ -151,7 +201,7 @@ def report(session):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--part", choices=("tangent", "statistics", "both"), default="both")
+    parser.add_argument("--part", choices=("tangent", "jumper", "statistics", "both"), default="both")
     parser.add_argument("--report", action="store_true", help="print the latest session's tables and stop")
     args = parser.parse_args()
     if args.report:
@@ -161,6 +211,8 @@ def main():
     began = time.perf_counter()
     if args.part in ("tangent", "both"):
         session["tangent"] = tangent_part()
+    if args.part == "jumper":
+        session["jumper"] = jumper_part()
     if args.part in ("statistics", "both"):
         session["statistics"] = statistics_part()
     session["seconds"] = time.perf_counter() - began
