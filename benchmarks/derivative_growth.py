@@ -68,51 +68,10 @@ def lengthened(model, change):
     return eqx.tree_at(lambda m: m.segment_length, model, model.segment_length + change)
 
 
-def tangent_part(t1=4.0, dt=2e-4, steps=(1e-3, 1e-5, 1e-7, 1e-9)):
-    model, env, start = readme_line()
-    ts = jnp.linspace(0.0, t1, int(round(t1 / 0.25)) + 1)
-    config = jc.SolverConfig(
-        diffrax.Dopri5(),
-        dt0=dt,
-        stepsize_controller=diffrax.ConstantStepSize(),
-        adjoint=diffrax.ForwardMode(),
-        max_steps=int(t1 / dt) + 10,
-    )
-
-    def run(change):
-        r = jc.simulate(lengthened(model, change), env, t1=t1, ts=ts, initial=start, solver=config)
-        return r.tension[:, -1], r.positions, jnp.min(r.tension, axis=1)
-
-    (tension, _, lowest), (d_tension, d_positions, _) = jax.jvp(run, (0.0,), (1.0,))
-    differences = {h: (run(h)[0] - run(-h)[0]) / (2 * h) for h in steps}
-    rows = []
-    for i, t in enumerate(ts.tolist()):
-        rows.append(
-            {
-                "t": t,
-                "top_tension": float(tension[i]),
-                "lowest_tension": float(lowest[i]),
-                "max_position_tangent": float(jnp.max(jnp.abs(d_positions[i]))),
-                "tension_tangent": float(d_tension[i]),
-                "differences": {f"{h:g}": float(d[i]) for h, d in differences.items()},
-            }
-        )
-    return {"t1": t1, "dt": dt, "rows": rows}
-
-
-def jumper_part(t1=54.0, dt=5e-4, every=2.0, steps=(1e-3, 1e-5, 1e-7, 1e-9)):
-    """`tangent_part` on the Low & Langley jumper, case 1: the top segment's tension
-    and its tangent in every segment's unstretched length, against central
-    differences."""
-    import lowe_langley as ll
-
-    line_file = ll.DATA / "line.txt"
-    t = np.arange(0.0, t1 + ll.PERIOD / 2, 0.1)
-    scene = jc.load_scene(line_file).with_motion_table(t, ll.top_position(t, 1, ll.top_rest(line_file))[:, None, :])
-    built = scene.build()
-    model, env = built.model, built.environment
-    start = jc.solve_statics(model, env).state
-    top = int(np.flatnonzero((np.asarray(model.segment_nodes) == 1).any(axis=1))[0])  # point 2 keeps node 1
+def tangent_rows(model, env, start, top, t1, dt, every, steps):
+    """The forward-mode tangent of segment `top`'s tension in every segment's length,
+    beside central differences at `steps` (m), at output times `every` s apart to `t1`,
+    with fixed Dopri5 steps of `dt` s from `start`: one row per output time."""
     ts = jnp.linspace(0.0, t1, int(round(t1 / every)) + 1)
     config = jc.SolverConfig(
         diffrax.Dopri5(),
@@ -128,18 +87,38 @@ def jumper_part(t1=54.0, dt=5e-4, every=2.0, steps=(1e-3, 1e-5, 1e-7, 1e-9)):
 
     (tension, _, lowest), (d_tension, d_positions, _) = jax.jvp(run, (0.0,), (1.0,))
     differences = {h: (run(h)[0] - run(-h)[0]) / (2 * h) for h in steps}
-    rows = []
-    for i, time_ in enumerate(ts.tolist()):
-        rows.append(
-            {
-                "t": time_,
-                "top_tension": float(tension[i]),
-                "lowest_tension": float(lowest[i]),
-                "max_position_tangent": float(jnp.max(jnp.abs(d_positions[i]))),
-                "tension_tangent": float(d_tension[i]),
-                "differences": {f"{h:g}": float(d[i]) for h, d in differences.items()},
-            }
-        )
+    return [
+        {
+            "t": t,
+            "top_tension": float(tension[i]),
+            "lowest_tension": float(lowest[i]),
+            "max_position_tangent": float(jnp.max(jnp.abs(d_positions[i]))),
+            "tension_tangent": float(d_tension[i]),
+            "differences": {f"{h:g}": float(d[i]) for h, d in differences.items()},
+        }
+        for i, t in enumerate(ts.tolist())
+    ]
+
+
+def tangent_part(t1=4.0, dt=2e-4, steps=(1e-3, 1e-5, 1e-7, 1e-9)):
+    model, env, start = readme_line()
+    return {"t1": t1, "dt": dt, "rows": tangent_rows(model, env, start, -1, t1, dt, 0.25, steps)}
+
+
+def jumper_part(t1=54.0, dt=5e-4, every=2.0, steps=(1e-3, 1e-5, 1e-7, 1e-9)):
+    """`tangent_part` on the Low & Langley jumper, case 1: the top segment's tension
+    and its tangent in every segment's unstretched length, against central
+    differences."""
+    import lowe_langley as ll
+
+    line_file = ll.DATA / "line.txt"
+    t = np.arange(0.0, t1 + ll.PERIOD / 2, 0.1)
+    scene = jc.load_scene(line_file).with_motion_table(t, ll.top_position(t, 1, ll.top_rest(line_file))[:, None, :])
+    built = scene.build()
+    model, env = built.model, built.environment
+    start = jc.solve_statics(model, env).state
+    top = int(np.flatnonzero((np.asarray(model.segment_nodes) == 1).any(axis=1))[0])  # point 2 keeps node 1
+    rows = tangent_rows(model, env, start, top, t1, dt, every, steps)
     return {"t1": t1, "dt": dt, "segments": model.n_segments, "rows": rows}
 
 
