@@ -74,6 +74,8 @@ if TYPE_CHECKING:
     from ._simulate import SimulationResult as SimulationResult
     from ._simulate import simulate as simulate
     from ._spectrum import Jonswap as Jonswap
+    from ._stability import fixed_steps as fixed_steps
+    from ._stability import stable_step as stable_step
     from ._state import State as State
     from ._statics import StaticSolution as StaticSolution
     from ._statics import solve_statics as solve_statics
@@ -138,6 +140,8 @@ _NAMES = {
     "SimulationResult": "._simulate",
     "simulate": "._simulate",
     "Jonswap": "._spectrum",
+    "fixed_steps": "._stability",
+    "stable_step": "._stability",
     "State": "._state",
     "StaticSolution": "._statics",
     "solve_statics": "._statics",

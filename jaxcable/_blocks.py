@@ -31,6 +31,7 @@ from collections.abc import Callable
 from typing import Any
 
 import diffrax
+import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -41,7 +42,16 @@ from ._config import SolverConfig
 from ._environment import Environment
 from ._network import CableNetwork, network_conditions
 from ._programs import RUN_ONCE, Program, program
-from ._simulate import SimulationResult, as_config, failure_message, for_model, result_of, terms_for
+from ._simulate import (
+    SimulationResult,
+    as_config,
+    failure_message,
+    for_model,
+    integrated_state,
+    public_state,
+    result_of,
+    terms_for,
+)
 from ._state import State
 
 BLOCK = 64
@@ -132,30 +142,41 @@ def prepare(
     ts = np.asarray(ts, dtype=float)
     start, block, options = _programs_for(config, ts)
     initial = (model.node_positions, checks.on_device(np.zeros(model.node_positions.shape)))
-    start.prepare(model, env, initial, ts[0], ts[1], config)
-    carry = start.output_shapes(model, env, initial, ts[0], ts[1], config)
+    _prepare_programs((start, block, _outputs), (model, env), initial, ts, config, options)
+
+
+def _prepare_programs(programs: tuple[Program, Program, Program], system: tuple, initial, ts, config, options) -> None:
+    """`Program.prepare` of a run's start, block and outputs `programs`, each for the
+    arguments the one before it gives: `system` (the model and water, or a batch's
+    leaves split as `integrate_batch_in_blocks` takes them) first."""
+    start, block, outputs = programs
+    start.prepare(*system, initial, ts[0], ts[1], config)
+    carry = start.output_shapes(*system, initial, ts[0], ts[1], config)
     starts, ends, active = (x[:BLOCK] for x in _intervals(ts))
-    block.prepare(model, env, carry, starts, ends, active, config, **options)
-    _, ys, _, failure = block.output_shapes(model, env, carry, starts, ends, active, config, **options)
-    _outputs.prepare(model, env, ends, ys, failure)
+    block.prepare(*system, carry, starts, ends, active, config, **options)
+    _, ys, _, failure = block.output_shapes(*system, carry, starts, ends, active, config, **options)
+    outputs.prepare(*system, ends, ys, failure)
 
 
-def _programs_for(config: SolverConfig, ts: np.ndarray) -> tuple[Program, Program, dict[str, int]]:
+def _programs_for(
+    config: SolverConfig, ts: np.ndarray, where: str = "simulate_in_blocks"
+) -> tuple[Program, Program, dict[str, int]]:
     """The start and block programs for `config`, and the block's options: a fixed
-    step's, with the number of substeps an interval takes, or an adaptive solve's."""
+    step's, with the number of substeps an interval takes, or an adaptive solve's.
+    `ValueError`, naming `where`, for a configuration they cannot take."""
     fixed = isinstance(config.stepsize_controller, diffrax.ConstantStepSize)
     if fixed and config.dt0 is None:
-        raise ValueError("simulate_in_blocks: a fixed step (diffrax.ConstantStepSize) needs the solver's dt0")
+        raise ValueError(f"{where}: a fixed step (diffrax.ConstantStepSize) needs the solver's dt0")
     if not fixed and config.dt0 is not None:
         raise ValueError(
-            "simulate_in_blocks: an adaptive solver's dt0 must be None (diffrax checks a first step with a callback)"
+            f"{where}: an adaptive solver's dt0 must be None (diffrax checks a first step with a callback)"
         )
     if not fixed:
         return _start, _block, {}
     substeps = substeps_per_interval(ts, float(np.asarray(config.dt0)))
     if substeps * (ts.size - 1) > config.max_steps:
         raise ValueError(
-            f"simulate_in_blocks: a fixed step of {float(np.asarray(config.dt0)):g} s takes "
+            f"{where}: a fixed step of {float(np.asarray(config.dt0)):g} s takes "
             f"{substeps * (ts.size - 1)} steps from {ts[0]:g} to {ts[-1]:g} s, more than the solver's "
             f"max_steps = {config.max_steps}"
         )
@@ -179,9 +200,8 @@ def _start(model, env, initial, t0, t1, config: SolverConfig):
     """The carry at `t0`: the free state, diffrax's solver state, the controller's state
     and `made_jump`, as `diffeqsolve` makes them for a solve from `t0` towards `t1`.
     (The outputs at `t0` are the first block's, from its leading zero-length interval.)"""
-    free = model.free_nodes
-    y0 = (initial[0][free], initial[1][free])
     terms, solver = terms_for(config.solver), config.solver
+    y0 = integrated_state(solver, model, *initial)
     args = (model, env)
     error_order = solver.error_order(terms)
     _, controller_state = config.stepsize_controller.init(terms, t0, t1, y0, None, args, solver.func, error_order)
@@ -245,7 +265,7 @@ def _block(
         carry, first_failure = carry
         carry, counts, result = jax.lax.cond(on, solve, skip, carry)
         first_failure = diffrax.RESULTS.where(first_failure == diffrax.RESULTS.successful, result, first_failure)
-        return (carry, first_failure), (carry[0], counts)
+        return (carry, first_failure), (public_state(solver, carry[0]), counts)
 
     (carry, failure), (ys, counts) = jax.lax.scan(interval, (carry, diffrax.RESULTS.successful), (starts, ends, active))
     return carry, ys, jnp.sum(counts, axis=0), failure
@@ -271,19 +291,19 @@ def substeps_per_interval(ts: Float[np.ndarray, " times"], dt: float) -> int:
     return max(1, math.ceil(longest / dt * (1 - 1e-9)))
 
 
-@program
-def _fixed_start(model, env, initial, t0, t1, config: SolverConfig):
+def _fixed_start_body(model, env, initial, t0, t1, config: SolverConfig):
     """As `_start`, for a fixed step: the carry is the free state, the solver's state
     and `made_jump`."""
-    free = model.free_nodes
-    y0 = (initial[0][free], initial[1][free])
     terms, solver = terms_for(config.solver), config.solver
+    y0 = integrated_state(solver, model, *initial)
     carry = (y0, solver.init(terms, t0, t1, y0, (model, env)), False)
     return jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), carry)
 
 
-@program
-def _fixed_block(
+_fixed_start = program(_fixed_start_body)
+
+
+def _fixed_block_body(
     model,
     env,
     carry,
@@ -317,8 +337,147 @@ def _fixed_block(
 
         carry, failure = jax.lax.cond(on, solve, lambda inner: inner, carry)
         counts = jnp.where(on, substeps, 0).astype(jnp.int64) * jnp.ones(2, jnp.int64)
-        return (carry, failure), (carry[0], counts)
+        return (carry, failure), (public_state(solver, carry[0]), counts)
 
     (carry, failure), (ys, counts) = jax.lax.scan(interval, (carry, diffrax.RESULTS.successful), (starts, ends, active))
     steps = jnp.sum(counts, axis=0)
     return carry, ys, jnp.concatenate([steps, jnp.zeros(1, jnp.int64)]), failure
+
+
+_fixed_block = program(_fixed_block_body)
+
+
+# A batch of cases, in lockstep: `cases` holds the leaves that differ between cases
+# (with a leading case axis) and `system` the shared ones, as `eqx.partition` splits
+# `(model, env)`; the carry and the states have the case axis too. One program per
+# structure and batch size, kept on disk as the single run's are.
+@program
+def _batch_fixed_start(cases, system, initial, t0, t1, config: SolverConfig):
+    """`_fixed_start` of every case."""
+
+    def one(case, initial):
+        model, env = eqx.combine(case, system)
+        return _fixed_start_body(model, env, initial, t0, t1, config)
+
+    return jax.vmap(one)(cases, initial)
+
+
+@program
+def _batch_fixed_block(cases, system, carry, starts, ends, active, config: SolverConfig, substeps: int):
+    """`_fixed_block` of every case, each with its own failure and step counts."""
+
+    def one(case, carry):
+        model, env = eqx.combine(case, system)
+        return _fixed_block_body(model, env, carry, starts, ends, active, config, substeps)
+
+    return jax.vmap(one)(cases, carry)
+
+
+@program
+def _batch_outputs(cases, system, ends, ys, failure):
+    """`_outputs` of every case. Compiled as XLA compiles by default, not as a program
+    that runs once (`RUN_ONCE`): over a sweep's blocks it runs as many field
+    evaluations as there are output times, which the kernels of `RUN_ONCE` took
+    three times as long over (32 cases of seed 003's line, 6,001 output times: 1.9 s
+    of CPU against 0.6 s)."""
+
+    def one(case, ys, failure):
+        model, env = eqx.combine(case, system)
+        out = result_of(model, env, ends, ys, {}, failure)
+        return (out.positions, out.velocities, out.strain, out.tension, out.reactions), out.result
+
+    return jax.vmap(one)(cases, ys, failure)
+
+
+def prepare_batch(
+    cases, system, ts: Float[np.ndarray, " times"], initial, solver: SolverConfig, where: str = "sweep"
+) -> None:
+    """Start compiling the programs that [`integrate_batch_in_blocks`][] will run with
+    these arguments (`initial` may be `jax.ShapeDtypeStruct`s), in a background thread,
+    where programs are kept (`jaxcable._programs`); a later call waits for them. So
+    threads that each run a chunk of a batch do not each compile them.
+
+    **Raises:**
+
+    `ValueError`, naming `where`, for a solver without a fixed step or one that would
+    take more than its `max_steps` steps."""
+    ts = np.asarray(ts, dtype=float)
+    _, _, options = _programs_for(solver, ts, where)
+    programs = (_batch_fixed_start, _batch_fixed_block, _batch_outputs)
+    _prepare_programs(programs, (cases, system), initial, ts, solver, options)
+
+
+def integrate_batch_in_blocks(
+    cases,
+    system,
+    ts: Float[np.ndarray, " times"],
+    initial: tuple,
+    solver: SolverConfig,
+    out: list[np.ndarray],
+    on_block: Callable[[float], None] | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Integrate a batch of cases in lockstep with fixed steps, saving at `ts`, as
+    [`simulate_in_blocks`][] integrates one: each output interval is `n` equal steps of
+    the solver's own `step`, and the intervals run `BLOCK` at a time in one compiled
+    `lax.scan` over the batch, whose program is kept on disk.
+
+    **Arguments:**
+
+    - `cases`, `system`: `(model, env)` split as `eqx.partition` splits it: the leaves
+        that differ between cases, each with a leading case axis, and the shared ones
+        (the topology among them), each tree with `None` in the other's places.
+    - `ts`: output times (s), concrete, strictly increasing, at least two.
+    - `initial`: each case's `(positions, velocities)` at `ts[0]`, each of shape
+        `(cases, nodes, 3)`.
+    - `solver`: a fixed step (`stepsize_controller=diffrax.ConstantStepSize()` with
+        `dt0`), the same for every case.
+    - `out`: numpy arrays that the outputs at `ts` are written into, block by block:
+        positions and velocities (m, m/s) of shape `(cases, times, nodes, 3)`, strain
+        (–) and tension (N) `(cases, times, segments)` and reactions (N) `(cases,
+        times, constrained, 3)` (views of a larger batch's arrays, say).
+    - `on_block`: called after each block with the simulated time (s) it reached.
+
+    **Returns:**
+
+    Each case's diffrax result code (as the integers of `diffrax.RESULTS`), shape
+    `(cases,)`: `nonfinite` where its state became non-finite (its step beyond the
+    stability limit), or its implicit solver's first failure, the others running on
+    to `ts[-1]`; and its step counts (steps, accepted, rejected), shape `(cases, 3)`.
+
+    **Raises:**
+
+    `ValueError` for bad times, a solver without a fixed step, or more steps than the
+    solver's `max_steps`.
+    """
+    if not isinstance(solver.stepsize_controller, diffrax.ConstantStepSize) or solver.dt0 is None:
+        raise ValueError(
+            "integrate_batch_in_blocks: the solver must take fixed steps (diffrax.ConstantStepSize with dt0)"
+        )
+    ts = np.asarray(ts, dtype=float)
+    if ts.ndim != 1 or ts.size < 2:
+        raise ValueError(f"integrate_batch_in_blocks: ts must be 1-D with at least 2 times, got shape {ts.shape}")
+    checks.enforce(
+        [checks.finite("integrate_batch_in_blocks: ts", ts), checks.increasing("integrate_batch_in_blocks: ts", ts)]
+    )
+    _, _, options = _programs_for(solver, ts)
+    carry = _batch_fixed_start(cases, system, initial, ts[0], ts[1], solver)
+    starts, ends, active = _intervals(ts)
+    codes, steps = [], 0
+    for k in range(0, len(starts), BLOCK):
+        part = slice(k, k + BLOCK)
+        carry, ys, counts, failure = _batch_fixed_block(
+            cases, system, carry, starts[part], ends[part], active[part], solver, **options
+        )
+        saved, result = _batch_outputs(cases, system, ends[part], ys, failure)
+        written = slice(k, min(k + BLOCK, len(ts)))  # the last block's padding is not
+        for column, x in zip(out, saved):
+            column[:, written] = np.asarray(x)[:, : written.stop - written.start]
+        # (An enumeration's item is a pytree of its code, read through `jax.tree`.)
+        codes.append(np.asarray(jax.tree.leaves(result)[0]))
+        steps = steps + np.asarray(counts)
+        if on_block is not None:
+            on_block(float(ends[part][active[part]][-1]))
+    # Each case's first failure over the blocks (a block's result is its own first).
+    codes = np.stack(codes)
+    failed = codes != np.asarray(jax.tree.leaves(diffrax.RESULTS.successful)[0])
+    return codes[np.argmax(failed, axis=0), np.arange(codes.shape[1])], np.asarray(steps)

@@ -11,6 +11,7 @@ from collections.abc import Callable
 
 import diffrax
 import equinox as eqx
+import numpy as np
 import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float
 
@@ -154,6 +155,18 @@ class SolverConfig(eqx.Module):
         self.max_steps = max_steps
         self.adjoint = diffrax.RecursiveCheckpointAdjoint() if adjoint is None else adjoint
         _check_type("adjoint", self.adjoint, diffrax.AbstractAdjoint, "diffrax.ForwardMode()")
+
+
+def describe_stepping(solver: SolverConfig) -> str:
+    """How `solver` steps, in words: its method and fixed step or tolerances."""
+    method = type(solver.solver).__name__
+    controller = solver.stepsize_controller
+    if isinstance(controller, diffrax.ConstantStepSize) and solver.dt0 is not None:
+        return f"{method}, fixed steps of {float(np.asarray(solver.dt0)):g} s"
+    if isinstance(controller, diffrax.PIDController):
+        rtol, atol = (float(np.asarray(x)) for x in (controller.rtol, controller.atol))
+        return f"{method}, adaptive (rtol {rtol:g}, atol {atol:g})"
+    return f"{method}, {type(controller).__name__}"
 
 
 def _check_type(field: str, value, kind: type, example: str) -> None:

@@ -88,12 +88,49 @@ IMEX_SOLVERS = (diffrax.KenCarp3, diffrax.KenCarp4, diffrax.KenCarp5, diffrax.Si
 `MultiTerm(nonstiff_field, stiff_field)` rather than the whole vector field."""
 
 
+def component_major_field(t, y, args):
+    """[`vector_field`][] on the component-major state: `y = (x_f, v_f)`, each of shape
+    `(3, free)`, the layout the equations compute in (`jaxcable._lagrangian`), so that
+    an evaluation transposes nothing. On seed 003's line (20 segments) an RK4 step took
+    12.8 µs against 19.9 µs on the public layout `(free, 3)`."""
+    model, env = args
+    free_positions, free_velocities = y
+    a_free = lag._free_accelerations(model, env, t, free_positions, free_velocities, "all")[0]
+    return free_velocities, a_free
+
+
+def _component_major(solver: diffrax.AbstractSolver) -> bool:
+    """Whether `solver` integrates the component-major state: an explicit Runge–Kutta
+    method, which only evaluates the field. Implicit and implicit–explicit methods keep
+    the public layout, in which [`jaxcable.NetworkJacobian`][] structures their
+    Jacobian."""
+    return isinstance(solver, diffrax.AbstractERK)
+
+
 def terms_for(solver: diffrax.AbstractSolver) -> diffrax.AbstractTerm:
     """The diffrax terms `solver` integrates: split for an implicit–explicit solver,
-    whole otherwise."""
+    component-major for an explicit Runge–Kutta method ([`component_major_field`][]),
+    whole otherwise. [`integrated_state`][] and [`public_state`][] convert its states."""
     if isinstance(solver, IMEX_SOLVERS):
         return diffrax.MultiTerm(diffrax.ODETerm(nonstiff_field), diffrax.ODETerm(stiff_field))
+    if _component_major(solver):
+        return diffrax.ODETerm(component_major_field)
     return diffrax.ODETerm(vector_field)
+
+
+def integrated_state(solver: diffrax.AbstractSolver, model: CableNetwork, positions, velocities):
+    """The state `solver` integrates ([`terms_for`][]) from every node's positions (m)
+    and velocities (m/s), shape `(nodes, 3)`: the free nodes' `(x_f, v_f)`, shape
+    `(3, free)` each for an explicit Runge–Kutta method, `(free, 3)` otherwise."""
+    free = model.free_nodes
+    y = (positions[free], velocities[free])
+    return (y[0].T, y[1].T) if _component_major(solver) else y
+
+
+def public_state(solver: diffrax.AbstractSolver, y):
+    """[`integrated_state`][]'s state back in the public layout, `(..., free, 3)` each,
+    with any leading axes (saved times) kept."""
+    return tuple(jnp.swapaxes(x, -1, -2) for x in y) if _component_major(solver) else y
 
 
 def simulate(
@@ -299,8 +336,7 @@ def for_model(config: SolverConfig, model: CableNetwork) -> SolverConfig:
 
 @eqx.filter_jit
 def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, throw):
-    free = model.free_nodes
-    y0 = (initial[0][free], initial[1][free])
+    y0 = integrated_state(config.solver, model, *initial)
     solution = diffrax.diffeqsolve(
         terms_for(config.solver),
         config.solver,
@@ -320,7 +356,7 @@ def _simulate(model, env, initial, t0, t1, ts, config: SolverConfig, meter, thro
     # The solve saves at `ts` (SaveAt(ts=...)), so diffrax returns both.
     assert solution.ts is not None and solution.ys is not None
     stats = {k: solution.stats[k] for k in ("num_steps", "num_accepted_steps", "num_rejected_steps")}
-    return result_of(model, env, solution.ts, solution.ys, stats, solution.result, throw)
+    return result_of(model, env, solution.ts, public_state(config.solver, solution.ys), stats, solution.result, throw)
 
 
 def result_of(model, env, ts, ys, stats, result, throw: bool = False) -> SimulationResult:

@@ -31,6 +31,7 @@ a case and step for 16 cases in lockstep, 21 µs for one case alone, and 32 case
 the batch.
 """
 
+import functools
 import inspect
 import itertools
 import os
@@ -51,11 +52,12 @@ from jaxtyping import Array, Bool, Float
 
 from . import _checks as checks
 from . import _lagrangian as lag
-from ._config import SolverConfig
+from ._blocks import integrate_batch_in_blocks, prepare_batch, substeps_per_interval
+from ._config import SolverConfig, describe_stepping
 from ._environment import Environment
 from ._extremes import ExtremeStatistics, extreme_statistics
 from ._network import CableNetwork, network_conditions, unheld_nodes
-from ._programs import program
+from ._programs import RUN_ONCE, program
 from ._progress import progress_bar
 from ._simulate import (
     IMEX_SOLVERS,
@@ -67,6 +69,7 @@ from ._simulate import (
     result_of,
     vector_field,
 )
+from ._stability import STEP_FRACTION, fixed_steps
 from ._state import State
 from ._statics import StaticSolution, failure_message, solve_statics
 from ._typing import RealLike
@@ -116,6 +119,8 @@ class SweepResult(eqx.Module):
         shared by every case, because the swept parameters do not change what
         statics reads (see [`jaxcable.sweep`][]'s `initial`); `statics` then holds
         that one solution for every case.
+    - `stepping`: how the cases were integrated, in words (`"RK4, fixed steps of
+        0.005 s (chosen for the scene's fastest modes)"`, say).
     - `success`: `True` for a case whose statics (if any) and dynamics both succeeded,
         shape `(cases,)`.
     - `status`: one human-readable line per case: `"successful"`, diffrax's message,
@@ -133,6 +138,7 @@ class SweepResult(eqx.Module):
     success: Bool[Array, " cases"]
     status: tuple[str, ...] = eqx.field(static=True)
     statics_shared: bool = eqx.field(static=True, default=False)
+    stepping: str = eqx.field(static=True, default="")
 
     @property
     def n_cases(self) -> int:
@@ -238,7 +244,8 @@ class SweepResult(eqx.Module):
 
     def summary(self) -> str:
         """A markdown table: one row per case with its parameters, peak tension (kN) and
-        status; below it, where the statics was solved once, a line that says so."""
+        status; below it, how the cases were integrated and, where the statics was
+        solved once, a line that says so."""
         names = list(self.parameters)
         values = {k: np.asarray(v) for k, v in self.parameters.items()}
         peak = np.asarray(self.peak_tension)
@@ -249,6 +256,8 @@ class SweepResult(eqx.Module):
         for i, status in enumerate(self.status):
             row = [str(i), *(f"{values[k][i]:.6g}" for k in names), f"{peak[i] / 1e3:.2f}", status]
             lines.append("| " + " | ".join(row) + " |")
+        if self.stepping:
+            lines += ["", f"stepping: {self.stepping}"]
         if self.statics_shared:
             lines += ["", _SHARED_STATICS]
         return "\n".join(lines)
@@ -307,8 +316,19 @@ def sweep(
     does not depend on the parameters stays concrete, so `build` may use numpy on its
     fixed inputs. Everything it derives from the parameters comes out batched; its
     topology must not depend on them. Each case is then integrated as
-    [`jaxcable.simulate`][] would, with `throw=False`, so a case that fails is reported
-    in its `status` and leaves the others' results untouched.
+    [`jaxcable.simulate`][] would with the same solver, with `throw=False`, so a case
+    that fails is reported in its `status` and leaves the others' results untouched.
+
+    Told no solver, a sweep takes fixed RK4 steps at 0.7 of their stability limit at
+    the fastest mode of its stiffest case ([`jaxcable.fixed_steps`][]), shortened so
+    that each interval between output times is a whole number of steps: every case
+    takes the same steps, the batch runs in lockstep, and each output time ends a
+    step. `SweepResult.stepping` says which. On seed 003's line (20 segments, lumped,
+    60 s at 100 Hz) that is 5 ms steps, 12,000 a case, where the adaptive Dopri5 of
+    `simulate` took 17,100–58,700, and the peak tension over the first snap lies
+    within 0.5 % of a converged run's (MoorDyn's midpoint steps of 1 ms: 0.2–0.4 %;
+    `benchmarks/README.md`, *What a user meets*). Pass `solver=SolverConfig()` for
+    `simulate`'s adaptive steps.
 
     Every case's model and water are checked as their constructors check concrete
     values (the traced build cannot), by the same conditions. A case that breaks one (a
@@ -330,10 +350,11 @@ def sweep(
     even through a new `build` function that makes the same structure: the models
     enter the compiled solve as data.
 
-    Each case matches its single [`jaxcable.simulate`][] run to rounding at first
-    (1e-11 of the peak tension over seed 003's first second). Batched and single
-    compiled code round differently, though, and over long snapping histories that can
-    change the adaptive steps: over 4 s, step counts differed by up to 4 % and
+    With fixed steps each case equals its single run with them to rounding. With
+    adaptive steps each case matches its single [`jaxcable.simulate`][] run to rounding
+    at first (1e-11 of the peak tension over seed 003's first second). Batched and
+    single compiled code round differently, though, and over long snapping histories
+    that can change the adaptive steps: over 4 s, step counts differed by up to 4 % and
     tensions at a given time by up to 3 % of the peak, the same order as the solver's
     own error at `rtol = 1e-6`. Tighten `rtol` when histories must agree pointwise.
     On a CPU with one device, cases with their own adaptive steps are not batched
@@ -382,14 +403,16 @@ def sweep(
         rest, as in [`jaxcable.simulate`][]. `"rest"`: `model.node_positions` at rest.
         A [`jaxcable.State`][]: positions and velocities of shape `(nodes, 3)` shared by
         all cases, or `(cases, nodes, 3)`, one per case.
-    - `solver`: a [`jaxcable.SolverConfig`][], as for [`jaxcable.simulate`][]
-        (`SolverConfig()` by default), shared by all cases; its `max_steps` counts each
-        case's own steps. With fixed steps (`diffrax.ConstantStepSize`, `StepTo`)
-        every case takes the same steps, so the batch's loops run without a mask
-        per case, and saving the output times costs next to nothing (16 cases of
-        seed 003's line, 7,200 RK4 steps over 60 s, 6,001 output times: 1.94 s
-        against 2.33 s with the mask); a case that is not integrated then runs a
-        valid case's copy, dropped from its result.
+    - `solver`: a [`jaxcable.SolverConfig`][], as for [`jaxcable.simulate`][], shared
+        by all cases; its `max_steps` counts each case's own steps. By default, fixed
+        RK4 steps chosen for the cases' fastest modes (above). With fixed steps
+        (`diffrax.ConstantStepSize` with `dt0`) every case takes the same steps, in
+        blocks of output intervals whose compiled programs are kept on disk
+        (`jaxcable._blocks`): each interval between output times (and from `t0` to the
+        first) is `n` equal steps of at most `dt0`, with no interpolation, and the
+        outputs are computed in one vectorised pass a block. A case whose state
+        becomes non-finite (its step beyond the stability limit) fails with
+        `diffrax.RESULTS.nonfinite`; the others run on.
     - `steps`: `"per_case"` (default): each case chooses its own steps, and matches
         its single run to rounding at first. `"shared"`: the batch is one system with
         one adaptive step, the smallest any case needs, so each case is integrated at
@@ -413,8 +436,9 @@ def sweep(
         `jax.devices()` by default.
     - `progress`: show a progress bar on stderr in simulated seconds, summed over the
         cases (`sweep: |███   | 480.0/1920.0 s simulated` for 32 cases of 60 s), as
-        [`jaxcable.simulate`][]'s; it moves as each chunk finishes (each case, with
-        the CPU's default chunks).
+        [`jaxcable.simulate`][]'s; with fixed steps it moves after each block of 64
+        output intervals, otherwise as each chunk finishes (each case, with the CPU's
+        default chunks for adaptive steps).
 
     **Returns:**
 
@@ -446,19 +470,14 @@ def sweep(
         checks.option("sweep: initial", initial, INITIAL_STATES)
     elif not isinstance(initial, State):
         raise ValueError(f"sweep: initial must be 'statics', 'rest' or a jaxcable.State, got {initial!r}")
-    config = as_config("sweep", solver)
     checks.option("sweep: steps", steps, STEPS)
+    config = None if solver is None else as_config("sweep", solver)
     devices = _check_devices(devices)
     # On one CPU device, cases with their own adaptive steps run one at a time (see the
     # module's notes): a chunk a case unless told otherwise.
-    in_turn = (
-        steps == "per_case"
-        and len(devices) == 1
-        and devices[0].platform == "cpu"
-        and not isinstance(config.stepsize_controller, _FIXED_STEPS)
-    )
-    chunks = n_cases if in_turn and chunks is None else min(_check_chunks(chunks, devices, n_cases), n_cases)
     if steps == "shared":
+        if config is None:
+            raise ValueError("sweep: steps='shared' shares an adaptive step; give its solver, such as SolverConfig()")
         if isinstance(config.solver, IMEX_SOLVERS) or isinstance(config.solver, diffrax.AbstractImplicitSolver):
             raise ValueError(f"sweep: steps='shared' takes an explicit solver, got {type(config.solver).__name__}")
 
@@ -477,6 +496,24 @@ def sweep(
         bad = np.asarray(sorted(invalid))
         good = next(i for i in range(n_cases) if i not in invalid)
         batched = jax.tree.map(lambda x: x.at[bad].set(x[good]), batched)
+    if config is None:
+        config = fixed_steps(_cases(batched, unbatched), duration=t1 - t0)
+    # With fixed steps every case takes the same steps: the batch runs in lockstep, in
+    # blocks of output intervals whose programs are kept on disk (`jaxcable._blocks`).
+    in_blocks = (
+        steps == "per_case"
+        and isinstance(config.stepsize_controller, diffrax.ConstantStepSize)
+        and config.dt0 is not None
+    )
+    # On one CPU device, cases with their own adaptive steps run one at a time (see the
+    # module's notes): a chunk a case unless told otherwise.
+    in_turn = (
+        steps == "per_case"
+        and len(devices) == 1
+        and devices[0].platform == "cpu"
+        and not isinstance(config.stepsize_controller, _FIXED_STEPS)
+    )
+    chunks = n_cases if in_turn and chunks is None else min(_check_chunks(chunks, devices, n_cases), n_cases)
 
     # Per-case inputs carry the case axis and are split across devices; shared inputs
     # (the topology among them) are replicated.
@@ -529,9 +566,21 @@ def sweep(
         parts = _place(_split(per_case, chunks), NamedSharding(mesh, PartitionSpec(_CASES)))
         shared = _place(shared, NamedSharding(mesh, PartitionSpec()))
 
+    stepping = describe_stepping(config)
+    if in_blocks:
+        # The steps taken: each interval between output times in equal steps of at most dt0.
+        grid, _ = _grid(t0, t1, ts)
+        dt = float(np.max(np.diff(grid))) / substeps_per_interval(grid, float(np.asarray(config.dt0)))
+        stepping = f"{type(config.solver).__name__}, fixed steps of {dt:.4g} s"
+    if solver is None:
+        stepping += (
+            f" ({STEP_FRACTION:g} of its stability limit at the fastest modes, or less to end at the output times)"
+        )
     with progress_bar(n_cases * (t1 - t0), progress, "sweep") as reached:
         done = _Done(reached, n_cases, t1 - t0)
-        if chunks == 1:
+        if in_blocks:
+            simulation, statics, success = _run_in_blocks(parts, shared, mode, done)
+        elif chunks == 1:
             simulation, statics, success = done(_run(parts[0], shared, mode, steps, mesh, in_turn), n_cases)
         else:
             # Compiled ahead of the threads: called first through `jit`, the chunks of a
@@ -560,6 +609,7 @@ def sweep(
         success=success,
         status=_status(simulation, statics, invalid),
         statics_shared=mode == "shared statics",
+        stepping=stepping,
     )
 
 
@@ -578,56 +628,13 @@ def _run(per_case, shared, mode, steps, mesh, in_turn):
     # is closed over.
     shared, shared_static = eqx.partition(shared, eqx.is_array)
 
-    def prepare(case, shared):
-        """A case's model, water, start and flags: `valid` input, and `ok` to integrate."""
-        shared = eqx.combine(shared, shared_static)
-        model, env = eqx.combine(case["model"], shared["model"])
-        valid = case["valid"]
-        statics = None
-        ok = valid
-        if mode in ("statics", "shared statics"):
-            # The case's own equilibrium, or the one solved before the batch, which
-            # `vmap` hands every case a copy of.
-            statics = solve_statics(model, env, t=shared["t0"], throw=False) if mode == "statics" else shared["statics"]
-            start = (statics.state.positions, statics.state.velocities)
-            ok = valid & (statics.result == optx.RESULTS.successful)
-        elif mode == "rest":
-            start = (model.node_positions, jnp.zeros_like(model.node_positions))
-        else:
-            start = case["initial"] if "initial" in case else shared["initial"]
-        return (model, env), start, statics, valid, ok
-
     def own_steps(case_system, start, shared, t1, ts):
         shared = eqx.combine(shared, shared_static)
         model, env = case_system
         return _simulate(model, env, start, shared["t0"], t1, ts, shared["solver"], diffrax.NoProgressMeter(), False)
 
-    def finish(simulation, statics, valid, ok):
-        # No state was integrated: inf throughout, as diffrax marks outputs past a
-        # failure, and the statics' code promoted to diffrax's enumeration (or, for an
-        # invalid case, `nonfinite_input`) so that `simulation.success` is False too.
-        # And no steps counted: with fixed steps such a case ran a valid case's copy.
-        arrays = ("times", "positions", "velocities", "strain", "tension", "reactions")
-        simulation = eqx.tree_at(
-            lambda s: [*(getattr(s, a) for a in arrays), s.stats],
-            simulation,
-            [
-                *(jnp.where(ok, getattr(simulation, a), jnp.inf) for a in arrays),
-                {k: jnp.where(ok, v, 0) for k, v in simulation.stats.items()},
-            ],
-        )
-        # pyright takes an equinox Enumeration's members for literals, not for instances of it.
-        failure: diffrax.RESULTS = diffrax.RESULTS.nonfinite_input  # pyright: ignore[reportAssignmentType]
-        if statics is not None:
-            failure = diffrax.RESULTS.where(valid, diffrax.RESULTS.promote(statics.result), failure)
-            # An invalid case's statics are its substitute's: not to be read as its own.
-            floats, rest = eqx.partition(statics, eqx.is_inexact_array)
-            statics = eqx.combine(jax.tree.map(lambda x: jnp.where(valid, x, jnp.inf), floats), rest)
-            invalid: optx.RESULTS = optx.RESULTS.nonfinite_input  # pyright: ignore[reportAssignmentType]  (as above)
-            statics = eqx.tree_at(lambda s: s.result, statics, optx.RESULTS.where(valid, statics.result, invalid))
-        result = diffrax.RESULTS.where(ok, simulation.result, failure)
-        simulation = eqx.tree_at(lambda s: s.result, simulation, result)
-        return simulation, statics, simulation.result == diffrax.RESULTS.successful
+    def prepare(case, shared):
+        return _prepare(case, eqx.combine(shared, shared_static), mode)
 
     if in_turn:
         systems, starts, statics, valid, ok = jax.lax.map(lambda case: prepare(case, shared), per_case)
@@ -662,7 +669,7 @@ def _run(per_case, shared, mode, steps, mesh, in_turn):
             )
         else:
             simulation = jax.vmap(own_steps, in_axes=(0, 0, None, axis, axis))(systems, starts, shared, t1, ts)
-    outputs = jax.vmap(finish)(simulation, statics, valid, ok)
+    outputs = jax.vmap(_finish)(simulation, statics, valid, ok)
     if mesh is not None:
         # Keep every output split by case, as the inputs are, so that no device
         # gathers the whole batch.
@@ -670,23 +677,199 @@ def _run(per_case, shared, mode, steps, mesh, in_turn):
     return outputs
 
 
+def _prepare(case, shared, mode: str):
+    """A case's model and water, start, statics (or `None`) and flags: `valid` input,
+    and `ok` to integrate. `mode` is `"statics"` (its own equilibrium), `"shared
+    statics"` (the one solved before the batch, in `shared["statics"]`, which `vmap`
+    hands every case a copy of), `"rest"` or `"state"` (given, per case or shared)."""
+    model, env = eqx.combine(case["model"], shared["model"])
+    valid = case["valid"]
+    statics = None
+    ok = valid
+    if mode in ("statics", "shared statics"):
+        statics = solve_statics(model, env, t=shared["t0"], throw=False) if mode == "statics" else shared["statics"]
+        start = (statics.state.positions, statics.state.velocities)
+        ok = valid & (statics.result == optx.RESULTS.successful)
+    elif mode == "rest":
+        start = (model.node_positions, jnp.zeros_like(model.node_positions))
+    else:
+        start = case["initial"] if "initial" in case else shared["initial"]
+    return (model, env), start, statics, valid, ok
+
+
+def _finish(simulation, statics, valid, ok):
+    """One case's outputs as the sweep reports them: those of a case that was not
+    integrated (invalid, or without equilibrium) `inf`, its code its statics' (or
+    `nonfinite_input`); and whether the case succeeded."""
+    # No state was integrated: inf throughout, as diffrax marks outputs past a
+    # failure, and the statics' code promoted to diffrax's enumeration (or, for an
+    # invalid case, `nonfinite_input`) so that `simulation.success` is False too.
+    # And no steps counted: with fixed steps such a case ran a valid case's copy.
+    arrays = ("times", "positions", "velocities", "strain", "tension", "reactions")
+    simulation = eqx.tree_at(
+        lambda s: [*(getattr(s, a) for a in arrays), s.stats],
+        simulation,
+        [
+            *(jnp.where(ok, getattr(simulation, a), jnp.inf) for a in arrays),
+            {k: jnp.where(ok, v, 0) for k, v in simulation.stats.items()},
+        ],
+    )
+    # pyright takes an equinox Enumeration's members for literals, not for instances of it.
+    failure: diffrax.RESULTS = diffrax.RESULTS.nonfinite_input  # pyright: ignore[reportAssignmentType]
+    if statics is not None:
+        failure = diffrax.RESULTS.where(valid, diffrax.RESULTS.promote(statics.result), failure)
+        # An invalid case's statics are its substitute's: not to be read as its own.
+        floats, rest = eqx.partition(statics, eqx.is_inexact_array)
+        statics = eqx.combine(jax.tree.map(lambda x: jnp.where(valid, x, jnp.inf), floats), rest)
+        invalid: optx.RESULTS = optx.RESULTS.nonfinite_input  # pyright: ignore[reportAssignmentType]  (as above)
+        statics = eqx.tree_at(lambda s: s.result, statics, optx.RESULTS.where(valid, statics.result, invalid))
+    result = diffrax.RESULTS.where(ok, simulation.result, failure)
+    simulation = eqx.tree_at(lambda s: s.result, simulation, result)
+    return simulation, statics, simulation.result == diffrax.RESULTS.successful
+
+
 class _Done:
-    """Counts the cases finished, and moves the sweep's bar (if any) to their simulated
-    seconds; called from the chunks' threads."""
+    """Moves the sweep's bar (if any) to the simulated seconds done, summed over the
+    cases; called from the chunks' threads, as each finishes or each block of it."""
 
     def __init__(self, reached, n_cases: int, duration: float):
         self.reached, self.n_cases, self.duration = reached, n_cases, duration
-        self.cases = 0
+        self.seconds: dict[int, float] = {}  # each chunk's cases × simulated seconds
+        self.chunks = itertools.count()
         self.lock = threading.Lock()
 
     def __call__(self, outputs, cases: int):
+        """A chunk of `cases` cases finished with `outputs`."""
         outputs = jax.block_until_ready(outputs)
-        if self.reached is not None:
-            with self.lock:
-                # A chunk's padding (repeats of the last case) is not counted.
-                self.cases = min(self.cases + cases, self.n_cases)
-                self.reached(self.cases * self.duration)
+        self.reach(next(self.chunks), cases * self.duration)
         return outputs
+
+    def reach(self, chunk: int, seconds: float) -> None:
+        """Chunk `chunk` has simulated `seconds` (s), summed over its cases."""
+        if self.reached is None:
+            return
+        with self.lock:
+            self.seconds[chunk] = seconds
+            # A chunk's padding (repeats of the last case) is not counted.
+            self.reached(min(sum(self.seconds.values()), self.n_cases * self.duration))
+
+
+def _run_in_blocks(parts, shared, mode: str, done: _Done):
+    """The batch with fixed steps: each chunk's starts (`_starts`), then its cases in
+    lockstep, block by block of output intervals (`integrate_batch_in_blocks`), each
+    chunk on a thread of its own, writing into the batch's outputs; the cases not
+    integrated (`ok` false) then reported as `_finish` reports them. Returns the
+    batched `SimulationResult`, `StaticSolution` (or `None`) and success flags, as
+    `_run` does.
+
+    The blocks integrate from `t0` through the output times, on `_grid`'s times,
+    whose outputs are then read at `ts`.
+    """
+    t0, ts = float(shared["t0"]), np.asarray(shared["ts"])
+    grid, at = _grid(t0, float(shared["t1"]), ts)
+    config: SolverConfig = shared["solver"]
+    inputs = {k: v for k, v in shared.items() if k not in ("solver", "ts", "t1")}
+    system = shared["model"]
+    sizes = [len(part["valid"]) for part in parts]
+    offsets = np.cumsum([0, *sizes])
+    with ThreadPoolExecutor(len(parts)) as pool:
+        starts = list(pool.map(lambda part: _starts(part, inputs, mode), parts))
+    statics, valid, ok = (
+        jax.tree.map(lambda *x: np.concatenate([np.asarray(y) for y in x]), *[s[i] for s in starts])
+        for i in range(1, 4)
+    )
+    # A case not integrated keeps `inf` (`_finish` reports it so).
+    model = eqx.combine(parts[0]["model"], system)[0]
+    nodes, constrained = model.node_positions.shape[-2], len(model.constrained_nodes)
+    shapes = [(nodes, 3), (nodes, 3), (model.n_segments,), (model.n_segments,), (constrained, 3)]
+    outputs = [np.full((offsets[-1], grid.size, *shape), np.inf) for shape in shapes]
+    codes, steps = np.zeros(offsets[-1], np.int32), np.zeros((offsets[-1], 3), np.int64)
+
+    def run(chunk: int):
+        part, here = parts[chunk], slice(offsets[chunk], offsets[chunk + 1])
+        codes[here], steps[here] = integrate_batch_in_blocks(
+            part["model"],
+            system,
+            grid,
+            starts[chunk][0],
+            config,
+            [x[here] for x in outputs],
+            on_block=lambda t: done.reach(chunk, sizes[chunk] * (t - t0)),
+        )
+
+    if ok.any():  # else none is integrated
+        # Compiled (or loaded) before the threads start, so that they do not each compile it.
+        prepare_batch(parts[0]["model"], system, grid, starts[0][0], config)
+        with ThreadPoolExecutor(len(parts)) as pool:
+            list(pool.map(run, range(len(parts))))
+    if not np.array_equal(at, np.arange(grid.size)):
+        outputs = [x[:, at] for x in outputs]
+    stats = {k: steps[:, i] for i, k in enumerate(("num_steps", "num_accepted_steps", "num_rejected_steps"))}
+    fields = (np.broadcast_to(ts, (len(codes), ts.size)), *outputs, stats, codes)
+    # Built as one case (whose shapes its annotations check), then given the batch's
+    # arrays, as `vmap` builds it in `_run`. `device_put`, not `jnp.asarray`, which
+    # compiles a program of its own for each shape.
+    times, positions, velocities, strain, tension, reactions, counts, code = jax.device_put(
+        [jax.tree.map(lambda x: x[0], field) for field in fields]
+    )
+    result = jax.tree.map(lambda _: code, diffrax.RESULTS.successful)
+    case = SimulationResult(times, positions, velocities, strain, tension, reactions, counts, result)
+    simulation = eqx.tree_at(
+        lambda s: (s.times, s.positions, s.velocities, s.strain, s.tension, s.reactions, s.stats, s.result),
+        case,
+        (*jax.device_put(fields[:-1]), jax.tree.map(lambda _: jax.device_put(codes), case.result)),
+    )
+    if not ok.all():
+        return _finish_batch(simulation, statics, valid, ok)
+    return simulation, statics, jax.device_put(codes == np.asarray(jax.tree.leaves(diffrax.RESULTS.successful)[0]))
+
+
+def _grid(t0: float, t1: float, ts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The times the blocks integrate through, and where the output times `ts` lie
+    among them (indices): `t0` and the distinct output times, with an interval longer
+    than the outputs' median spacing (from `t0` to a first output time well after it)
+    cut into pieces no longer than that. Every interval is then integrated in the same
+    number of equal steps, set by the longest (`jaxcable._blocks`)."""
+    times = np.unique(np.append(t0, ts))
+    if times.size == 1:  # every output at t0: an interval to t1, never saved
+        times = np.array([t0, t1])
+    gaps = np.diff(times)
+    pieces = np.maximum(1, np.ceil(gaps / np.median(gaps) * (1 - 1e-9))).astype(int)
+    if np.all(pieces == 1):
+        return times, np.searchsorted(times, ts)
+    # Interval k's pieces end at times[k] + j (times[k+1] − times[k]) / pieces[k], j = 1 … pieces[k].
+    interval = np.repeat(np.arange(gaps.size), pieces)
+    j = np.arange(interval.size) - np.repeat(np.cumsum(pieces) - pieces, pieces) + 1
+    grid = np.append(times[0], times[interval] + gaps[interval] * j / pieces[interval])
+    grid[np.cumsum(pieces)] = times[1:]  # each given time exactly as given
+    return grid, np.searchsorted(grid, ts)
+
+
+def _cases(batched, unbatched):
+    """Each case's `(model, env)`, concrete, from the batched leaves (leading case
+    axis) and the shared ones."""
+    n_cases = len(jax.tree.leaves(batched)[0])
+    host = jax.tree.map(np.asarray, batched)
+    for i in range(n_cases):
+        yield eqx.combine(jax.tree.map(lambda x: x[i], host), unbatched)  # noqa: B023 (used within the iteration)
+
+
+@program
+def _starts(per_case, shared, mode: str):
+    """Each case's start `(positions, velocities)`, statics (or `None`), and `valid`
+    and `ok` flags (`_prepare`), with a leading case axis."""
+
+    def one(case):
+        _, start, statics, valid, ok = _prepare(case, shared, mode)
+        return start, statics, valid, ok
+
+    return jax.vmap(one)(per_case)
+
+
+@functools.partial(program, compiler_options=RUN_ONCE)
+def _finish_batch(simulation, statics, valid, ok):
+    """`_finish` of every case."""
+    return jax.vmap(_finish)(simulation, statics, valid, ok)
 
 
 def _shared_steps(systems, starts, ok, shared) -> SimulationResult:

@@ -21,13 +21,21 @@ from jaxcable._advice import (
     STABLE_STEP,
     advise,
     bending_modes,
+    fastest_eigenvalues,
     polyline_curvature,
     seabed_mode,
     segments_needed,
     stiffest_axial_mode,
     wave_fit,
 )
-from jaxcable._stability import BENDING_RUN_GROWTH, fixed_step_growth, stability_function
+from jaxcable._stability import (
+    BENDING_RUN_GROWTH,
+    STEP_FRACTION,
+    fixed_step_growth,
+    fixed_steps,
+    stability_function,
+    stable_step,
+)
 from jaxcable.io import advice_lines
 
 
@@ -124,6 +132,38 @@ def test_a_bending_mode_counts_against_a_fixed_step_where_the_run_would_grow_it(
     assert 1 < bending and bending**10 < BENDING_RUN_GROWTH < bending**100_000
     assert fixed_step_growth(solver, dt, built, steps=10) == axial
     assert fixed_step_growth(solver, dt, built, steps=100_000) == bending
+
+
+def test_the_stable_step_is_the_edge_of_the_stability_region():
+    """Undamped, the fastest axial mode λ = iω_n is stable under RK4 up to ω_n Δt =
+    2√2 (|R(iy)|² = 1 − y⁶/72 + y⁸/576); damped, the step ends where |R(λ Δt)| first
+    reaches 1 on the mode's ray, which the closed form of R confirms from both sides;
+    and a two-stage method keeps no undamped mode from growing at any step."""
+    undamped = taut_line("lumped", 0.0)
+    _, omega, _ = stiffest_axial_mode(undamped)
+    assert stable_step(jc.RK4(), undamped) * omega == pytest.approx(2 * math.sqrt(2), rel=1e-9)
+    assert stable_step(diffrax.Midpoint(), undamped) * omega < 1e-2
+    damped = taut_line("lumped", 0.5)
+    dt = stable_step(jc.RK4(), damped)
+    eigenvalues = fastest_eigenvalues(damped)
+    assert np.abs(stability_function(jc.RK4(), eigenvalues * dt)).max() <= 1 + 1e-9
+    assert np.abs(stability_function(jc.RK4(), eigenvalues * dt * 1.001)).max() > 1
+
+
+def test_fixed_steps_are_stable_for_the_linearised_line_of_every_scene():
+    """[`fixed_steps`][]: RK4 at 0.7 of the stability limit of the stiffest of the
+    scenes, and within RK4's region for every eigenvalue of each scene's linearised
+    system (an independent check of the modes that bound the step)."""
+    soft, stiff = taut_line("lumped", 0.0), taut_line("consistent", 0.5)
+    config = fixed_steps([(soft.model, soft.environment), (stiff.model, stiff.environment)])
+    assert isinstance(config.solver, jc.RK4)
+    assert isinstance(config.stepsize_controller, diffrax.ConstantStepSize)
+    dt = float(config.dt0)  # pyright: ignore[reportArgumentType]
+    limits = [stable_step(jc.RK4(), built) for built in (soft, stiff)]
+    assert dt == pytest.approx(STEP_FRACTION * min(limits), rel=1e-12)  # pyright: ignore[reportArgumentType]
+    for built in (soft, stiff):
+        growth = np.abs(stability_function(jc.RK4(), linearised_eigenvalues(built) * dt))
+        assert growth.max() <= 1 + 1e-9
 
 
 def test_stability_functions_are_the_closed_forms():

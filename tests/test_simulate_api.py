@@ -54,7 +54,11 @@ def test_the_default_start_is_statics_as_in_a_sweep(driven_line):
     default = jc.simulate(model, env, 1.5, t0=1.0, ts=ts)
     given = jc.simulate(model, env, 1.5, t0=1.0, ts=ts, initial=jc.solve_statics(model, env, t=1.0).state)
     np.testing.assert_array_equal(default.tension, given.tension)
-    swept = jc.sweep(lambda c: (model, jc.Environment(current=(c, 0.0, 0.0))), {"c": [0.3]}, 1.5, t0=1.0, ts=ts)
+
+    def current(c):
+        return model, jc.Environment(current=(c, 0.0, 0.0))
+
+    swept = jc.sweep(current, {"c": [0.3]}, 1.5, t0=1.0, ts=ts, solver=jc.SolverConfig())
     np.testing.assert_allclose(swept.tension[0], default.tension, rtol=1e-9)
     rest = jc.simulate(model, env, 1.5, t0=1.0, ts=ts, initial="rest")
     assert np.abs(np.asarray(rest.tension - default.tension)).max() > 1.0  # N: a different start
@@ -82,7 +86,7 @@ def test_a_network_that_nothing_holds_starts_at_rest():
     np.testing.assert_array_equal(
         jc.simulate(model, env, 0.5, ts=ts).positions, jc.simulate(model, env, 0.5, ts=ts, initial="rest").positions
     )
-    swept = jc.sweep(free_line, {"mass_per_length": [2.0]}, 0.5, ts=ts)
+    swept = jc.sweep(free_line, {"mass_per_length": [2.0]}, 0.5, ts=ts, solver=jc.SolverConfig())
     np.testing.assert_allclose(swept.positions[0], jc.simulate(model, env, 0.5, ts=ts).positions, rtol=1e-12)
 
 

@@ -2,6 +2,7 @@
 sharding the batch across devices changes nothing but where it runs."""
 
 import functools
+import math
 import os
 import subprocess
 import sys
@@ -16,6 +17,7 @@ import pytest
 
 import jaxcable as jc
 from jaxcable import sweep, sweep_grid
+from jaxcable._stability import STEP_FRACTION, stable_step
 from jaxcable.examples import seed003_line
 
 T1 = 1.0
@@ -131,7 +133,8 @@ def test_failures_are_reported_per_case(swept):
     assert int(swept.simulation.stats["num_steps"][3]) == 0
     assert np.all(np.isinf(np.asarray(swept.simulation.tension[3])))
     assert np.all(np.isnan(np.asarray(swept.peak_tension[2:5])))
-    assert "statics failed" in swept.summary().splitlines()[-3]
+    rows = {line.split("|")[1].strip(): line for line in swept.summary().splitlines() if line.startswith("| ")}
+    assert "statics failed" in rows["3"]
     # Case 4's values are invalid: reported with the field and value, never integrated,
     # inf throughout, its statics too (they were computed with a valid case's values).
     law = base()[0].line.tension_law
@@ -242,7 +245,9 @@ def test_cases_with_their_own_steps_run_in_turn_as_their_single_runs(monkeypatch
         return eqx.tree_at(lambda m: m.motions[top].amplitude, model, amplitude), env
 
     amplitudes, ts = np.array([1.2, 2.0]), np.linspace(0.0, 3.5, 351)
-    swept = sweep(amplitude_build, {"amplitude": amplitudes}, 3.5, ts=ts, devices=jax.devices("cpu")[:1])
+    swept = sweep(
+        amplitude_build, {"amplitude": amplitudes}, 3.5, ts=ts, solver=jc.SolverConfig(), devices=jax.devices("cpu")[:1]
+    )
     assert chunked == [2]
     for i, amplitude in enumerate(amplitudes):
         single = jc.simulate(*amplitude_build(amplitude), t1=3.5, ts=ts)
@@ -502,7 +507,9 @@ def test_sweep_over_wave_steepness_equals_single_runs():
         return model, jc.Environment(depth=depth, waves=wave)
 
     steepness = np.array([0.01, 0.04, 0.07])
-    swept = sweep(waves, {"steepness": steepness}, 1.5, ts=np.linspace(0.0, 1.5, 7), initial="rest")
+    swept = sweep(
+        waves, {"steepness": steepness}, 1.5, ts=np.linspace(0.0, 1.5, 7), initial="rest", solver=jc.SolverConfig()
+    )
     assert bool(np.all(swept.success))
     for i in (0, 2):
         env = waves(steepness[i])[1]
@@ -540,7 +547,7 @@ def test_statics_solved_once_where_the_parameters_cannot_change_it(monkeypatch):
     that equilibrium: the same result, to the statics' tolerance, as the per-case
     solves inside the batch (forced here), and each case as its single run from that
     equilibrium."""
-    once = sweep(driven, AMPLITUDES, T1, ts=TS)
+    once = sweep(driven, AMPLITUDES, T1, ts=TS, solver=jc.SolverConfig())
     assert once.statics_shared and all(once.success), once.status
     assert once.summary().splitlines()[-1] == "statics solved once: the swept parameters do not change the equilibrium"
     assert once.statics.tension.shape == (3, 4) and once.statics.state.positions.shape == (3, 5, 3)
@@ -550,7 +557,7 @@ def test_statics_solved_once_where_the_parameters_cannot_change_it(monkeypatch):
         np.testing.assert_array_equal(getattr(once.statics.state, field), np.stack(3 * [getattr(alone.state, field)]))
 
     monkeypatch.setattr(jc._sweep, "_statics_differ", lambda *arguments: True)
-    per_case = sweep(driven, AMPLITUDES, T1, ts=TS)
+    per_case = sweep(driven, AMPLITUDES, T1, ts=TS, solver=jc.SolverConfig())
     assert not per_case.statics_shared and all(per_case.success), per_case.status
     assert "statics solved once" not in per_case.summary()
     # Both equilibria leave forces within 1e-6 of the force scale (the statics'
@@ -654,3 +661,41 @@ def test_fixed_steps_equal_single_runs():
         np.testing.assert_allclose(fixed.case(i).tension, single.tension, rtol=1e-10)
         np.testing.assert_allclose(fixed.case(i).positions, single.positions, rtol=1e-12, atol=1e-10)
         np.testing.assert_allclose(fixed.case(i).reactions, single.reactions, rtol=1e-10, atol=1e-6)
+
+
+def test_the_default_sweep_takes_fixed_rk4_steps_stable_for_every_case():
+    """Told nothing, a sweep steps with RK4 at 0.7 of its stability limit at the fastest
+    mode of its stiffest case (here the second, at twice the stiffness), or less so that
+    each output interval is a whole number of steps, and says so; each case equals its
+    single run with those steps."""
+    stiffness = {"stiffness_scale": [1.0, 2.0], "stretch": [1.0, 1.0]}
+    swept = sweep(build, stiffness, T1, ts=TS)
+    assert all(swept.success), swept.status
+    stiffest = stable_step(jc.RK4(), *build(2.0, 1.0), duration=T1)
+    assert stiffest is not None
+    interval = TS[1] - TS[0]
+    dt = interval / math.ceil(interval / (STEP_FRACTION * stiffest))
+    assert swept.stepping.startswith(f"RK4, fixed steps of {dt:.4g} s (0.7 of its stability limit")
+    assert f"stepping: {swept.stepping}" in swept.summary()
+    config = jc.SolverConfig(jc.RK4(), dt0=dt, stepsize_controller=diffrax.ConstantStepSize())
+    np.testing.assert_array_equal(swept.stats["num_steps"], round(T1 / dt))
+    for i in range(2):
+        model, env = build(**{k: v[i] for k, v in stiffness.items()})
+        start = jc.State(swept.statics.state.positions[i], swept.statics.state.velocities[i])
+        single = jc.simulate(model, env, T1, ts=TS, initial=start, solver=config)
+        np.testing.assert_allclose(swept.case(i).tension, single.tension, rtol=1e-10)
+
+
+def test_output_times_after_the_start_are_integrated_to_from_it():
+    """Output times that begin after t0 are reached on the same grid of steps as outputs
+    from t0 at their spacing: the two sweeps agree bitwise at the times they share."""
+    later = TS[TS >= 0.5]
+    config = jc.SolverConfig(jc.RK4(), dt0=0.01, stepsize_controller=diffrax.ConstantStepSize())
+    first = {"stiffness_scale": [1.0, 2.0], "stretch": [1.0, 1.0]}
+    whole = sweep(build, first, T1, ts=TS, solver=config)
+    part = sweep(build, first, T1, ts=later, solver=config)
+    np.testing.assert_array_equal(part.times[0], later)
+    np.testing.assert_array_equal(part.tension, whole.tension[:, TS >= 0.5])
+    grid, at = jc._sweep._grid(0.0, 1.0, np.array([0.5, 0.75, 0.75, 1.0]))
+    np.testing.assert_allclose(grid, [0.0, 0.25, 0.5, 0.75, 1.0])
+    np.testing.assert_array_equal(at, [2, 3, 3, 4])

@@ -16,7 +16,7 @@ from .. import _programs as programs
 from .._advice import STABLE_STEP, stiffest_axial_mode
 from .._blocks import prepare as prepare_blocks
 from .._blocks import simulate_in_blocks, substeps_per_interval
-from .._config import SolverConfig
+from .._config import SolverConfig, describe_stepping
 from .._motion import Sampled
 from .._progress import progress_bar
 from .._reach import for_run
@@ -456,18 +456,6 @@ def _feasible(solver: SolverConfig, built: BuiltScene, ts: np.ndarray) -> tuple[
             f"{growth:.3g}× a step: no damping holds it): {instead}",
         )
     return solver, ()
-
-
-def describe_stepping(solver: SolverConfig) -> str:
-    """How `solver` steps, in words: its method and fixed step or tolerances."""
-    method = type(solver.solver).__name__
-    controller = solver.stepsize_controller
-    if isinstance(controller, diffrax.ConstantStepSize) and solver.dt0 is not None:
-        return f"{method}, fixed steps of {float(np.asarray(solver.dt0)):g} s"
-    if isinstance(controller, diffrax.PIDController):
-        rtol, atol = (float(np.asarray(x)) for x in (controller.rtol, controller.atol))
-        return f"{method}, adaptive (rtol {rtol:g}, atol {atol:g})"
-    return f"{method}, {type(controller).__name__}"
 
 
 def check_size(built: BuiltScene, duration: float, dt_out: float, solver: SolverConfig) -> tuple[str, ...]:
