@@ -300,7 +300,10 @@ def _fixed_start_body(model, env, initial, t0, t1, config: SolverConfig):
     return jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.result_type(x)), carry)
 
 
-_fixed_start = program(_fixed_start_body)
+@program
+def _fixed_start(model, env, initial, t0, t1, config: SolverConfig):
+    """`_fixed_start_body`, compiled."""
+    return _fixed_start_body(model, env, initial, t0, t1, config)
 
 
 def _fixed_block_body(
@@ -344,7 +347,10 @@ def _fixed_block_body(
     return carry, ys, jnp.concatenate([steps, jnp.zeros(1, jnp.int64)]), failure
 
 
-_fixed_block = program(_fixed_block_body)
+@program
+def _fixed_block(model, env, carry, starts, ends, active, config: SolverConfig, substeps: int):
+    """`_fixed_block_body`, compiled."""
+    return _fixed_block_body(model, env, carry, starts, ends, active, config, substeps)
 
 
 # A batch of cases, in lockstep: `cases` holds the leaves that differ between cases

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from ._names import DROPPED_KINDS, INTERPOLATIONS, SMALLEST_RTOL, SOLVER_NAMES
+from ._names import AUTO, DROPPED_KINDS, INTERPOLATIONS, SMALLEST_RTOL, SOLVER_NAMES
 from .examples import record_names, record_path, scene_names, scene_path, scene_title
 
 if TYPE_CHECKING:
@@ -207,8 +207,9 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--plot", type=Path, help="save tension histories and line shapes to this image")
     run.add_argument(
         "--solver",
-        choices=sorted(SOLVER_NAMES),
-        help="ODE solver (default: the scene's; dopri5, or midpoint for a MoorDyn file with dtM)",
+        choices=[AUTO, *sorted(SOLVER_NAMES)],
+        help="ODE solver (default: the scene's; auto, fixed RK4 steps chosen for the scene's fastest modes, or "
+        "the file's tScheme with its dtM for a MoorDyn file)",
     )
     run.add_argument("--dt", type=float, help="fixed step (s), as MoorDyn's dtM (default: the file's dtM, if any)")
     run.add_argument("--adaptive", action="store_true", help="step adaptively, even where the file gives dtM")
@@ -458,10 +459,9 @@ def _run(args, given: _Input) -> int:
         parse_channel(name, scene)  # fail now, not after the simulation
     settings = given.settings
     run = run_scene(
-        scene,
+        dataclasses.replace(scene, run=settings),  # its solver chosen for the scene where "auto"
         duration=given.duration,
         dt_out=args.dt_out,
-        solver=settings.solver_config(),
         progress=not args.no_progress,
         statics=settings.statics,
     )
@@ -505,20 +505,29 @@ def _run_settings(scene: "Scene", args) -> "RunSettings":
         changes["max_steps"] = args.max_steps
     if args.adaptive:
         changes["dt"] = None
+        if changes.get("solver", scene.run.solver) == AUTO:  # auto's steps are fixed
+            changes["solver"] = "dopri5"
     if args.no_statics:
         changes["statics"] = False
     settings = dataclasses.replace(scene.run, **changes)
-    if settings.dt is not None and (args.rtol is not None or args.atol is not None):
-        raise SceneError(
-            f"--rtol and --atol set adaptive steps, but this run takes fixed steps of {settings.dt:g} s "
-            f"({'--dt' if args.dt is not None else 'the file'}): add --adaptive, or leave them out"
-        )
+    if args.rtol is not None or args.atol is not None:
+        if settings.dt is not None:
+            raise SceneError(
+                f"--rtol and --atol set adaptive steps, but this run takes fixed steps of {settings.dt:g} s "
+                f"({'--dt' if args.dt is not None else 'the file'}): add --adaptive, or leave them out"
+            )
+        if settings.solver == AUTO:
+            raise SceneError(
+                "--rtol and --atol set adaptive steps, but solver auto takes fixed steps chosen for the scene: "
+                "add --adaptive (Dopri5), or name an adaptive solver with --solver"
+            )
     return settings
 
 
 def _info(args, given: _Input) -> int:
     from ._advice import advise
-    from ._stability import STABLE_GROWTH, fixed_step_growth
+    from ._config import describe_stepping
+    from ._stability import STABLE_GROWTH, STEP_FRACTION, fixed_step_growth
     from .io import advice_lines
     from .io._run import DEFAULT_DT_OUT, check_size
 
@@ -598,9 +607,15 @@ def _info(args, given: _Input) -> int:
             f"of {line.length / line.segments:.4g} m, C_v = {damping:.4g} N·s"
         )
     run = scene.run
+    if run.dt is not None:
+        stepping = f"(fixed steps of {run.dt:g} s)"
+    elif run.solver == AUTO:
+        chosen = run.solver_config(built, duration)
+        stepping = f"({describe_stepping(chosen)}: {STEP_FRACTION:g} of its stability limit at the fastest modes)"
+    else:
+        stepping = f"(rtol {run.rtol:g}, atol {run.atol:g})"
     print(
-        f"run: {duration:g} s, solver {run.solver} "
-        + (f"(fixed steps of {run.dt:g} s)" if run.dt is not None else f"(rtol {run.rtol:g}, atol {run.atol:g})")
+        f"run: {duration:g} s, solver {run.solver} {stepping}"
         + f", output every {run.dt_out or DEFAULT_DT_OUT:g} s"
         + ("" if run.statics else "; no statics: starts from the file's geometry at rest")
     )
@@ -608,7 +623,7 @@ def _info(args, given: _Input) -> int:
         solver = run.solver_config().solver
         growth = fixed_step_growth(solver, run.dt, built, steps=math.ceil(duration / run.dt))
         if growth is not None:
-            verdict = "stable" if growth <= STABLE_GROWTH else "unstable: the run will step adaptively instead"
+            verdict = "stable" if growth <= STABLE_GROWTH else "unstable: the run takes RK4 at a stable step instead"
             print(
                 f"fixed step: {type(solver).__name__} at {run.dt:g} s, largest growth of a fast mode a step "
                 f"|R(λΔt)| = {growth:.3g}: {verdict}"

@@ -20,6 +20,11 @@ SOLVER_NAMES = (
 )
 """The keys of [`jaxcable.SOLVERS`][], in its order (a test holds them equal)."""
 
+AUTO = "auto"
+"""The solver name a scene file and the command line take, besides `SOLVER_NAMES`, for
+fixed RK4 steps chosen for the scene's fastest modes ([`jaxcable.fixed_steps`][]): the
+default of a scene that names no solver."""
+
 SMALLEST_RTOL = 1e-13
 """The tightest relative tolerance (–) a step-size controller may be given: about 450
 float64 epsilons (2.2e-16). A step's error estimate is a difference of two solutions,

@@ -778,11 +778,11 @@ def _run_in_blocks(parts, shared, mode: str, done: _Done):
         jax.tree.map(lambda *x: np.concatenate([np.asarray(y) for y in x]), *[s[i] for s in starts])
         for i in range(1, 4)
     )
-    # A case not integrated keeps `inf` (`_finish` reports it so).
     model = eqx.combine(parts[0]["model"], system)[0]
     nodes, constrained = model.node_positions.shape[-2], len(model.constrained_nodes)
     shapes = [(nodes, 3), (nodes, 3), (model.n_segments,), (model.n_segments,), (constrained, 3)]
-    outputs = [np.full((offsets[-1], grid.size, *shape), np.inf) for shape in shapes]
+    # Written block by block; a case not integrated is `inf` once `_finish`ed.
+    outputs = [np.empty((offsets[-1], grid.size, *shape)) for shape in shapes]
     codes, steps = np.zeros(offsets[-1], np.int32), np.zeros((offsets[-1], 3), np.int64)
 
     def run(chunk: int):

@@ -448,9 +448,9 @@ def test_moordyn_dtm_and_tscheme_are_fixed_steps(tmp_path, scheme, solver, honou
     assert ("does not have" in note) is not honoured
 
 
-def test_moordyn_without_dtm_steps_adaptively(tmp_path):
+def test_moordyn_without_dtm_takes_the_steps_chosen_for_the_scene(tmp_path):
     scene = jc.read_moordyn(write_moordyn(tmp_path, options=OPTIONS))
-    assert scene.run.dt is None and scene.run.solver == "dopri5"
+    assert scene.run.dt is None and scene.run.solver == "auto"
 
 
 def test_moordyn_non_positive_dtm_is_located(tmp_path):

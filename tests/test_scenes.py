@@ -588,15 +588,16 @@ def test_a_damped_scene_takes_its_fixed_steps():
     assert "in 100 steps (Midpoint, fixed steps of 0.002 s)" in run.summary()
 
 
-def test_fixed_steps_beyond_the_stability_limit_are_replaced_by_adaptive_ones():
+def test_fixed_steps_beyond_the_stability_limit_are_replaced_by_stable_ones():
     # Undamped, the axial mode grows under any two-stage step; damped at ζ = 0.5
     # (ω_n = 514 rad/s with the consistent mass matrix) |R| is 0.35 a step at 2 ms, as
-    # above, and 1.63 at 5 ms.
+    # above, and 1.63 at 5 ms. RK4 at 0.7 of its own limit takes their place.
     for scene in (seed003_scene(0.0, solver="midpoint", dt=2e-3), seed003_scene(0.5, solver="midpoint", dt=5e-3)):
         run = jc.run_scene(scene, duration=0.2, dt_out=0.05)
-        assert run.stepping.startswith("Dopri5, adaptive")
+        stable = jc.fixed_steps([(run.built.model, run.built.environment)], 0.2)
+        assert run.stepping == f"RK4, fixed steps of {float(stable.dt0):g} s"  # pyright: ignore[reportArgumentType]
         (note,) = [note for note in run.notes if "stability" in note]
-        assert "beyond Midpoint's stability limit here" in note and "stepped adaptively with Dopri5" in note
+        assert "beyond Midpoint's stability limit here" in note and f"stepped with {run.stepping} instead" in note
 
 
 def test_fixed_steps_past_max_steps_are_replaced_by_adaptive_ones():
@@ -605,17 +606,43 @@ def test_fixed_steps_past_max_steps_are_replaced_by_adaptive_ones():
     assert any("would take 100 steps, more than max_steps = 99" in note for note in run.notes)
 
 
+def test_a_scene_that_names_no_solver_steps_auto_and_tolerances_ask_for_dopri5(tmp_path, capsys):
+    """Told no solver a scene takes `auto`: RK4 at the fixed step `jc.fixed_steps`
+    chooses for it. Tolerances without a solver ask for adaptive Dopri5; with `auto`
+    named, the file's key and the flags are refused, as they would be lost."""
+    text = examples.scene_path("seed003_line").read_text(encoding="utf-8")
+    path = tmp_path / "line.toml"
+    path.write_text(text)
+    scene = jc.read_scene(path)
+    assert scene.run.solver == "auto"
+    built = scene.build()
+    config = scene.run.solver_config(built, 2.0)
+    stable = jc.fixed_steps([(built.model, built.environment)], 2.0)
+    assert isinstance(config.solver, jc.RK4) and float(config.dt0) == float(stable.dt0)  # pyright: ignore[reportArgumentType]
+    path.write_text(text.replace("[simulation]", "[simulation]\nrtol = 1e-8"))
+    run = jc.read_scene(path).run
+    assert (run.solver, run.rtol) == ("dopri5", 1e-8)
+    path.write_text(text.replace("[simulation]", '[simulation]\nsolver = "auto"\natol = 1e-8'))
+    with pytest.raises(jc.io.SceneError, match=r'simulation.atol: sets adaptive steps, but solver "auto" takes fixed'):
+        jc.read_scene(path)
+    path.write_text(text)
+    assert main(["run", str(path), "--duration", "0.1", "--rtol", "1e-7", "--no-progress"]) == 2
+    assert "--rtol and --atol set adaptive steps, but solver auto takes fixed steps" in capsys.readouterr().err
+    assert main(["run", str(path), "--duration", "0.1", "--adaptive", "--no-progress"]) == 0
+    assert "(Dopri5, adaptive (rtol 1e-06, atol 1e-06))" in capsys.readouterr().out
+
+
 def test_scene_file_fixed_step_and_max_steps(tmp_path):
     text = examples.scene_path("seed003_line").read_text(encoding="utf-8")
     path = tmp_path / "fixed.toml"
-    path.write_text(text.replace('solver = "dopri5"', 'solver = "heun"\ndt = 0.001\nmax_steps = 5000'))
+    path.write_text(text.replace("[simulation]", '[simulation]\nsolver = "heun"\ndt = 0.001\nmax_steps = 5000'))
     run = jc.read_scene(path).run
     assert (run.solver, run.dt, run.max_steps) == ("heun", 0.001, 5000)
     config = run.solver_config()
     assert isinstance(config.solver, diffrax.Heun) and isinstance(config.stepsize_controller, diffrax.ConstantStepSize)
     assert float(config.dt0) == 0.001 and config.max_steps == 5000
     for bad, message in (("dt = 0.0", "simulation.dt: must be positive"), ("max_steps = 1.5", "expected an integer")):
-        path.write_text(text.replace('solver = "dopri5"', bad))
+        path.write_text(text.replace("[simulation]", f"[simulation]\n{bad}"))
         with pytest.raises(jc.io.SceneError, match=message):
             jc.read_scene(path)
 
@@ -635,14 +662,14 @@ def test_cli_stepping_flags_are_checked_before_running(flags, message, capsys):
     assert re.search(message, capsys.readouterr().err)
 
 
-def test_cli_fixed_step_beyond_the_limit_warns_and_steps_adaptively(capsys):
+def test_cli_fixed_step_beyond_the_limit_warns_and_takes_a_stable_one(capsys):
     status = main(
         ["run", "seed003_line", "--duration", "0.1", "--solver", "midpoint", "--dt", "0.002", "--no-progress"]
     )
     out, err = capsys.readouterr()
     assert status == 0, err
     assert "warning: fixed steps of 0.002 s are beyond Midpoint's stability limit here" in err
-    assert "Dopri5, adaptive (rtol 1e-06, atol 1e-06)" in out.splitlines()[-2]
+    assert "(RK4, fixed steps of 0.00384823 s)" in out.splitlines()[-2]
 
 
 def test_cli_runs_xla_on_one_kernel_thread_unless_told_otherwise(monkeypatch):

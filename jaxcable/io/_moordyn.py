@@ -515,7 +515,7 @@ def _located_at(where: str):
 
 def _stepping(options: dict, notes: list[str]) -> dict:
     """The run settings for MoorDyn's `dtM` and `tScheme` (see `_SCHEMES`): fixed steps
-    of dtM, or none (adaptive) without a dtM; a note says what runs."""
+    of dtM, or without a dtM none (the scene's default, `auto`); a note says what runs."""
     if "dtm" not in options:
         return {}
     step, scheme = options["dtm"], options.get(_SCHEME, "RK2")
@@ -527,7 +527,8 @@ def _stepping(options: dict, notes: list[str]) -> dict:
         how = f"tScheme {scheme}, which jaxcable does not have: {solver}, MoorDyn's RK2, instead"
     notes.append(
         f"{where}: fixed steps of dtM = {step:g} s, {how} (jaxcable run --adaptive steps adaptively "
-        "instead; a step beyond the method's stability limit here is replaced by adaptive steps, with a warning)"
+        "instead; a step beyond the method's stability limit here is replaced by RK4 at a stable step, with a "
+        "warning)"
     )
     return {"dt": step, "solver": solver}
 

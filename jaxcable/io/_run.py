@@ -21,7 +21,7 @@ from .._motion import Sampled
 from .._progress import progress_bar
 from .._reach import for_run
 from .._simulate import simulate
-from .._stability import STABLE_GROWTH, fixed_step_growth
+from .._stability import STABLE_GROWTH, STEP_FRACTION, fixed_step_growth, fixed_steps
 from .._state import State
 from .._statics import StaticSolution, solve_statics
 from .._statics import prepare as prepare_statics
@@ -224,7 +224,8 @@ def run_scene(
         statics only.
     - `dt_out`: output interval (s); the scene's, or 0.1 s.
     - `solver`: a [`jaxcable.SolverConfig`][]; the scene's by default
-        (`scene.run.solver_config()`: its named solver and tolerances).
+        (`scene.run.solver_config(...)`: its named solver and tolerances, or for
+        `"auto"`, the default, fixed RK4 steps chosen for the scene's fastest modes).
     - `progress`: show a progress bar over simulated time on stderr: redrawn on a
         terminal, and otherwise (a log) a line at most every 20 s of wall time.
     - `statics`: solve statics first (the scene's `run.statics` by default); without,
@@ -246,9 +247,10 @@ def run_scene(
         raise SceneError(f"duration must be a non-negative number of seconds, got {duration}")
     if not (np.isfinite(dt_out) and dt_out > 0):
         raise SceneError(f"dt_out must be a positive number of seconds, got {dt_out}")
-    if solver is None:
+    named = solver is None
+    if named:
         try:
-            solver = settings.solver_config()
+            solver = settings.solver_config()  # checked before the scene is built
         except ValueError as error:  # a scene built in Python with an unknown solver name
             raise SceneError(str(error)) from None
     for point in scene.points:
@@ -263,6 +265,8 @@ def run_scene(
     built = scene.build()
     for warning in check_size(built, duration, dt_out, solver):  # before any work on the model
         warnings.warn(warning, stacklevel=2)
+    if named and duration > 0:  # "auto" chooses its step for the scene
+        solver = settings.solver_config(built, duration)
     model = built.model
     env = for_run(model, built.environment, duration)
     statics = settings.statics if statics is None else statics
@@ -435,25 +439,28 @@ def _compile_meter(meter: _CompileMeter | None = None) -> Iterator[_CompileMeter
 
 
 def _feasible(solver: SolverConfig, built: BuiltScene, ts: np.ndarray) -> tuple[SolverConfig, tuple[str, ...]]:
-    """`solver`, or adaptive steps in its place where its fixed step would fail: a step
-    beyond its method's stability limit at the scene's fastest modes (`jaxcable._stability`),
-    or more steps than its `max_steps`; with a note that says why."""
+    """`solver`, or where its fixed step would fail, RK4 at a step that does not
+    ([`jaxcable.fixed_steps`][]): a step beyond its method's stability limit at the
+    scene's fastest modes (`jaxcable._stability`), or more steps than its `max_steps`
+    (then adaptive steps); with a note that says why."""
     if not isinstance(solver.stepsize_controller, diffrax.ConstantStepSize) or solver.dt0 is None:
         return solver, ()
     dt = float(np.asarray(solver.dt0))
     method = type(solver.solver).__name__
-    adaptive = SolverConfig(max_steps=solver.max_steps)
-    instead = f"stepped adaptively with {describe_stepping(adaptive)} instead"
     steps = substeps_per_interval(ts, dt) * (ts.size - 1)
     if steps > solver.max_steps:
+        adaptive = SolverConfig(max_steps=solver.max_steps)
         return adaptive, (
-            f"fixed steps of {dt:g} s would take {steps} steps, more than max_steps = {solver.max_steps}: {instead}",
+            f"fixed steps of {dt:g} s would take {steps} steps, more than max_steps = {solver.max_steps}: "
+            f"stepped adaptively with {describe_stepping(adaptive)} instead",
         )
     growth = fixed_step_growth(solver.solver, dt, built, steps=steps)
     if growth is not None and growth > STABLE_GROWTH:
-        return adaptive, (
+        stable = fixed_steps([(built.model, built.environment)], float(ts[-1] - ts[0]), max_steps=solver.max_steps)
+        return stable, (
             f"fixed steps of {dt:g} s are beyond {method}'s stability limit here (the fastest mode grows "
-            f"{growth:.3g}× a step: no damping holds it): {instead}",
+            f"{growth:.3g}× a step: no damping holds it): stepped with {describe_stepping(stable)} instead "
+            f"({STEP_FRACTION:g} of RK4's stability limit)",
         )
     return solver, ()
 

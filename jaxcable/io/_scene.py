@@ -434,8 +434,9 @@ class LineSpec:
 @dataclass(frozen=True)
 class RunSettings:
     """How to run a scene: `duration` (s), the output interval `dt_out` (s; `None` for
-    0.1 s), the `solver` (a name in [`jaxcable.SOLVERS`][]), its tolerances, a fixed
-    step `dt` (s; `None` to step adaptively, as by default), the most steps
+    0.1 s), the `solver` (`"auto"`, the default, or a name in [`jaxcable.SOLVERS`][]),
+    its tolerances, a fixed step `dt` (s; `None` to step adaptively, or for `"auto"` at
+    the step it chooses), the most steps
     `max_steps`, the `mass_matrix` (`"consistent"` or `"lumped"`), the
     `hydrodynamics` (`"segments"`, or MoorDyn's `"nodes"`; see
     [`jaxcable.CableNetwork`][]), and whether to solve
@@ -445,7 +446,7 @@ class RunSettings:
 
     duration: float = 60.0
     dt_out: float | None = None
-    solver: str = "dopri5"
+    solver: str = "auto"
     rtol: float = 1e-6
     atol: float = 1e-6
     dt: float | None = None
@@ -454,19 +455,30 @@ class RunSettings:
     hydrodynamics: str = "segments"
     statics: bool = True
 
-    def solver_config(self) -> "SolverConfig":
+    def solver_config(self, built: "BuiltScene | None" = None, duration: float | None = None) -> "SolverConfig":
         """`SOLVERS[solver](rtol=rtol, atol=atol, max_steps=max_steps)`, or with `dt`
         fixed steps of `dt` (`dt0=dt`, `diffrax.ConstantStepSize()`; the tolerances
-        unused); `ValueError` naming the solver and the choices for an unknown name."""
+        unused); `ValueError` naming the solver and the choices for an unknown name.
+
+        `"auto"` is RK4 at fixed steps: of `dt` where given, else of 0.7 of RK4's
+        stability limit at the fastest modes of the `built` scene over a run of
+        `duration` (s) ([`jaxcable.fixed_steps`][]); without a scene, RK4 with no step
+        (what the checks of a scene's options need)."""
         import diffrax
 
         from .._config import SOLVERS
+        from .._names import AUTO
 
+        name = "rk4" if self.solver == AUTO else self.solver
+        if self.solver == AUTO and self.dt is None:
+            if built is None:
+                return SOLVERS[name](max_steps=self.max_steps)
+            from .._stability import fixed_steps
+
+            return fixed_steps([(built.model, built.environment)], duration, max_steps=self.max_steps)
         if self.dt is not None:
-            return SOLVERS[self.solver](
-                dt0=self.dt, stepsize_controller=diffrax.ConstantStepSize(), max_steps=self.max_steps
-            )
-        return SOLVERS[self.solver](rtol=self.rtol, atol=self.atol, max_steps=self.max_steps)
+            return SOLVERS[name](dt0=self.dt, stepsize_controller=diffrax.ConstantStepSize(), max_steps=self.max_steps)
+        return SOLVERS[name](rtol=self.rtol, atol=self.atol, max_steps=self.max_steps)
 
 
 @dataclass(frozen=True)

@@ -49,9 +49,12 @@ A scene file names its points and line types and lists its lines::
     [simulation]                 # all optional
     duration = 30.0              # s
     dt_out = 0.05                # s
-    solver = "dopri5"            # see jaxcable.SOLVERS
-    rtol = 1e-6
-    atol = 1e-6
+    solver = "auto"              # fixed RK4 steps chosen for the scene's fastest
+                                 # modes (jaxcable.fixed_steps); or a name in
+                                 # jaxcable.SOLVERS ("dopri5" where rtol or atol
+                                 # is given)
+    # rtol = 1e-6                # adaptive steps' tolerances
+    # atol = 1e-6
     # dt = 0.001                 # s: fixed steps (as MoorDyn's dtM) instead of adaptive;
     #                            # with solver = "midpoint", "heun" or "euler", say
     max_steps = 1000000
@@ -118,7 +121,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .._names import HYDRODYNAMICS, MASS_MATRICES, SOLVER_NAMES
+from .._names import AUTO, HYDRODYNAMICS, MASS_MATRICES, SOLVER_NAMES
 from ._motion_file import read_motion_file
 from ._parse import read_text, unique_names
 from ._scene import (
@@ -231,10 +234,12 @@ def parse_scene(path: str | Path) -> ParsedScene:
     simulation = reader.table(data, ("simulation",))
     reader.keys(simulation, ("simulation",), _SIMULATION)
     defaults = RunSettings()
+    # Tolerances without a solver ask for adaptive steps: Dopri5's, not auto's fixed ones.
+    tolerances = [key for key in ("rtol", "atol") if key in simulation]
     run = RunSettings(
         duration=reader.number(simulation, ("simulation", "duration"), defaults.duration),
         dt_out=reader.number(simulation, ("simulation", "dt_out"), None),
-        solver=reader.string(simulation, ("simulation", "solver"), defaults.solver),
+        solver=reader.string(simulation, ("simulation", "solver"), "dopri5" if tolerances else defaults.solver),
         rtol=reader.number(simulation, ("simulation", "rtol"), defaults.rtol),
         atol=reader.number(simulation, ("simulation", "atol"), defaults.atol),
         dt=reader.number(simulation, ("simulation", "dt"), None),
@@ -243,11 +248,17 @@ def parse_scene(path: str | Path) -> ParsedScene:
         hydrodynamics=reader.string(simulation, ("simulation", "hydrodynamics"), defaults.hydrodynamics),
         statics=reader.boolean(simulation, ("simulation", "statics"), defaults.statics),
     )
-    for key, allowed in (("solver", SOLVER_NAMES), ("mass_matrix", MASS_MATRICES), ("hydrodynamics", HYDRODYNAMICS)):
+    solvers = (AUTO, *SOLVER_NAMES)
+    for key, allowed in (("solver", solvers), ("mass_matrix", MASS_MATRICES), ("hydrodynamics", HYDRODYNAMICS)):
         if getattr(run, key) not in allowed:
             raise SceneError(
                 f"{reader.where(('simulation', key))}: must be one of {allowed}, got {getattr(run, key)!r}"
             )
+    if run.solver == AUTO and run.dt is None and tolerances:
+        raise SceneError(
+            f"{reader.where(('simulation', tolerances[0]))}: sets adaptive steps, but solver \"auto\" takes fixed "
+            'steps chosen for the scene: name an adaptive solver (solver = "dopri5"), or leave it out'
+        )
     if run.hydrodynamics == "nodes" and run.mass_matrix != "lumped":
         raise SceneError(
             f'{reader.where(("simulation", "hydrodynamics"))}: "nodes" (MoorDyn\'s lumped form) needs '
