@@ -625,11 +625,21 @@ def static_forces(model: CableNetwork, env: Environment, t, positions, still: bo
     the terms that are zero at rest: statics' forces, which compile smaller. With
     `still`, for water known to be still (no current, no waves), without the water's
     loads either, which are then zero too."""
+    return static_loads(model, env, t, positions, still)[0]
+
+
+def static_loads(
+    model: CableNetwork, env: Environment, t, positions, still: bool = False
+) -> tuple[Float[Array, "nodes 3"], Float[Array, "nodes 3"]]:
+    """[`static_forces`][] and the part of them that is not conservative, at rest (the
+    current's drag, the waves' loads at `t`, the bodies' constant forces; zeros with
+    `still`), each (N) of shape `(nodes, 3)`: statics reads both, and taken together
+    the water's loads are evaluated once."""
     positions = _cm(positions)
-    forces = _conservative_forces(model, env, positions)
+    water = jnp.zeros_like(positions)
     if not still:
-        forces = forces + _nonconservative_forces(model, env, t, positions, jnp.zeros_like(positions), True)
-    return _public(forces)
+        water = _nonconservative_forces(model, env, t, positions, jnp.zeros_like(positions), True)
+    return _public(_conservative_forces(model, env, positions) + water), _public(water)
 
 
 def _adjugate(blocks: Float[Array, "3 3 n"]) -> tuple[Float[Array, "3 3 n"], Float[Array, " n"]]:

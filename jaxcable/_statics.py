@@ -414,7 +414,12 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still
     # does the start: the equilibrium's derivative does not depend on it, and the loads
     # measured there (a norm of a zero drag) have none that is finite.
     fixed = jax.lax.stop_gradient((model, env, t, start))
-    softest = jnp.clip(_load_sum(*fixed, still) / (SOFT_STRAIN * jnp.max(_stiffness(fixed[0]))), 1e-300, 1.0)
+    # The water's loads at the start, evaluated once for the softening and the start shape.
+    placed = lag.full_state(fixed[0], t, fixed[3][free], zeros_free)[0]
+    water = _water_loads(*fixed[:3], placed, still)
+    softest = jnp.clip(
+        _load_sum(fixed[0], fixed[1], water) / (SOFT_STRAIN * jnp.max(_stiffness(fixed[0]))), 1e-300, 1.0
+    )
 
     def stage(carry, k):
         x, _ = carry
@@ -424,9 +429,7 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still
         found = solve(soft, fixed[1], fixed[2], x, tolerance)
         return (found.value, found.result), found.stats["num_steps"]
 
-    start = fixed[3]
-    if shaped:
-        start = _start_shape(*fixed[:3], lag.full_state(fixed[0], t, start[free], zeros_free)[0], still)
+    start = _start_shape(fixed[0], fixed[1], placed, water) if shaped else fixed[3]
     if free.size:
         (value, found), stage_steps = jax.lax.scan(
             stage, (start[free], optx.RESULTS.successful), jnp.arange(STAGES + 1)
@@ -435,10 +438,10 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still
     else:  # every node constrained: nothing to solve, the reactions still to find
         value, found, stage_steps = zeros_free, optx.RESULTS.successful, jnp.zeros(1, int)
     positions, _ = lag.full_state(model, t, value, zeros_free)
-    forces = lag.static_forces(model, env, t, positions, still)
+    forces, water = lag.static_loads(model, env, t, positions, still)
     left = jnp.max(jnp.abs(forces[free]), axis=1, initial=0.0)
     remaining = jnp.max(left, initial=0.0)
-    scale = _force_scale(model, env, t, positions, still)
+    scale = _force_scale(model, env, positions, water)
     # Judged here, not by the solver's code alone: a step limit that ends on a force
     # within the tolerance is still an equilibrium.
     within = remaining <= force_tolerance * scale + _rounding(model)
@@ -457,7 +460,7 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still
     tension = lag.tension(model, positions, velocities)
     ends = model.segment_nodes
     at_node = jnp.zeros(model.n_nodes).at[ends[:, 0]].max(jnp.abs(tension)).at[ends[:, 1]].max(jnp.abs(tension))
-    drag = _water_loads(model, env, t, positions, still)[worst]
+    drag = water[worst]
     on_seabed = jnp.asarray(False)
     if env.depth is not None and env.seabed is not None:
         on_seabed = positions[worst, 2] < -env.depth
@@ -487,9 +490,10 @@ def _forces(model, env, t, free_positions, relative, still):
     """The free nodes' forces (N) and, as the auxiliary output, the tolerance (N) and
     the segments' strains (–), which steps are truncated by."""
     positions, _ = lag.full_state(model, t, free_positions, jnp.zeros_like(free_positions))
-    tolerance = relative * _force_scale(model, env, t, positions, still) + _rounding(model)
+    forces, water = lag.static_loads(model, env, t, positions, still)
+    tolerance = relative * _force_scale(model, env, positions, water) + _rounding(model)
     strain = lag.segment_geometry(model, positions)[2]
-    return _free_forces(model, env, t, free_positions, still), (tolerance, strain)
+    return forces[model.free_nodes], (tolerance, strain)
 
 
 def _implicit(model, env, t, value, graph: NetworkJacobian):
@@ -530,16 +534,16 @@ def _free_forces(model, env, t, free_positions, still=False):
 
 def _water_loads(model, env, t, positions, still=False):
     """The water's loads (N, shape `(nodes, 3)`) on the nodes at rest at `positions`
-    (m): the current's drag, and the waves' at `t`; zeros, not evaluated, where the
-    water is `still` (`_still_water`)."""
-    rest = jnp.zeros_like(positions)
-    return rest if still else lag.nonconservative_forces(model, env, t, positions, rest)
+    (m): the current's drag, and the waves' at `t`, with the bodies' constant forces;
+    zeros, not evaluated, where the water is `still` (`_still_water`)."""
+    return lag.static_loads(model, env, t, positions, still)[1]
 
 
-def _force_scale(model, env, t, positions, still=False):
+def _force_scale(model, env, positions, water):
     """The scene's force scale (N) at `positions`: the largest segment tension, wet
     weight of a segment or a body (weight less buoyancy, either sign), body's constant
-    force, or drag (with the waves' inertia at `t`) on a node at rest. Wet, not dry:
+    force, or drag (with the waves' inertia) on a node at rest, of the `water`'s loads
+    there (`_water_loads`, which its callers have evaluated already). Wet, not dry:
     a near-neutral line's weight and buoyancy cancel, and what is left, not either,
     is what its tensions carry."""
     line, body = model.line, model.body
@@ -550,7 +554,7 @@ def _force_scale(model, env, t, positions, still=False):
         jnp.abs(line.mass_per_length - rho * line.area) * g * model.segment_length,
         jnp.abs(body.mass - rho * body.volume) * g,
         jnp.linalg.norm(body.force, axis=-1),
-        jnp.linalg.norm(_water_loads(model, env, t, positions, still), axis=-1),
+        jnp.linalg.norm(water, axis=-1),
     ]
     return jnp.max(jnp.stack([jnp.max(jnp.broadcast_to(x, jnp.shape(x) or (1,))) for x in loads]))
 
@@ -573,13 +577,14 @@ def _scaled_stiffness(model, factor):
     )
 
 
-def _load_sum(model, env, t, positions, still=False):
+def _load_sum(model, env, water):
     """The loads (N) that a network's tensions must carry, summed: every segment's
     weight and displaced weight, the bodies' weights, buoyancy and constant forces, and
-    the drag on every node at rest. The softened network's tensions are about this."""
+    the `water`'s loads on every node at rest (`_water_loads`). The softened network's
+    tensions are about this."""
     line, body = model.line, model.body
     g, rho = env.gravity, env.water_density
-    drag = jnp.linalg.norm(_water_loads(model, env, t, positions, still), axis=-1)
+    drag = jnp.linalg.norm(water, axis=-1)
     return (
         jnp.sum(
             jnp.broadcast_to((line.mass_per_length + rho * line.area) * g, (model.n_segments,)) * model.segment_length
@@ -648,7 +653,7 @@ def _chains(topology: Topology) -> _Chains:
     return _Chains(*(np.asarray(x, dtype=np.int64) for x in arrays))
 
 
-def _start_shape(model, env, t, positions, still=False):
+def _start_shape(model, env, positions, water):
     """`positions` (m, shape `(nodes, 3)`), with each chain (see `_chains`) put on its
     own analytic shape under its load, where that lowers the load's potential. The
     load is the chain's wet weight, bodies' weight, buoyancy and constant force, and
@@ -675,7 +680,7 @@ def _start_shape(model, env, t, positions, still=False):
     nodes = model.segment_nodes
     lift = jnp.zeros(model.n_nodes).at[nodes[:, 0]].add(0.5 * wet).at[nodes[:, 1]].add(0.5 * wet)
     lift = lift + (rho * body.volume - body.mass) * g
-    load = (lift[:, None] * up + body.force + _water_loads(model, env, t, positions, still))[moving]
+    load = (lift[:, None] * up + body.force + water)[moving]
     count = ends.shape[0]
     down = _unit(jax.ops.segment_sum(load, owner, count))
     pivot, far = positions[ends[:, 0]], positions[ends[:, 1]]

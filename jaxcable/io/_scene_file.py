@@ -256,7 +256,7 @@ def parse_scene(path: str | Path) -> ParsedScene:
             )
     if run.solver == AUTO and run.dt is None and tolerances:
         raise SceneError(
-            f"{reader.where(('simulation', tolerances[0]))}: sets adaptive steps, but solver \"auto\" takes fixed "
+            f'{reader.where(("simulation", tolerances[0]))}: sets adaptive steps, but solver "auto" takes fixed '
             'steps chosen for the scene: name an adaptive solver (solver = "dopri5"), or leave it out'
         )
     if run.hydrodynamics == "nodes" and run.mass_matrix != "lumped":
