@@ -31,6 +31,9 @@ Rows (`--rows` takes these names):
   the whole run and after its first 10 s (each engine starts from its own equilibrium:
   jaxcable's statics, MoorDyn's IC generation), and both engines' tension at t = 0.
   Targets: first run ÷ MoorDyn ≤ 1.5, second run ÷ MoorDyn ≤ 0.7.
+- `line40_auto`: the same with `--solver auto`: RK4 at fixed steps chosen for the
+  line's fastest modes (`jaxcable.fixed_steps`) in place of the file's dtM and tScheme,
+  against the same MoorDyn process, with the same targets.
 - `sweep32`, `sweep256`: a user's script, `jc.sweep(build, {"amplitude":
   np.linspace(0.5, 3.0, N)}, 60.0, ts=...)` over seed 003's line (N = 20, linear EA,
   lumped, nodal hydrodynamics: the model MoorDyn has) at jaxcable's default options,
@@ -85,7 +88,7 @@ from speed import cached_programs, load
 
 BENCHMARKS = Path(__file__).resolve().parent
 RESULTS = BENCHMARKS / "results" / "first_contact.json"
-ROWS = ("line40", "sweep32", "sweep256", "lowe_langley", "examples", "refusal")
+ROWS = ("line40", "line40_auto", "sweep32", "sweep256", "lowe_langley", "examples", "refusal")
 DEFAULTS = {"repeats": 3, "duration": 600.0, "cases": None, "examples": None}
 
 # line40: seed 003's rope, 40 segments, with internal damping and a seabed.
@@ -375,9 +378,10 @@ def typical(runs: list[dict]) -> dict:
     return good[(len(good) - 1) // 2] if good else runs[0]
 
 
-def row_line40(args) -> list[dict]:
+def row_line40(args, solver: str | None = None) -> list[dict]:
     """The 40-segment rope from its MoorDyn file and a motion table, `jaxcable run`
-    against MoorDyn's driver, cold and warm."""
+    against MoorDyn's driver, cold and warm; with `--solver solver` where given (the
+    `line40_auto` row: the file's dtM and tScheme replaced by `auto`)."""
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         (folder / "line40.txt").write_text(LINE40)
@@ -388,6 +392,8 @@ def row_line40(args) -> list[dict]:
         table = np.column_stack([t, x, zeros, zeros])
         np.savetxt(folder / "motion.csv", table, delimiter=",", header="time,x,y,z", comments="", fmt="%.10g")
         jaxcable = ["jaxcable", "run", "line40.txt", "--motion", "motion.csv", "--out", "run.csv"]
+        if solver is not None:
+            jaxcable += ["--solver", solver]
         moordyn = [sys.executable, "moordyn_table.py", "line40.txt", "motion.csv", repr(LINE40_DTM)]
         moordyn += [repr(LINE40_DT_OUT), "moordyn_tension.npy"]
         runs = interleaved(
@@ -398,9 +404,10 @@ def row_line40(args) -> list[dict]:
             "line40",
         )
         accuracy, difference = line40_accuracy(folder)
+    name = "line40" if solver is None else f"line40 with --solver {solver}"
     return [
         row(
-            f"line40: first `jaxcable run` ÷ MoorDyn's process ({args.duration:g} s motion table, 40 segments)",
+            f"{name}: first `jaxcable run` ÷ MoorDyn's process ({args.duration:g} s motion table, 40 segments)",
             jaxcable=runs["cold"],
             moordyn=runs["moordyn"],
             figure="ratio",
@@ -409,7 +416,7 @@ def row_line40(args) -> list[dict]:
             fairten_difference=difference,
         ),
         row(
-            "line40: second `jaxcable run` (warm cache) ÷ MoorDyn's process",
+            f"{name}: second `jaxcable run` (warm cache) ÷ MoorDyn's process",
             jaxcable=runs["warm"],
             moordyn=runs["moordyn"],
             figure="ratio",
@@ -684,6 +691,7 @@ def replaced(text: str, old: str, new: str) -> str:
 
 RUNNERS = {
     "line40": row_line40,
+    "line40_auto": lambda args: row_line40(args, "auto"),
     "sweep32": lambda args: row_sweep(args, 32, (3.0, 10.0)),
     "sweep256": lambda args: row_sweep(args, 256, (10.0, None)),
     "lowe_langley": row_lowe_langley,

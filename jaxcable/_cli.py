@@ -209,7 +209,8 @@ def _parser() -> argparse.ArgumentParser:
         "--solver",
         choices=[AUTO, *sorted(SOLVER_NAMES)],
         help="ODE solver (default: the scene's; auto, fixed RK4 steps chosen for the scene's fastest modes, or "
-        "the file's tScheme with its dtM for a MoorDyn file)",
+        "the file's tScheme with its dtM for a MoorDyn file); auto chooses its step in place of the file's dtM "
+        "unless --dt is given",
     )
     run.add_argument("--dt", type=float, help="fixed step (s), as MoorDyn's dtM (default: the file's dtM, if any)")
     run.add_argument("--adaptive", action="store_true", help="step adaptively, even where the file gives dtM")
@@ -503,6 +504,8 @@ def _run_settings(scene: "Scene", args) -> "RunSettings":
     changes = {key: value for key, value in changes.items() if value is not None}
     if args.max_steps is not None:
         changes["max_steps"] = args.max_steps
+    if args.solver == AUTO and args.dt is None:
+        changes["dt"] = None  # auto chooses its step, in place of a file's dtM
     if args.adaptive:
         changes["dt"] = None
         if changes.get("solver", scene.run.solver) == AUTO:  # auto's steps are fixed

@@ -86,9 +86,12 @@ def fixed_step_growth(solver: diffrax.AbstractSolver, dt: float, model, env=None
 
 STEP_FRACTION = 0.7
 """The fraction of the stability limit ([`stable_step`][]) that [`fixed_steps`][] steps
-at. The modes are estimated at the rest stiffness C_E: the margin covers a tension law
-that stiffens with strain (a tangent stiffness up to twice C_E), and at 0.7 of the limit
-RK4 damps the fastest axial mode by 10 % a step rather than leaving it at the edge."""
+at. The limit is that of the linearised modes, taut and inside the slack switch's band;
+a segment crossing the band also stiffens with its strain rate (the damping's `C_v ε̇
+H'(ε)`), which no linear mode holds: on a damped rope through its first snap RK4 went
+non-finite at the limit and put a spike of 4× the peak tension into the history at
+0.95 of it, and ran clean at 0.9 (`tests/test_advice.py`). At 0.7 RK4 also damps the
+fastest axial mode rather than leaving it at the edge."""
 
 NO_MODE_STEP = 0.1
 """The step (s) of [`fixed_steps`][] for scenes without a fast mode."""

@@ -19,6 +19,7 @@ import jaxcable as jc
 from jaxcable import _lagrangian as lag
 from jaxcable._advice import (
     STABLE_STEP,
+    _axial_modes,
     advise,
     bending_modes,
     fastest_eigenvalues,
@@ -39,7 +40,9 @@ from jaxcable._stability import (
 from jaxcable.io import advice_lines
 
 
-def taut_line(mass_matrix: str, damping_ratio: float = 0.0, bending_stiffness: float = 0.0) -> jc.io.BuiltScene:
+def taut_line(
+    mass_matrix: str, damping_ratio: float = 0.0, bending_stiffness: float = 0.0, slack_width: float = 1e-5
+) -> jc.io.BuiltScene:
     # A straight, stretched line between two anchors: its fastest mode is axial.
     rope = jc.io.LineTypeSpec(
         "rope",
@@ -49,6 +52,7 @@ def taut_line(mass_matrix: str, damping_ratio: float = 0.0, bending_stiffness: f
         axial_damping_ratio=damping_ratio,
         tangential_added_mass=0.5,
         bending_stiffness=bending_stiffness,
+        slack_width=slack_width,
     )
     points = (jc.io.PointSpec("a", "fixed", (0.0, 0.0, -50.0)), jc.io.PointSpec("b", "fixed", (101.0, 0.0, -50.0)))
     lines = (jc.io.LineSpec("1", "rope", 0, 1, 100.0, 20),)
@@ -135,19 +139,74 @@ def test_a_bending_mode_counts_against_a_fixed_step_where_the_run_would_grow_it(
 
 
 def test_the_stable_step_is_the_edge_of_the_stability_region():
-    """Undamped, the fastest axial mode λ = iω_n is stable under RK4 up to ω_n Δt =
-    2√2 (|R(iy)|² = 1 − y⁶/72 + y⁸/576); damped, the step ends where |R(λ Δt)| first
-    reaches 1 on the mode's ray, which the closed form of R confirms from both sides;
-    and a two-stage method keeps no undamped mode from growing at any step."""
+    """Undamped, the fastest axial mode λ = iω is stable under RK4 up to ω Δt = 2√2
+    (|R(iy)|² = 1 − y⁶/72 + y⁸/576). With a sharp slack switch ω is the taut
+    segment's ω_n; with a smoothed one, a segment inside the switch's band is stiffer,
+    27/16 C_E at most (the tangent of C_E ε s²(3 − 2s), s = ε/w, at s = 3/4), so
+    ω = √(27/16) ω_n. Damped, the step ends where |R(λ Δt)| first reaches 1 on a mode's
+    ray, which the closed form of R confirms from both sides; and a two-stage method
+    keeps no undamped mode from growing at any step."""
     undamped = taut_line("lumped", 0.0)
     _, omega, _ = stiffest_axial_mode(undamped)
-    assert stable_step(jc.RK4(), undamped) * omega == pytest.approx(2 * math.sqrt(2), rel=1e-9)
+    sharp = taut_line("lumped", 0.0, slack_width=0.0)
+    assert stable_step(jc.RK4(), sharp) * omega == pytest.approx(2 * math.sqrt(2), rel=1e-9)
+    assert stable_step(jc.RK4(), undamped) * omega * math.sqrt(27 / 16) == pytest.approx(2 * math.sqrt(2), rel=1e-9)
     assert stable_step(diffrax.Midpoint(), undamped) * omega < 1e-2
     damped = taut_line("lumped", 0.5)
     dt = stable_step(jc.RK4(), damped)
     eigenvalues = fastest_eigenvalues(damped)
     assert np.abs(stability_function(jc.RK4(), eigenvalues * dt)).max() <= 1 + 1e-9
     assert np.abs(stability_function(jc.RK4(), eigenvalues * dt * 1.001)).max() > 1
+
+
+# A damped 40-segment steel rope whose top's motion slackens it from t ≈ 3 s (as in
+# `benchmarks/first_contact.py`'s line40): its segments pass through the slack
+# switch's band, where they are stiffer and less damped than taut.
+SNAPPING_ROPE = """snapping rope
+----------------------- LINE TYPES ------------------------------------------
+TypeName   Diam     Mass/m     EA         BA/-zeta    EI         Cd     Ca     CdAx    CaAx
+(name)     (m)      (kg/m)     (N)        (N-s/-)     (N-m^2)    (-)    (-)    (-)     (-)
+rope  0.0195441  3.0  3.0e7  -0.8  0.0  1.557  1.301  0.0248  1.301
+---------------------- POINTS --------------------------------
+ID    Type      X       Y       Z       Mass    Volume      CdA    Ca
+(#)   (-)       (m)     (m)     (m)     (kg)    (m^3)       (m^2)  (-)
+1     Fixed     0.0     0.0     -200.0  0       0           0      0
+2     Coupled   346.4101615137755  0.0  0.0  0       0           0      0
+---------------------- LINES ----------------------------------------
+ID   LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
+(#)   (name)     (#)      (#)       (m)       (-)     (-)
+1    rope       1        2        400.0     40       pt
+---------------------- OPTIONS -----------------------------------------
+250           WtrDpth       water depth (m)
+0.1           dtOut         output interval (s)
+------------------------- need this line --------------------------------------
+"""
+
+
+def test_a_segment_inside_the_slack_band_bounds_the_step(tmp_path):
+    """The slack band's modes are real: on a damped rope through its first slack and
+    snap, RK4 at 1.1 times the step they allow, at which the taut modes alone are
+    stable, goes non-finite; at `fixed_steps`' 0.7 of it, the top tension is that of
+    steps a quarter as long to 0.1 % of the peak."""
+    path = tmp_path / "rope.txt"
+    path.write_text(SNAPPING_ROPE)
+    t = np.arange(0.0, 8.05, 0.1)
+    top = np.column_stack([346.4101615137755 + 1.5733 * np.sin(2 * np.pi * t / 5.6), 0 * t, 0 * t])
+    built = jc.read_moordyn(path).with_motion_table(t, top[:, None, :], "the top's motion").build()
+    model, env = built.model, built.environment
+    limit = stable_step(jc.RK4(), built, duration=8.0)
+    assert limit is not None
+    assert np.abs(stability_function(jc.RK4(), _axial_modes(model, env)[1] * 1.1 * limit)).max() < 1
+
+    def top_tension(dt):
+        config = jc.SolverConfig(jc.RK4(), dt0=dt, stepsize_controller=diffrax.ConstantStepSize())
+        return np.asarray(jc.simulate(model, env, 8.0, ts=t, solver=config).tension[:, -1])
+
+    with pytest.raises(RuntimeError, match="non-finite"):
+        top_tension(1.1 * limit)
+    fine = top_tension(0.7 * limit / 4)
+    assert np.max(np.abs(top_tension(0.7 * limit) - fine)) < 1e-3 * np.max(fine)
+    assert np.max(fine) > 100e3  # N: the snap at t ≈ 6.8 s
 
 
 def test_fixed_steps_are_stable_for_the_linearised_line_of_every_scene():
