@@ -160,12 +160,16 @@ def stiffest_axial_mode(model, env: Environment | None = None) -> tuple[float, f
 
 
 def fastest_eigenvalues(
-    model, env: Environment | None = None, bending: bool = True, duration: float | None = None
+    model,
+    env: Environment | None = None,
+    bending: bool = True,
+    duration: float | None = None,
+    slack_band: bool = False,
 ) -> np.ndarray:
     """The eigenvalues λ (1/s, complex) that bound an explicit step: each segment's
     highest axial mode ([`stiffest_axial_mode`][jaxcable._advice.stiffest_axial_mode]),
-    taut and inside its slack switch's band ([`_slack_band_modes`][]), and its highest
-    bending mode where the line has EI
+    taut, and with `slack_band` inside its slack switch's band too
+    ([`_slack_band_modes`][]), and its highest bending mode where the line has EI
     ([`bending_modes`][jaxcable._advice.bending_modes]), and, with a seabed, the
     contact and friction modes of a node on it
     ([`seabed_mode`][jaxcable._advice.seabed_mode]) for each segment that can reach
@@ -175,7 +179,8 @@ def fastest_eigenvalues(
     `(modes,)`. Without the bending modes if not `bending`."""
     model, env, _ = _unpack(model, env, None)
     _, axial = _axial_modes(model, env)
-    axial = np.concatenate([axial, _slack_band_modes(model, env)])
+    if slack_band:
+        axial = np.concatenate([axial, _slack_band_modes(model, env)])
     if bending and model.line.bending_stiffness is not None:
         axial = np.concatenate([axial, 1j * bending_modes(model, env)])  # undamped
     touching = seabed_reach(model, env, duration)
@@ -219,7 +224,12 @@ def _slack_band_modes(model: CableNetwork, env: Environment) -> np.ndarray:
     taut) has a faster, less damped mode than the taut segment. On the damped 40-segment
     rope of `benchmarks/first_contact.py` RK4 steps of 3.5 ms went non-finite at its
     first slack, and 3.24 ms put a 563 kN spike in a 138 kN history, where the taut
-    mode alone allowed 4.6 ms; the band's modes bound the step at 3.4 ms."""
+    mode alone allowed 4.6 ms; the band's modes bound the step at 3.4 ms.
+
+    They occur only where a line goes slack, which a taut line (the Low & Langley
+    jumper, a buoy's tether) never does: [`jaxcable._stability.stable_step`][], which
+    chooses a step, counts them; `fixed_step_growth`, which judges one a user or a
+    file gave, does not."""
     width = np.broadcast_to(np.asarray(model.line.tension_law.slack_width, dtype=float), (model.n_segments,))
     smooth = width > 0
     if not smooth.any():

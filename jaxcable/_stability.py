@@ -18,6 +18,11 @@ transverse modes too, undamped at rest, but may be fast where segments are short
 stiff in bending: they count where a run's fixed steps would grow them by more than
 `BENDING_RUN_GROWTH` (the Low & Langley jumper's fastest, 13 rad/s, grows by 4e-9 a
 midpoint step of 1 ms, 4e-4 over its 107,000 steps).
+
+A step given by a user or a file is judged at the taut modes ([`fixed_step_growth`][]); a
+step chosen for a scene ([`stable_step`][], [`fixed_steps`][]) is also held within the
+limit of a segment inside its slack switch's band, which a line that goes slack passes
+through (`jaxcable._advice._slack_band_modes`).
 """
 
 from collections.abc import Iterable
@@ -106,15 +111,17 @@ def stable_step(solver: diffrax.AbstractSolver, model, env=None, duration: float
     """The longest fixed step (s) at which `solver` keeps every fast mode of `model` in
     `env` (or of a built scene alone) from growing: |R(λ Δt)| ≤ 1 for each eigenvalue λ
     of [`jaxcable._advice.fastest_eigenvalues`][] (the axial modes with their damping,
-    the bending modes where the line has EI, and the seabed's modes where a segment can
-    reach the bed in a run of `duration` (s; any length where `None`)).
+    taut and inside the slack switch's band, where a segment going slack or snapping
+    taut is stiffer; the bending modes where the line has EI; and the seabed's modes
+    where a segment can reach the bed in a run of `duration` (s; any length where
+    `None`)).
 
     Along each mode's ray z = λ Δt the step grows from 0 until |R(z)| first exceeds 1:
     the stable steps from 0 up to there. Infinite where the scene has no fast mode; 0
     where a mode grows at any step (an undamped mode under a two-stage method, whose
     |R(iy)| exceeds 1 for every y > 0). `None` where the solver has no explicit tableau
     (`stability_function`)."""
-    eigenvalues = np.unique(fastest_eigenvalues(model, env, bending=True, duration=duration))
+    eigenvalues = np.unique(fastest_eigenvalues(model, env, bending=True, duration=duration, slack_band=True))
     eigenvalues = eigenvalues[np.abs(eigenvalues) > 0]
     if eigenvalues.size == 0:
         return None if stability_function(solver, np.zeros(1)) is None else float("inf")

@@ -154,7 +154,7 @@ def test_the_stable_step_is_the_edge_of_the_stability_region():
     assert stable_step(diffrax.Midpoint(), undamped) * omega < 1e-2
     damped = taut_line("lumped", 0.5)
     dt = stable_step(jc.RK4(), damped)
-    eigenvalues = fastest_eigenvalues(damped)
+    eigenvalues = fastest_eigenvalues(damped, slack_band=True)
     assert np.abs(stability_function(jc.RK4(), eigenvalues * dt)).max() <= 1 + 1e-9
     assert np.abs(stability_function(jc.RK4(), eigenvalues * dt * 1.001)).max() > 1
 
