@@ -159,6 +159,58 @@ class Irvine:
         return np.array([[kxx, 0.0, kxz], [0.0, h / self.span, 0.0], [kzx, 0.0, kzz]])
 
 
+class BedCatenary:
+    """An elastic catenary from an anchor on a frictionless, rigid seabed (the origin)
+    to a fairlead at horizontal distance `span` and height `height` above the bed, part
+    of it lying on the bed: MoorPy's catenary with seabed contact, in closed form.
+
+    With H the horizontal tension and V the fairlead's vertical force, the suspended
+    length is V/w (it leaves the bed tangent, with no vertical tension), the rest lies
+    straight on the bed at tension H:
+
+        x = L − V/w + H L/EA + (H/w) asinh(V/H)
+        z = (H/w)(√(1 + (V/H)²) − 1) + V²/(2 w EA)
+    """
+
+    def __init__(self, span, height, length, w, ea):
+        self.span, self.height, self.length, self.w, self.ea = span, height, length, w, ea
+
+        def closure(p):
+            x, z = self.xz(np.exp(p[0]), p[1] * w * length)
+            return [(x - span) / length, (z - height) / length]
+
+        h0 = w * height
+        p, info, ier, msg = fsolve(closure, [np.log(h0), 0.5], xtol=1e-13, full_output=True)
+        assert np.max(np.abs(closure(p))) < 1e-11, msg
+        self.H, self.V = np.exp(p[0]), p[1] * w * length
+        assert 0 < self.V < w * length, "the line must rest on the bed"
+
+    def xz(self, h, v):
+        w, ea, length = self.w, self.ea, self.length
+        x = length - v / w + h * length / ea + h / w * np.arcsinh(v / h)
+        z = h / w * (np.hypot(1, v / h) - 1) + v**2 / (2 * w * ea)
+        return x, z
+
+    def support_stiffness(self):
+        """The fairlead's stiffness (N/m), `∂(its reaction)/∂(its position)`, shape
+        `(3, 3)`, axes (along the span, across it, up): the inverse of the flexibility
+        ∂(x, z)/∂(H, V) in the line's plane, T the fairlead's tension,
+
+            ∂x/∂H = L/EA + asinh(V/H)/w − V/(w T)
+            ∂x/∂V = ∂z/∂H = (H/T − 1)/w
+            ∂z/∂V = V/(w T) + V/(w EA)
+
+        and across it H/span: the line and its plane turn about the anchor."""
+        h, v, w, ea, length = self.H, self.V, self.w, self.ea, self.length
+        t = np.hypot(h, v)
+        cross = (h / t - 1) / w
+        flexibility = np.array(
+            [[length / ea + np.arcsinh(v / h) / w - v / (w * t), cross], [cross, v / (w * t) + v / (w * ea)]]
+        )
+        (kxx, kxz), (kzx, kzz) = np.linalg.inv(flexibility)
+        return np.array([[kxx, 0.0, kxz], [0.0, h / self.span, 0.0], [kzx, 0.0, kzz]])
+
+
 def catenary_parameter(span: float, length: float) -> float:
     """a = H/w of the inextensible catenary of `length` between points level `span` apart."""
     return brentq(lambda a: 2 * a * np.sinh(span / (2 * a)) - length, 1.0, 1e4, xtol=1e-14)

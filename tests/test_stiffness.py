@@ -16,13 +16,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
-from helpers import Irvine
+from helpers import BedCatenary, Irvine
 from scipy.spatial.transform import Rotation
 
 import jaxcable as jc
 from jaxcable._advice import Labels, advise
 from jaxcable._statics import FORCE_TOLERANCE, MAX_STEPS
-from jaxcable._stiffness import stiffness_and_statics
+from jaxcable._stiffness import pinned_stiffness, stiffness_and_statics
 from jaxcable.io import advice_lines
 
 MASS, DIAMETER, EA = 80.0, 0.1, 5e8  # kg/m, m, N
@@ -381,26 +381,59 @@ def test_stiffness_is_differentiable_and_vmaps_over_designs():
     np.testing.assert_allclose(jax.vmap(k_xx)(scales), [k_xx(s) for s in scales], rtol=1e-10)
 
 
-@pytest.mark.slow
-def test_line_on_the_seabed_at_fine_resolution():
-    """`benchmarks/stiffness.py`'s line on the bed (500 m, about 330 m lying) at N = 128,
-    where the softest stage of statics' continuation rests with compressed segments on
-    the bed (a singular Jacobian) and a derivative through every stage once failed in
-    lineax: the fairlead's 3 × 3 against the implicit-function formula at the
-    equilibrium, `K = −(J_cc − J_cf J_ff⁻¹ J_fc)`, with J the dense Jacobian of the
-    forces by `jax.jacfwd` and numpy's solve (866.8 N/m along the span; MoorPy's
-    continuum 885)."""
-    from jaxcable import _lagrangian as lag
-
-    n = 128
-    line = chain()
+def on_the_bed(segments: int):
+    """`benchmarks/stiffness.py`'s chain on a frictionless bed: 500 m from an anchor on
+    the bed 150 m down to a fairlead 400 m along at −5 m, about 330 m lying."""
     model = jc.CableNetwork.from_branches(
         junctions=np.array([[400.0, 0.0, -5.0], [0.0, 0.0, -150.0]]),
-        branches=[jc.Branch(1, 0, line, 500.0, n)],
+        branches=[jc.Branch(1, 0, chain(), 500.0, segments)],
         constraints={0: jc.Fixed(), 1: jc.Fixed()},
     )
     env = jc.Environment(depth=150.0, seabed=jc.Seabed(stiffness=3e6))
-    k, solution = stiffness_and_statics(model, env, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
+    wet = (MASS - float(env.water_density) * np.pi * DIAMETER**2 / 4) * float(env.gravity)
+    return model, env, BedCatenary(400.0, 145.0, 500.0, wet, EA).support_stiffness()
+
+
+def test_a_line_on_the_seabed_has_the_continuous_lines_stiffness():
+    """Where the line rests on the bed the fairlead's 3 × 3 is within 1 % of the
+    continuous line's closed form (MoorPy's catenary with seabed contact) at 40
+    segments, where the exact derivative of the polyline's equilibrium, pinned at its
+    last node on the bed, is off by 4.4 % in K_zz."""
+    model, env, expected = on_the_bed(40)
+    k = np.asarray(jc.stiffness(model, env, 0))
+    scale = np.abs(expected).max()
+    np.testing.assert_allclose(k, expected, atol=0.01 * scale)
+    pinned, _ = pinned_stiffness(model, env, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
+    assert abs(float(pinned[0, 2, 0, 2]) / expected[2, 2] - 1) > 0.03
+
+
+@pytest.mark.slow
+def test_a_line_on_the_seabed_converges_to_the_continuous_line():
+    """The fairlead's 3 × 3 against the closed form, the largest difference relative
+    to the largest entry, falls as the segments shrink (1.7 %, 0.94 %, 0.25 % at 32, 48
+    and 64 segments: K_zx, whose column moves the touchdown most)."""
+    errors = []
+    for n in (32, 48, 64):
+        model, env, expected = on_the_bed(n)
+        k = np.asarray(jc.stiffness(model, env, 0))
+        errors.append(np.abs(k - expected).max() / np.abs(expected).max())
+    assert errors[0] < 0.02 and errors[1] < 0.01 and errors[2] < 0.003
+    assert errors[0] > errors[1] > errors[2]
+
+
+@pytest.mark.slow
+def test_the_pinned_derivative_on_the_seabed_at_fine_resolution():
+    """The same line at N = 128, where the softest stage of statics' continuation rests
+    with compressed segments on the bed (a singular Jacobian) and a derivative through
+    every stage once failed in lineax: the exact derivative of the equilibrium against
+    the implicit-function formula at the equilibrium, `K = −(J_cc − J_cf J_ff⁻¹ J_fc)`,
+    with J the dense Jacobian of the forces by `jax.jacfwd` and numpy's solve (866.8 N/m
+    along the span: the line pinned at its last node on the bed, where the continuous
+    line's is 885)."""
+    from jaxcable import _lagrangian as lag
+
+    model, env, _ = on_the_bed(128)
+    k, solution = pinned_stiffness(model, env, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
     x = solution.state.positions
     assert int(np.sum(np.asarray(x)[:, 2] < -150.0)) > 60  # most of the line lies on the bed
     jacobian = np.asarray(jax.jacfwd(lambda y: lag.generalised_forces(model, env, 0.0, y, jnp.zeros_like(y)))(x))
