@@ -198,7 +198,7 @@ def solve_statics(
         if closed_form is not None:
             return closed_form
     _check_geometry(model, start, t)
-    solution = _equilibrium(model, env, start, t, max_steps, force_tolerance, initial is None, _still_water(env))
+    solution = _equilibrium(model, env, start, t, max_steps, force_tolerance, initial is None, _still_water(env), False)
     if not throw:
         return solution
     failed = solution.result != optx.RESULTS.successful
@@ -232,7 +232,9 @@ def prepare(
     if applies(model, env, t):
         return
     _required_strain.prepare(model, t)
-    _equilibrium.prepare(model, env, model.node_positions, t, max_steps, force_tolerance, True, _still_water(env))
+    _equilibrium.prepare(
+        model, env, model.node_positions, t, max_steps, force_tolerance, True, _still_water(env), False
+    )
 
 
 def _still_water(env: Environment) -> bool:
@@ -373,11 +375,21 @@ def _required_strain(model: CableNetwork, t):
     return jnp.max(strain), pair, jnp.ravel(distance)[worst], jnp.ravel(chain)[worst], held
 
 
+def nearby_equilibrium(model, env, start: State, t, max_steps, force_tolerance) -> StaticSolution:
+    """The equilibrium from `start`, the equilibrium of a network nearby (the same
+    network with its supports moved a little), by the last stage of `solve_statics`'
+    continuation alone, as `solve_statics(..., throw=False)` gives it otherwise: the
+    softer stages would move the nodes away only for the stiffer ones to bring them
+    back. Traceable; for `jaxcable.stiffness`, which finds tens of such equilibria."""
+    return _equilibrium(model, env, start.positions, t, max_steps, force_tolerance, False, _still_water(env), True)
+
+
 @functools.partial(program, compiler_options=RUN_ONCE)
-def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still) -> StaticSolution:
+def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still, nearby) -> StaticSolution:
     """The whole solve, compiled once per topology and option set; from `start`
     improved by `_start_shape` if `shaped`, a caller's `initial` as given otherwise;
-    without the water's loads where `still` (`_still_water`)."""
+    without the water's loads where `still` (`_still_water`); the network itself
+    alone, without the softer stages, where `nearby` (`nearby_equilibrium`)."""
     free = model.free_nodes
     zeros_free = jnp.zeros((free.shape[0], 3))
 
@@ -432,7 +444,7 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still
     start = _start_shape(fixed[0], fixed[1], placed, water) if shaped else fixed[3]
     if free.size:
         (value, found), stage_steps = jax.lax.scan(
-            stage, (start[free], optx.RESULTS.successful), jnp.arange(STAGES + 1)
+            stage, (start[free], optx.RESULTS.successful), jnp.arange(STAGES if nearby else 0, STAGES + 1)
         )
         value = _implicit(model, env, t, value, graph)
     else:  # every node constrained: nothing to solve, the reactions still to find
