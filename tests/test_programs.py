@@ -217,7 +217,7 @@ _KEY_SCRIPT = textwrap.dedent(
     from jaxcable.examples import seed003_line
     model, env = seed003_line(6)
     _programs.use_folder("unused")
-    key, _ = _statics._equilibrium._program((model, env, model.node_positions, 0.0, 100, 1e-6, True, True), {})
+    key, _ = _statics._equilibrium._program((model, env, model.node_positions, 0.0, 100, 1e-6, True, True, False), {})
     print(key)
     """
 )

@@ -301,7 +301,7 @@ def test_statics_in_still_water_is_the_general_path(scene):
     env = _still(env)
     assert _statics._still_water(env)
     args = (model, env, model.node_positions, 0.0, _statics.MAX_STEPS, _statics.FORCE_TOLERANCE, True)
-    general, still = (_statics._equilibrium(*args, flag) for flag in (False, True))
+    general, still = (_statics._equilibrium(*args, flag, False) for flag in (False, True))
     assert bool(general.result == optx.RESULTS.successful) and bool(still.result == optx.RESULTS.successful)
     scale = float(general.force_scale)
     size = float(np.ptp(np.asarray(general.state.positions)))

@@ -15,14 +15,15 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
+import optimistix as optx
 import pytest
 from helpers import BedCatenary, Irvine
 from scipy.spatial.transform import Rotation
 
 import jaxcable as jc
 from jaxcable._advice import Labels, advise
-from jaxcable._statics import FORCE_TOLERANCE, MAX_STEPS
-from jaxcable._stiffness import pinned_stiffness, stiffness_and_statics
+from jaxcable._statics import FORCE_TOLERANCE, MAX_STEPS, nearby_equilibrium
+from jaxcable._stiffness import _supports_moved, pinned_stiffness, stiffness_and_statics
 from jaxcable.io import advice_lines
 
 MASS, DIAMETER, EA = 80.0, 0.1, 5e8  # kg/m, m, N
@@ -474,3 +475,20 @@ def test_the_pinned_derivative_on_the_seabed_at_fine_resolution():
     expected = reduced.reshape(held.size, 3, held.size, 3)[0, :, 0, :]
     np.testing.assert_allclose(np.asarray(k)[0, :, 0, :], expected, rtol=1e-6, atol=1e-6 * np.abs(expected).max())
     assert 850.0 < expected[0, 0] < 885.0
+
+
+def test_the_nearby_equilibrium_is_the_equilibrium():
+    """The touchdown's equilibria, by the statics' last stage alone from the
+    equilibrium before a support moved 5 m, are the discrete catenary's in closed form
+    (`solve_statics` of the moved line): the reactions to 1e-6 relative, the nodes to
+    a millimetre."""
+    model, env, _ = on_the_bed(16)
+    here = jc.solve_statics(model, env)
+    moved = _supports_moved(model, jnp.zeros((2, 3)).at[0].set([5.0, 0.0, 3.0]))
+    near = nearby_equilibrium(moved, env, here.state, 0.0, MAX_STEPS, FORCE_TOLERANCE)
+    full = jc.solve_statics(moved, env)
+    assert bool(near.result == optx.RESULTS.successful) and full.method == "discrete catenary"
+    np.testing.assert_allclose(
+        near.reactions, full.reactions, rtol=1e-6, atol=1e-6 * float(jnp.abs(full.reactions).max())
+    )
+    np.testing.assert_allclose(near.state.positions, full.state.positions, atol=1e-3)
