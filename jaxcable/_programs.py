@@ -37,6 +37,7 @@ Python traces the next.
 """
 
 import concurrent.futures
+import contextlib
 import dataclasses
 import enum
 import functools
@@ -59,7 +60,6 @@ import equinox as eqx
 import jax
 import numpy as np
 from jax import monitoring
-from jax._src import config as jax_config
 from jax.core import Tracer
 from jax.experimental import serialize_executable
 
@@ -284,9 +284,8 @@ class Program:
         new jaxcable whose program lowers as before); JAX's cache still serves it."""
         _hits.count = 0
         # Kept here, so not in JAX's cache as well: its compressed copy of statics' program
-        # was written on a cold run's critical path, for nothing. The setting is this
-        # thread's alone (JAX has no public per-call switch).
-        with jax_config.persistent_cache_min_compile_time_secs(float("inf")):
+        # was written on a cold run's critical path, for nothing.
+        with persistent_cache_threshold(float("inf")):
             executable = lowered.compile(self.compiler_options or None)
         if not _hits.count:
             self._save(key, executable, tree)
@@ -348,6 +347,18 @@ fusion emitters (its default) and LLVM's optimisations make kernels that run fas
 compile slower. For the Low & Langley file's statics: 2.8 s of CPU to compile with
 both, 1.3 s without, and 10.7 against 24.7 ms to run (quiet; `benchmarks/README.md`,
 *The cold process*), a cold `jaxcable run` 0.7 s shorter."""
+
+
+def persistent_cache_threshold(seconds: float) -> contextlib.AbstractContextManager:
+    """A context manager: inside it, this thread keeps in JAX's persistent cache only
+    the programs that take longer than `seconds` (s) to compile.
+
+    JAX has no public per-thread switch (`jax.config.update` sets every thread's), so
+    this is the one place jaxcable reaches into JAX's private modules;
+    `tests/test_programs.py` fails if a JAX release moves it."""
+    from jax._src import config
+
+    return config.persistent_cache_min_compile_time_secs(seconds)
 
 
 def program(fn: Callable, compiler_options: dict[str, Any] | None = None) -> Program:

@@ -14,7 +14,6 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 from jax._src import compilation_cache
-from jax._src import config as jax_config
 
 import jaxcable as jc
 from jaxcable import _programs
@@ -34,7 +33,7 @@ def folder(tmp_path):
     """Keep programs in a fresh folder for the test, beside a fresh JAX cache (as the
     command line keeps them): a program another test compiled comes from JAX's cache
     and is not kept (`Program._compile`). None afterwards."""
-    kept, kept_cache = _programs.folder(), jax_config.compilation_cache_dir.value
+    kept, kept_cache = _programs.folder(), jax.config.jax_compilation_cache_dir
     _programs.use_folder(tmp_path / "programs")
     _use_jax_cache(tmp_path / "jax")
     TRACES.clear()
@@ -72,7 +71,7 @@ def test_a_program_from_jax_cache_is_not_kept_and_runs(folder):
     either, but an older jaxcable's may be there. Every process's answer is right."""
     x = jnp.arange(4.0)
     args = (x, 2, {"offset": 1.5})
-    with jax_config.persistent_cache_min_compile_time_secs(0):  # JAX keeps every program, as for the command line
+    with _programs.persistent_cache_threshold(0):  # JAX keeps every program, as for the command line
         lowered, _ = _programs.Program(_kernel)._lower(args, {})
         lowered.compile()  # into JAX's cache, as an older jaxcable left it
         for _ in range(2):  # a new process each time: compiled again, from JAX's cache
@@ -84,7 +83,7 @@ def test_a_program_from_jax_cache_is_not_kept_and_runs(folder):
 def test_a_kept_program_is_not_in_jax_cache_too(folder):
     """The folder holds the program; JAX's cache does not hold a second copy (writing
     it was on a cold run's critical path)."""
-    with jax_config.persistent_cache_min_compile_time_secs(0):
+    with _programs.persistent_cache_threshold(0):
         _programs.Program(_kernel)(jnp.arange(4.0), 2, {"offset": 1.5})
         jax.jit(lambda x: jnp.sin(x) * 3.0).lower(jnp.arange(4.0)).compile()  # a program JAX does keep
     assert len(_files(folder)) == 1
@@ -353,3 +352,13 @@ def test_statics_and_a_run_load_their_programs_bitwise(folder):
     assert loaded.count(_programs.LOADED_EVENT) == len(names)
     np.testing.assert_array_equal(second.positions, first.positions)
     np.testing.assert_array_equal(second.tension, first.tension)
+
+
+def test_the_persistent_cache_threshold_is_where_jax_keeps_it():
+    """jaxcable's one reach into JAX's private modules: inside the `with`, JAX's public
+    setting reads the threshold, and after it the one before. Fails if a JAX release
+    moves or renames it."""
+    before = jax.config.jax_persistent_cache_min_compile_time_secs
+    with _programs.persistent_cache_threshold(123.0):
+        assert jax.config.jax_persistent_cache_min_compile_time_secs == 123.0
+    assert jax.config.jax_persistent_cache_min_compile_time_secs == before
