@@ -94,8 +94,7 @@ def stiffness(
     largest entry is 0.07 % to 1.7 % at 32 to 64 segments on that chain, not monotone
     in the segments, and 0.07 % on a three-chain spread at 32 segments a line
     (`pytest -m slow tests/test_stiffness.py`). It takes 36 more equilibria per
-    support, one after another (3.8 s for that spread's six supports, after 13 s of
-    compiling, on 2 cores).
+    support, found one after another from the equilibrium, and compiles their program.
     Traceable: under `jit`, `vmap` (over designs) and differentiable again, with
     respect to the model's and the water's float leaves (`jax.grad` of a stiffness with
     respect to a line's length, say).
