@@ -482,17 +482,15 @@ def hidden_fit(fine_tow_records):
     return fit_coarse([with_noise(r, 0.02, seed) for r, seed in zip(fine_tow_records, (30, 31))])
 
 
-def said_it_cannot(result, name):
-    return any(name in w or "not independent noise" in w for w in result.warnings)
-
-
 @pytest.mark.slow
 def test_hidden_truth_drag_coefficients_from_a_finer_model(hidden_fit):
-    # The fit sees 4 segments where the records had 12: it must recover K_n and K_τ
-    # within 3 %, or say that it cannot.
+    # The fit sees 4 segments where the records had 12, and recovers K_n and K_τ within
+    # 3 % (0.47 % and 0.11 %, measured) without a warning: at 2 % noise the residuals
+    # are noise.
     for name in ("normal_drag", "tangential_drag"):
         error = abs(hidden_fit.values[name] / TRUTH[name] - 1)
-        assert error < 0.03 or said_it_cannot(hidden_fit, name), f"{name} {100 * error:.2f} % off, and no warning"
+        assert error < 0.03, f"{name} {100 * error:.2f} % off"
+    assert hidden_fit.warnings == []
     assert hidden_fit.converged and all(hidden_fit.success)
     # No residual shows the 4 segments' discretisation error at 2 % noise, but
     # re-predicting at 8 moves K_n toward the truth by about its standard deviation
@@ -532,5 +530,6 @@ def test_hidden_truth_specific_drag_from_a_reference_integrator(k0_fit):
         warnings.simplefilter("ignore")
         result = jc.calibrate(records, {"specific_drag": START["specific_drag"]}, progress=False)
     error = abs(result.values["specific_drag"] / TRUTH["specific_drag"] - 1)
-    assert error < 0.05 or said_it_cannot(result, "specific_drag")
+    assert error < 0.05  # 0.065 %, measured
     assert error < 4 * result.relative_uncertainty["specific_drag"]
+    assert result.warnings == []
