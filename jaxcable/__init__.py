@@ -21,12 +21,14 @@ public modules:
 
 The names are imported when first used (PEP 562), so that `import jaxcable` and the
 command line's `--help` do not import JAX; `from jaxcable import X` and `jaxcable.X`
-work as usual.
+work as usual. They are listed once, as the imports under `TYPE_CHECKING` below
+(`jaxcable._lazy`).
 """
 
-import importlib
 from importlib.metadata import version as _version
 from typing import TYPE_CHECKING
+
+from . import _lazy
 
 if TYPE_CHECKING:
     from . import calibration as calibration
@@ -92,89 +94,6 @@ if TYPE_CHECKING:
     from .io._run import run_scene as run_scene
     from .io._scene_file import read_scene as read_scene
 
-_MODULES = (
-    "calibration",
-    "equations",
-    "examples",
-    "io",
-    "plot",
-)
-_NAMES = {
-    "Advice": "._advice",
-    "advise": "._advice",
-    "CalibrationResult": "._calibrate",
-    "calibrate": "._calibrate",
-    "Float64Error": "._checks",
-    "Cnoidal": "._cnoidal",
-    "cnoidal_coefficients": "._cnoidal",
-    "DerivativeCheck": "._derivative_check",
-    "DerivativeWarning": "._derivative_check",
-    "check_derivative": "._derivative_check",
-    "SOLVERS": "._config",
-    "SolverConfig": "._config",
-    "default_solver": "._config",
-    "stiff_solver": "._config",
-    "CurrentProfile": "._environment",
-    "Environment": "._environment",
-    "Seabed": "._environment",
-    "ExtremeStatistics": "._extremes",
-    "extreme_statistics": "._extremes",
-    "WaveComponents": "._irregular",
-    "NetworkJacobian": "._jacobian",
-    "AbstractTensionLaw": "._materials",
-    "KelvinVoigt": "._materials",
-    "LinearElastic": "._materials",
-    "NonlinearElastic": "._materials",
-    "AbstractMotion": "._motion",
-    "Fixed": "._motion",
-    "Harmonic": "._motion",
-    "Sampled": "._motion",
-    "Towing": "._motion",
-    "Body": "._network",
-    "Branch": "._network",
-    "CableNetwork": "._network",
-    "LineType": "._network",
-    "PicardSimpson": "._picard",
-    "PicardTrapezoid": "._picard",
-    "RK4": "._rk4",
-    "SimulationResult": "._simulate",
-    "simulate": "._simulate",
-    "Jonswap": "._spectrum",
-    "fixed_steps": "._stability",
-    "stable_step": "._stability",
-    "State": "._state",
-    "StaticSolution": "._statics",
-    "solve_statics": "._statics",
-    "body_stiffness": "._stiffness",
-    "stiffness": "._stiffness",
-    "SweepResult": "._sweep",
-    "sweep": "._sweep",
-    "sweep_grid": "._sweep",
-    "AbstractWave": "._waves",
-    "Airy": "._waves",
-    "airy_wavenumber": "._waves",
-    "read_moordyn": ".io._moordyn",
-    "load_scene": ".io._run",
-    "run_scene": ".io._run",
-    "read_scene": ".io._scene_file",
-}
-"""Each public name and the module it comes from."""
-
-
-def __getattr__(name: str):
-    """Import a public name or module on first use, and keep it."""
-    if name in _MODULES:
-        value = importlib.import_module(f".{name}", __name__)
-    elif name in _NAMES:
-        value = getattr(importlib.import_module(_NAMES[name], __name__), name)
-    else:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_MODULES) | set(_NAMES))
-
+__getattr__, __dir__ = _lazy.attach(__name__, __file__, globals())
 
 __version__ = _version("jaxcable")

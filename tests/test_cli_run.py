@@ -536,3 +536,26 @@ def test_a_chain_sliding_on_the_bed_with_friction_follows_moordyns(tmp_path):
     assert scene.water.seabed.friction_damping == 200.0
     run = jc.run_scene(scene, duration=1.0, dt_out=0.01)
     np.testing.assert_allclose(run.positions[1:, run.built.line_nodes[0]], positions, rtol=0, atol=3e-4)
+
+
+@pytest.mark.parametrize("package", ["jaxcable", "jaxcable.io"])
+def test_the_public_names_are_the_type_checkers_imports(package):
+    """A package lists its public names once, as imports under `TYPE_CHECKING`: each
+    name is the object those imports name, and `dir` shows those and no other."""
+    import ast
+    import importlib
+    import inspect
+
+    module = importlib.import_module(package)
+    tree = ast.parse(inspect.getsource(module))
+    (block,) = (n for n in tree.body if isinstance(n, ast.If) and getattr(n.test, "id", "") == "TYPE_CHECKING")
+    listed = {alias.asname or alias.name: (node, alias.name) for node in block.body for alias in node.names}
+    for name, (node, original) in listed.items():
+        if node.module is None:  # a submodule
+            assert getattr(module, name).__name__ == f"{package}.{original}"
+        else:
+            source = importlib.import_module("." * node.level + node.module, package)
+            assert getattr(module, name) is getattr(source, original)
+    public = {n for n in dir(module) if not n.startswith("_")}
+    # `jaxtyping`: the tests' import hook adds it to every module it checks.
+    assert public - set(listed) <= {"TYPE_CHECKING", "jaxtyping"}

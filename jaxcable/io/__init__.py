@@ -12,10 +12,12 @@ module holds what they take and give, and the rest of the file formats.
 The names are imported when first used (PEP 562), as `jaxcable`'s are: the scene
 readers are plain Python and numpy, and the command line reads and refuses an input
 file through them before it imports JAX (1.3 s); the runner and the writers import it.
+They are listed once, as the imports under `TYPE_CHECKING` below (`jaxcable._lazy`).
 """
 
-import importlib
 from typing import TYPE_CHECKING
+
+from .. import _lazy
 
 if TYPE_CHECKING:
     from .._records import COLUMNS as COLUMNS
@@ -46,47 +48,4 @@ if TYPE_CHECKING:
     from ._scene import WaveComponentsSpec as WaveComponentsSpec
     from ._scene import WaveSpec as WaveSpec
 
-_NAMES = {
-    "COLUMNS": (".._records", "COLUMNS"),
-    "CONDITIONS": (".._records", "CONDITIONS"),
-    "UNITS": (".._records", "UNITS"),
-    "RecordError": (".._records", "RecordError"),
-    "TowingRecord": (".._records", "TowingRecord"),
-    "to_si": (".._records", "to_si"),
-    "advice_lines": ("._advice_text", "advice_lines"),
-    "write_wave_frequencies": ("._moordyn_water", "write_wave_frequencies"),
-    "read_motion_file": ("._motion_file", "read_motion_file"),
-    "write_output": ("._output", "write"),
-    "read_record": ("._records", "read_record"),
-    "read_records": ("._records", "read_records"),
-    "write_record": ("._records", "write_record"),
-    "SceneRun": ("._run", "SceneRun"),
-    "BuiltScene": ("._scene", "BuiltScene"),
-    "CurrentProfileSpec": ("._scene", "CurrentProfileSpec"),
-    "LineSpec": ("._scene", "LineSpec"),
-    "LineTypeSpec": ("._scene", "LineTypeSpec"),
-    "PointSpec": ("._scene", "PointSpec"),
-    "RunSettings": ("._scene", "RunSettings"),
-    "Scene": ("._scene", "Scene"),
-    "SceneError": ("._scene", "SceneError"),
-    "SeabedSpec": ("._scene", "SeabedSpec"),
-    "SeaStateSpec": ("._scene", "SeaStateSpec"),
-    "Water": ("._scene", "Water"),
-    "WaveComponentsSpec": ("._scene", "WaveComponentsSpec"),
-    "WaveSpec": ("._scene", "WaveSpec"),
-}
-"""Each public name, the module it comes from and its name there."""
-
-
-def __getattr__(name: str):
-    """Import a public name on first use, and keep it."""
-    if name not in _NAMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    module, original = _NAMES[name]
-    value = getattr(importlib.import_module(module, __name__), original)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_NAMES))
+__getattr__, __dir__ = _lazy.attach(__name__, __file__, globals())
