@@ -772,7 +772,7 @@ def advise(
     supports = _coupled(model, labels)
     if stiffness and supports:
         # One solve for the equilibrium and its stiffness together.
-        matrix, static = stiffness_and_statics(held, still, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
+        matrix, static, _ = stiffness_and_statics(held, still, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
     else:
         static = solve_statics(held, still, throw=False)
     statics_error = None

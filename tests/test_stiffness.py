@@ -10,6 +10,7 @@ re-solved equilibria of the differences come out of the same program (its second
 output is `solve_statics`' solution)."""
 
 import dataclasses
+import warnings
 
 import equinox as eqx
 import jax
@@ -91,7 +92,7 @@ def reactions(model, env) -> np.ndarray:
     """The supports' reactions (N), shape `(constrained, 3)`, from the statics solved
     afresh: the solution that `jc.stiffness`'s program returns beside K, so that the
     differences compile nothing new."""
-    _, solution = stiffness_and_statics(model, env, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
+    _, solution, _ = stiffness_and_statics(model, env, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
     return np.asarray(solution.reactions)
 
 
@@ -401,7 +402,9 @@ def test_a_line_on_the_seabed_has_the_continuous_lines_stiffness():
     segments, where the exact derivative of the polyline's equilibrium, pinned at its
     last node on the bed, is off by 4.4 % in K_zz."""
     model, env, expected = on_the_bed(40)
-    k = np.asarray(jc.stiffness(model, env, 0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the fairlead is far enough above the bed: no warning
+        k = np.asarray(jc.stiffness(model, env, 0))
     scale = np.abs(expected).max()
     np.testing.assert_allclose(k, expected, atol=0.01 * scale)
     pinned, _, _ = pinned_stiffness(model, env, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
@@ -508,3 +511,21 @@ def test_the_stiffness_on_the_seabed_differentiates():
     h = 1e-4
     central = (k_xx(1.0 + h) - k_xx(1.0 - h)) / (2 * h)
     np.testing.assert_allclose(jax.grad(k_xx)(1.0), central, rtol=1e-3)
+
+
+def test_a_support_too_close_to_the_seabed_is_warned_of():
+    """A taut line resting on the bed up to a support 20 m above it: the support cannot
+    be moved across the touchdown (8 segments of 50 m) without going below the bed, so
+    its columns are the pinned line's, and `stiffness` and `body_stiffness` say so,
+    naming the node."""
+    model = jc.CableNetwork.from_branches(
+        junctions=np.array([[399.0, 0.0, -130.0], [0.0, 0.0, -150.0]]),
+        branches=[jc.Branch(1, 0, chain(), 400.0, 8)],
+        constraints={0: jc.Fixed(), 1: jc.Fixed()},
+    )
+    env = jc.Environment(depth=150.0, seabed=jc.Seabed(stiffness=3e6))
+    with pytest.warns(UserWarning, match=r"stiffness: nodes \[0\] are too close to the seabed"):
+        k = jc.stiffness(model, env, 0)
+    assert np.all(np.isfinite(np.asarray(k)))
+    with pytest.warns(UserWarning, match=r"body_stiffness: nodes \[0\] are too close"):
+        jc.body_stiffness(model, env, [0], np.array([399.0, 0.0, -130.0]))
