@@ -373,11 +373,10 @@ def _across_touchdown(model, env, t, solution: StaticSolution, touching, exact, 
     longest = jnp.max(jnp.where(on_bed, length, 0.0))
     area = lag.contact_area(model)
 
-    def bed_load(positions):  # the bed's load over its stiffness, Σ penetration × area (m³)
-        return jnp.sum(jnp.maximum(-env.depth - positions[:, 2], 0.0) * area)
+    def bed_loads(positions):  # the bed's load on each node over its stiffness, penetration × area (m³)
+        return jnp.maximum(-env.depth - positions[:, 2], 0.0) * area
 
-    # A resting node's load, over the bed's stiffness (m³).
-    node = jnp.max(jnp.where(touching, (-env.depth - solution.state.positions[:, 2]) * area, 0.0))
+    node = jnp.max(bed_loads(solution.state.positions))  # a resting node's
     count = model.constrained_nodes.size
     held = solution.state.positions[model.constrained_nodes, 2]
     start = State(solution.state.positions, solution.state.velocities)
@@ -386,11 +385,10 @@ def _across_touchdown(model, env, t, solution: StaticSolution, touching, exact, 
     )
     unit = np.zeros((node_index.size, count, 3))
     unit[np.arange(node_index.size), node_index, axis] = step
-    weights = _TOUCHDOWN_WEIGHTS
 
     def moved(offsets):
         moved = nearby_equilibrium(_supports_moved(model, offsets), env, start, t, max_steps, force_tolerance)
-        return moved.reactions, bed_load(moved.state.positions)
+        return moved.reactions, jnp.sum(bed_loads(moved.state.positions))
 
     def slopes(shed):
         """The reactions' and the bed load's slopes, with each column's amplitude the
@@ -402,8 +400,10 @@ def _across_touchdown(model, env, t, solution: StaticSolution, touching, exact, 
         pulls = pulls.reshape(count, 3, _TOUCHDOWN_OFFSETS.size, count, 3)
         loads = loads.reshape(count, 3, _TOUCHDOWN_OFFSETS.size)
         scale = jnp.where(amplitude > 0, amplitude, 1.0)  # (constrained, 3)
-        slope = jnp.einsum("s,jbsia->iajb", weights, pulls - solution.reactions[None, None, None]) / scale[None, None]
-        shed = jnp.abs(jnp.einsum("s,jbs->jb", weights, loads - bed_load(solution.state.positions))) / scale
+        pulls = pulls - solution.reactions[None, None, None]
+        loads = loads - jnp.sum(bed_loads(solution.state.positions))
+        slope = jnp.einsum("s,jbsia->iajb", _TOUCHDOWN_WEIGHTS, pulls) / scale[None, None]
+        shed = jnp.abs(jnp.einsum("s,jbs->jb", _TOUCHDOWN_WEIGHTS, loads)) / scale
         return movable, slope, shed
 
     # The first estimate from the pinned derivative, whose rate is off by as much as
