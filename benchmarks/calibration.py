@@ -108,7 +108,7 @@ def main():
     import numpy as np
 
     import jaxcable as jc
-    from jaxcable import _calibrate
+    from jaxcable._calibration import calibrate as _calibrate
 
     jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -204,7 +204,7 @@ def linear_draws(name, length, args, names):
     import numpy as np
 
     import jaxcable as jc
-    from jaxcable import _calibrate
+    from jaxcable._calibration import calibrate as _calibrate
 
     truth = np.log(np.array([TRUTH[n] for n in names]))
     records, _ = records_for(name, length, args.sample_interval, args.segments, seed=100)

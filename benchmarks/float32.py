@@ -84,7 +84,7 @@ def midpoint_run(model, env, state, duration: float, dt: float, every: int, stor
     and the output times. Written out, not diffrax's `Midpoint`, because the rounding
     falls between steps, where a diffrax solver keeps its state to itself."""
     from jaxcable import equations
-    from jaxcable._lagrangian import full_state
+    from jaxcable._equations.lagrangian import full_state
 
     free = model.free_nodes
     x0 = state.positions[free]

@@ -37,8 +37,8 @@ from _results import append_session
 from _timing import timed
 
 import jaxcable as jc
-from jaxcable import _lagrangian as lag
-from jaxcable._indexing import take
+from jaxcable._equations import lagrangian as lag
+from jaxcable._model.indexing import take
 from jaxcable.examples import seed003_line
 
 RESULTS = Path(__file__).parent / "results" / "profile_evaluation.json"

@@ -103,7 +103,7 @@ def _horizontal(rng):
 def scene(seed: int) -> FuzzScene:
     """Scene number `seed`, the same on every call."""
     import jaxcable as jc
-    from jaxcable._waves import breaking_height
+    from jaxcable._sea.waves import breaking_height
 
     rng = np.random.default_rng(seed)
     kind = KINDS[seed % len(KINDS)]
@@ -310,7 +310,8 @@ def run(seeds, max_steps=None, progress=False, save=None) -> list[dict]:
     import optimistix as optx
 
     import jaxcable as jc
-    from jaxcable._statics import MAX_STEPS, failure_message
+    from jaxcable._statics.solution import MAX_STEPS
+    from jaxcable._statics.solve import failure_message
 
     jax.config.update("jax_enable_x64", True)
     records = []

@@ -183,7 +183,7 @@ def touchdown(repeats: int) -> dict:
     import numpy as np
 
     import jaxcable as jc
-    from jaxcable import _lagrangian as lag
+    from jaxcable._equations import lagrangian as lag
 
     case = CASES["touchdown"]
     bed = -case["depth"]

@@ -38,57 +38,57 @@ if TYPE_CHECKING:
     from . import plot as plot
     from ._advice import Advice as Advice
     from ._advice import advise as advise
-    from ._calibrate import CalibrationResult as CalibrationResult
-    from ._calibrate import calibrate as calibrate
+    from ._calibration.calibrate import CalibrationResult as CalibrationResult
+    from ._calibration.calibrate import calibrate as calibrate
     from ._checks import Float64Error as Float64Error
-    from ._cnoidal import Cnoidal as Cnoidal
-    from ._cnoidal import cnoidal_coefficients as cnoidal_coefficients
-    from ._config import SOLVERS as SOLVERS
-    from ._config import SolverConfig as SolverConfig
-    from ._config import default_solver as default_solver
-    from ._config import stiff_solver as stiff_solver
     from ._derivative_check import DerivativeCheck as DerivativeCheck
     from ._derivative_check import DerivativeWarning as DerivativeWarning
     from ._derivative_check import check_derivative as check_derivative
-    from ._environment import CurrentProfile as CurrentProfile
-    from ._environment import Environment as Environment
-    from ._environment import Seabed as Seabed
-    from ._extremes import ExtremeStatistics as ExtremeStatistics
-    from ._extremes import extreme_statistics as extreme_statistics
-    from ._irregular import WaveComponents as WaveComponents
-    from ._jacobian import NetworkJacobian as NetworkJacobian
-    from ._materials import AbstractTensionLaw as AbstractTensionLaw
-    from ._materials import KelvinVoigt as KelvinVoigt
-    from ._materials import LinearElastic as LinearElastic
-    from ._materials import NonlinearElastic as NonlinearElastic
-    from ._motion import AbstractMotion as AbstractMotion
-    from ._motion import Fixed as Fixed
-    from ._motion import Harmonic as Harmonic
-    from ._motion import Sampled as Sampled
-    from ._motion import Towing as Towing
-    from ._network import Body as Body
-    from ._network import Branch as Branch
-    from ._network import CableNetwork as CableNetwork
-    from ._network import LineType as LineType
-    from ._picard import PicardSimpson as PicardSimpson
-    from ._picard import PicardTrapezoid as PicardTrapezoid
-    from ._rk4 import RK4 as RK4
-    from ._simulate import SimulationResult as SimulationResult
-    from ._simulate import simulate as simulate
-    from ._spectrum import Jonswap as Jonswap
-    from ._stability import fixed_steps as fixed_steps
-    from ._stability import stable_step as stable_step
-    from ._state import State as State
-    from ._statics import StaticSolution as StaticSolution
-    from ._statics import solve_statics as solve_statics
-    from ._stiffness import body_stiffness as body_stiffness
-    from ._stiffness import stiffness as stiffness
-    from ._sweep import SweepResult as SweepResult
-    from ._sweep import sweep as sweep
-    from ._sweep import sweep_grid as sweep_grid
-    from ._waves import AbstractWave as AbstractWave
-    from ._waves import Airy as Airy
-    from ._waves import airy_wavenumber as airy_wavenumber
+    from ._model.materials import AbstractTensionLaw as AbstractTensionLaw
+    from ._model.materials import KelvinVoigt as KelvinVoigt
+    from ._model.materials import LinearElastic as LinearElastic
+    from ._model.materials import NonlinearElastic as NonlinearElastic
+    from ._model.motion import AbstractMotion as AbstractMotion
+    from ._model.motion import Fixed as Fixed
+    from ._model.motion import Harmonic as Harmonic
+    from ._model.motion import Sampled as Sampled
+    from ._model.motion import Towing as Towing
+    from ._model.network import Body as Body
+    from ._model.network import Branch as Branch
+    from ._model.network import CableNetwork as CableNetwork
+    from ._model.network import LineType as LineType
+    from ._model.state import State as State
+    from ._sea.cnoidal import Cnoidal as Cnoidal
+    from ._sea.cnoidal import cnoidal_coefficients as cnoidal_coefficients
+    from ._sea.environment import CurrentProfile as CurrentProfile
+    from ._sea.environment import Environment as Environment
+    from ._sea.environment import Seabed as Seabed
+    from ._sea.extremes import ExtremeStatistics as ExtremeStatistics
+    from ._sea.extremes import extreme_statistics as extreme_statistics
+    from ._sea.irregular import WaveComponents as WaveComponents
+    from ._sea.spectrum import Jonswap as Jonswap
+    from ._sea.waves import AbstractWave as AbstractWave
+    from ._sea.waves import Airy as Airy
+    from ._sea.waves import airy_wavenumber as airy_wavenumber
+    from ._simulation.simulate import SimulationResult as SimulationResult
+    from ._simulation.simulate import simulate as simulate
+    from ._solver.config import SOLVERS as SOLVERS
+    from ._solver.config import SolverConfig as SolverConfig
+    from ._solver.config import default_solver as default_solver
+    from ._solver.config import stiff_solver as stiff_solver
+    from ._solver.jacobian import NetworkJacobian as NetworkJacobian
+    from ._solver.picard import PicardSimpson as PicardSimpson
+    from ._solver.picard import PicardTrapezoid as PicardTrapezoid
+    from ._solver.rk4 import RK4 as RK4
+    from ._solver.stability import fixed_steps as fixed_steps
+    from ._solver.stability import stable_step as stable_step
+    from ._statics.solution import StaticSolution as StaticSolution
+    from ._statics.solve import solve_statics as solve_statics
+    from ._statics.stiffness import body_stiffness as body_stiffness
+    from ._statics.stiffness import stiffness as stiffness
+    from ._sweep.sweep import SweepResult as SweepResult
+    from ._sweep.sweep import sweep as sweep
+    from ._sweep.sweep import sweep_grid as sweep_grid
     from .io._moordyn import read_moordyn as read_moordyn
     from .io._run import load_scene as load_scene
     from .io._run import run_scene as run_scene

@@ -529,8 +529,8 @@ def _run_settings(scene: "Scene", args) -> "RunSettings":
 
 def _info(args, given: _Input) -> int:
     from ._advice import advise
-    from ._config import describe_stepping
-    from ._stability import STABLE_GROWTH, STEP_FRACTION, fixed_step_growth
+    from ._solver.config import describe_stepping
+    from ._solver.stability import STABLE_GROWTH, STEP_FRACTION, fixed_step_growth
     from .io import advice_lines
     from .io._run import DEFAULT_DT_OUT, check_size
 
@@ -642,7 +642,7 @@ def _info(args, given: _Input) -> int:
 
 
 def _describe_motion(motion) -> str:
-    from ._motion import Harmonic, Sampled
+    from ._model.motion import Harmonic, Sampled
 
     if motion is None:
         return "held (no motion given)"
@@ -662,14 +662,14 @@ def _optimizer(name: str, learning_rate: float):
     `--learning-rate` (which L-BFGS, with its line search, does not use)."""
     import optax
 
-    from ._calibrate import default_optimizer
+    from ._calibration.calibrate import default_optimizer
 
     return default_optimizer() if name == "lbfgs" else optax.adam(learning_rate)
 
 
 def _calibrate(args) -> int:
-    from ._calibrate import calibrate, calibration_solver, discretisation_check
-    from ._towing import rig_from_conditions
+    from ._calibration.calibrate import calibrate, calibration_solver, discretisation_check
+    from ._calibration.towing import rig_from_conditions
     from .io import SceneError, read_records
 
     start = {}

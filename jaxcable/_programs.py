@@ -342,7 +342,7 @@ class Program:
 
 RUN_ONCE = {"xla_cpu_use_fusion_emitters": False, "xla_backend_optimization_level": 0}
 """XLA's options for a program that runs once or a few times a process, whose compile is
-most of its cost: statics (`jaxcable._statics._equilibrium`), the outputs. XLA's CPU
+most of its cost: statics (`jaxcable._statics.solve._equilibrium`), the outputs. XLA's CPU
 fusion emitters (its default) and LLVM's optimisations make kernels that run faster but
 compile slower. For the Low & Langley file's statics: 2.8 s of CPU to compile with
 both, 1.3 s without, and 10.7 against 24.7 ms to run (quiet; `benchmarks/README.md`,

@@ -6,18 +6,18 @@ that [`jaxcable.simulate`][] integrates, the smoothed slack switch H(ε) of the 
 laws, and the stiffest axial mode that limits an explicit step.
 """
 
-from ._advice import stiffest_axial_mode as stiffest_axial_mode
-from ._lagrangian import (
+from ._equations.lagrangian import (
     generalised_forces as generalised_forces,
 )
-from ._lagrangian import (
+from ._equations.lagrangian import (
     kinetic_energy as kinetic_energy,
 )
-from ._lagrangian import (
+from ._equations.lagrangian import (
     potential_energy as potential_energy,
 )
-from ._lagrangian import (
+from ._equations.lagrangian import (
     tension as tension,
 )
-from ._materials import slack_switch as slack_switch
-from ._simulate import vector_field as vector_field
+from ._equations.modes import stiffest_axial_mode as stiffest_axial_mode
+from ._model.materials import slack_switch as slack_switch
+from ._simulation.simulate import vector_field as vector_field

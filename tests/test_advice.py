@@ -16,20 +16,10 @@ from helpers import catenary_parameter
 from scipy.optimize import brentq
 
 import jaxcable as jc
-from jaxcable import _lagrangian as lag
-from jaxcable._advice import (
-    STABLE_STEP,
-    _axial_modes,
-    advise,
-    bending_modes,
-    fastest_eigenvalues,
-    polyline_curvature,
-    seabed_mode,
-    segments_needed,
-    stiffest_axial_mode,
-    wave_fit,
-)
-from jaxcable._stability import (
+from jaxcable._advice import STABLE_STEP, advise, polyline_curvature, segments_needed, wave_fit
+from jaxcable._equations import lagrangian as lag
+from jaxcable._equations.modes import _axial_modes, bending_modes, fastest_eigenvalues, seabed_mode, stiffest_axial_mode
+from jaxcable._solver.stability import (
     BENDING_RUN_GROWTH,
     STEP_FRACTION,
     fixed_step_growth,

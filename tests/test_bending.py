@@ -1,4 +1,4 @@
-"""Bending stiffness EI (`jaxcable._bending`) against closed forms and `jax.grad`.
+"""Bending stiffness EI (`jaxcable._equations.bending`) against closed forms and `jax.grad`.
 
 - The written-out bending forces are `−∂Π/∂x` of the hinge energy, against `jax.grad` of
   the whole potential, on a branched 3-D network with a constrained node inside a line.
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable import _lagrangian as lag
+from jaxcable._equations import lagrangian as lag
 
 
 def _branched():

@@ -1,4 +1,4 @@
-"""Integration interval by interval (`jaxcable._blocks`), which the scene runner and the
+"""Integration interval by interval (`jaxcable._simulation.blocks`), which the scene runner and the
 command line use so that their compiled solve can stay in JAX's persistent cache."""
 
 import diffrax
@@ -9,8 +9,9 @@ import pytest
 from helpers import compilations
 
 import jaxcable as jc
-from jaxcable import _blocks, examples
-from jaxcable._simulate import as_config, for_model
+from jaxcable import examples
+from jaxcable._simulation import blocks as _blocks
+from jaxcable._simulation.simulate import as_config, for_model
 
 # Three blocks, the last padded: 150 intervals of 0.04 s.
 TS = np.linspace(0.0, 6.0, 151)
@@ -50,7 +51,7 @@ def test_the_block_has_no_host_callback_and_compiles_once(driven_line):
     assert "callback" not in lowered.as_text()
     start = (static.state.positions, static.state.velocities)
     args = (model, env, start, jax.numpy.asarray(0.0), jax.numpy.asarray(1.0), jax.numpy.asarray(TS[:5]))
-    with_ts = jc._simulate._simulate.lower(*args, config, diffrax.NoProgressMeter(), False)
+    with_ts = jc._simulation.simulate._simulate.lower(*args, config, diffrax.NoProgressMeter(), False)
     assert "callback" in with_ts.as_text()
 
     reached = []

@@ -155,9 +155,9 @@ def test_loose_tolerance_derivatives_are_checked_and_the_tolerance_tightened(ver
     assert k0_fit.tolerances == (1e-6, 1e-6) and max(k0_fit.tangent_error.values()) < 0.05
     assert "derivatives within" in k0_fit.summary()
     loose = jc.calibration.calibration_solver(rtol=1e-4, atol=1e-4)
-    problem, _ = jc._calibrate._problem(vertical_records, ("specific_drag",), loose)
+    problem, _ = jc._calibration.calibrate._problem(vertical_records, ("specific_drag",), loose)
     start = np.log(np.array([START["specific_drag"]]))
-    assert jc._calibrate._tangent_error(problem, start)[0] > 0.3
+    assert jc._calibration.calibrate._tangent_error(problem, start)[0] > 0.3
     result = jc.calibrate(vertical_records, {"specific_drag": START["specific_drag"]}, solver=loose, progress=False)
     assert result.tolerances == pytest.approx((1e-6, 1e-6))
     assert result.tangent_error["specific_drag"] < 0.05
@@ -172,13 +172,13 @@ def test_derivatives_that_never_agree_are_warned_of(vertical_records, monkeypatc
     tried = []
 
     def far_off(problem, log_values):
-        tolerances = jc._calibrate._tolerances(problem)
+        tolerances = jc._calibration.calibrate._tolerances(problem)
         assert tolerances is not None
         rtol = tolerances[0]
         tried.append(rtol)
         return np.array([0.5 if rtol > 1e-9 else 0.8])
 
-    monkeypatch.setattr(jc._calibrate, "_tangent_error", far_off)
+    monkeypatch.setattr(jc._calibration.calibrate, "_tangent_error", far_off)
     with pytest.warns(UserWarning, match=r"derivatives of the residuals in specific_drag differ .* by 50 %"):
         result = jc.calibrate(vertical_records, {"specific_drag": 1.0}, max_steps=3, progress=False)
     assert tried == pytest.approx([1e-6, 1e-8, 1e-10])
@@ -192,16 +192,16 @@ def test_linear_gain_is_zero_at_a_least_squares_minimum():
     rng = np.random.default_rng(0)
     jacobian, data = rng.normal(size=(200, 2)), rng.normal(size=200)
     solution = np.linalg.lstsq(jacobian, data, rcond=None)[0]
-    assert jc._calibrate._linear_gain(jacobian, jacobian @ solution - data) < 1e-20
-    assert jc._calibrate._linear_gain(jacobian, jacobian @ np.array([1.0, -2.0])) == pytest.approx(1.0)
-    assert 0.0 < jc._calibrate._linear_gain(jacobian, jacobian @ (solution + 0.1) - data) < 1.0
+    assert jc._calibration.calibrate._linear_gain(jacobian, jacobian @ solution - data) < 1e-20
+    assert jc._calibration.calibrate._linear_gain(jacobian, jacobian @ np.array([1.0, -2.0])) == pytest.approx(1.0)
+    assert 0.0 < jc._calibration.calibrate._linear_gain(jacobian, jacobian @ (solution + 0.1) - data) < 1.0
 
 
 def test_progress_bar_times_iterations_after_the_compiling_one(vertical_records, monkeypatch):
     """The first iteration compiles the simulations; the bar starts its clock (and so its
     estimate of the time left) only after it, and says it is compiling until then."""
     bars, first_done = [], []
-    make_bar, evaluate = jc._calibrate._bar, jc._calibrate._evaluate
+    make_bar, evaluate = jc._calibration.calibrate._bar, jc._calibration.calibrate._evaluate
 
     def recorded_bar(total, progress):
         bars.append(make_bar(total, progress))
@@ -213,8 +213,8 @@ def test_progress_bar_times_iterations_after_the_compiling_one(vertical_records,
         first_done.append(time.time())
         return out
 
-    monkeypatch.setattr(jc._calibrate, "_bar", recorded_bar)
-    monkeypatch.setattr(jc._calibrate, "_evaluate", timed_evaluate)
+    monkeypatch.setattr(jc._calibration.calibrate, "_bar", recorded_bar)
+    monkeypatch.setattr(jc._calibration.calibrate, "_evaluate", timed_evaluate)
     jc.calibrate(vertical_records, {"specific_drag": 1.0}, optimizer=optax.adam(0.05), max_steps=3, progress=True)
     (bar,) = bars
     assert "compiling" not in bar.desc and bar.n == 3 and bar.total == 3
@@ -227,7 +227,7 @@ def test_gradient_matches_central_differences():
     # tolerances, so that the finite differences see the same discretisation.
     import equinox as eqx
 
-    from jaxcable import _calibrate
+    from jaxcable._calibration import calibrate as _calibrate
 
     times = np.linspace(0.0, 10.0, 41)
     speed = np.interp(times, [0.0, 4.0, 6.0, 10.0], [1.0, 1.0, 2.0, 2.0])
@@ -375,7 +375,7 @@ def test_command_line_calibrate_errors(tmp_path, capsys):
 
 
 def test_a_tension_column_on_a_horizontal_tow_is_flagged_as_not_a_load_cell():
-    from jaxcable._calibrate import _caveats
+    from jaxcable._calibration.calibrate import _caveats
 
     columns = {"speed": [1.0, 1.0], "tension": [1.0, 2.0]}
     pairs = [

@@ -1,4 +1,4 @@
-"""The discrete catenary (`jaxcable._catenary`): a single line's statics in numpy.
+"""The discrete catenary (`jaxcable._statics.catenary`): a single line's statics in numpy.
 
 Against things independent of it:
 
@@ -11,7 +11,7 @@ Against things independent of it:
   reactions the compiled path would report there);
 - Irvine's elastic catenary (`helpers.Irvine`), which the discrete one approaches as
   1/N² (the polyline lumps each segment's weight on its ends, a trapezoid rule);
-- the tension law it inverts, `jaxcable._materials`'.
+- the tension law it inverts, `jaxcable._model.materials`'.
 
 The three chains share one compiled solver: the same topology and tree structure,
 other values.
@@ -24,9 +24,9 @@ import pytest
 from helpers import Irvine
 
 import jaxcable as jc
-from jaxcable import _catenary as catenary
-from jaxcable import _lagrangian as lag
-from jaxcable._statics import FORCE_TOLERANCE
+from jaxcable._equations import lagrangian as lag
+from jaxcable._statics import catenary
+from jaxcable._statics.solution import FORCE_TOLERANCE
 
 RHO, G = 1025.0, 9.81
 compiled = eqx.filter_jit(jc.solve_statics)  # traced: always the root finder

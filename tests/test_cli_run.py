@@ -430,10 +430,10 @@ def test_the_command_ends_its_process_with_everything_written(tmp_path):
 def test_lazy_names_are_the_modules_own():
     """`jaxcable.X` imports X on first use; it is the defining module's object, and
     the command line's plain lists match the engine's."""
-    from jaxcable._motion import INTERPOLATIONS as engine_interpolations
+    from jaxcable._model.motion import INTERPOLATIONS as engine_interpolations
     from jaxcable.io._moordyn import DROPPED_KINDS as reader_kinds
 
-    assert jc.simulate is jc._simulate.simulate
+    assert jc.simulate is jc._simulation.simulate.simulate
     assert "simulate" in dir(jc) and "io" in dir(jc)
     with pytest.raises(AttributeError, match="no attribute 'nonesuch'"):
         _ = jc.nonesuch  # type: ignore[attr-defined]

@@ -26,7 +26,7 @@ import pytest
 from helpers import chain_nodes
 
 import jaxcable as jc
-from jaxcable import _lagrangian as lagrangian
+from jaxcable._equations import lagrangian
 
 RHO, G = 1025.0, 9.81
 ENV = jc.Environment(water_density=RHO, gravity=G)

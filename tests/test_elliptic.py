@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from scipy import special
 
-from jaxcable._elliptic import ellipe, ellipj, ellipk, ellipke
+from jaxcable._sea.elliptic import ellipe, ellipj, ellipk, ellipke
 
 
 def test_complete_integrals_match_scipy():

@@ -14,7 +14,7 @@ import pytest
 from scipy.optimize import brentq
 
 import jaxcable as jc
-from jaxcable._lagrangian import column_buoyancy_potential, column_submerged_fraction
+from jaxcable._equations.lagrangian import column_buoyancy_potential, column_submerged_fraction
 
 RHO, G = 1025.0, 9.81
 HEIGHT, VOLUME, MASS = 2.0, 1.0, 300.0  # a 2 m tall float of 1 m³

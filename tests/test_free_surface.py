@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable import _lagrangian as lag
-from jaxcable._hydro import submerged_interval
+from jaxcable._equations import lagrangian as lag
+from jaxcable._equations.hydro import submerged_interval
 
 RHO, G = 1025.0, 9.81
 MASS, DIAMETER, EA = 20.0, 0.1, 1e9  # kg/m, m, N: stiff, so the strain is the chord's

@@ -29,7 +29,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable import _lagrangian
+from jaxcable._equations import lagrangian as _lagrangian
 
 N_SEGMENTS = 5
 BODY_NODE = 3  # a free node (junctions are 0 and 1; interior nodes are 2..5)

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable import _lagrangian as lag
-from jaxcable._simulate import nonstiff_field, stiff_field, vector_field
+from jaxcable._equations import lagrangian as lag
+from jaxcable._simulation.simulate import nonstiff_field, stiff_field, vector_field
 from jaxcable.examples import seed003_line
 
 

@@ -19,8 +19,8 @@ import pytest
 from scipy import integrate, special, stats
 
 import jaxcable as jc
-from jaxcable._extremes import EULER_GAMMA, GUMBEL_KURTOSIS, STANDARD_ERROR_FACTOR
-from jaxcable._irregular import WaveComponents, repeat_period
+from jaxcable._sea.extremes import EULER_GAMMA, GUMBEL_KURTOSIS, STANDARD_ERROR_FACTOR
+from jaxcable._sea.irregular import WaveComponents, repeat_period
 
 DEPTH = 40.0
 POINTS = jnp.array([[0.0, 0.0, -1.0], [13.0, -4.0, -20.0], [-7.0, 30.0, -39.0], [2.0, 1.0, 0.6]])

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable._advice import natural_periods
+from jaxcable._equations.modes import natural_periods
 from jaxcable.io import advice_lines
 from studies import linear_buoy as lb
 

@@ -16,8 +16,14 @@ import scipy.sparse as sparse
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 
 import jaxcable as jc
-from jaxcable._jacobian import NetworkJacobian, _distance2_colouring, _free_edges, _neighbours, _reverse_cuthill_mckee
-from jaxcable._simulate import vector_field
+from jaxcable._simulation.simulate import vector_field
+from jaxcable._solver.jacobian import (
+    NetworkJacobian,
+    _distance2_colouring,
+    _free_edges,
+    _neighbours,
+    _reverse_cuthill_mckee,
+)
 from jaxcable.examples import scene_path, seed003_line
 
 
@@ -195,7 +201,7 @@ def test_structured_run_matches_dense_run(implicit_runs):
 def test_auto_applies_only_where_it_holds(models):
     model, env = models["line"]
     consistent, _ = seed003_line(4)
-    from jaxcable._jacobian import with_network_jacobian
+    from jaxcable._solver.jacobian import with_network_jacobian
 
     stiff = jc.stiff_solver()
     chosen = with_network_jacobian(stiff, model)
@@ -216,7 +222,7 @@ def test_auto_is_structured_under_jit(models, implicit_runs):
     dense one."""
     import equinox as eqx
 
-    from jaxcable._jacobian import with_network_jacobian
+    from jaxcable._solver.jacobian import with_network_jacobian
 
     model, _ = models["line"]
     eager = NetworkJacobian(model)

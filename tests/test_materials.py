@@ -18,7 +18,8 @@ import pytest
 from scipy import integrate
 
 import jaxcable as jc
-from jaxcable import _hydro, _lagrangian
+from jaxcable._equations import hydro as _hydro
+from jaxcable._equations import lagrangian as _lagrangian
 
 C_E = 3.0e7  # N
 C_E1 = 4.5e6  # N

@@ -8,7 +8,7 @@ import pytest
 from scipy.interpolate import CubicSpline, PchipInterpolator
 
 import jaxcable as jc
-from jaxcable._motion import AbstractMotion
+from jaxcable._model.motion import AbstractMotion
 
 
 def test_harmonic_kinematics():

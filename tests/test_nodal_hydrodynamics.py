@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable import _lagrangian as eq
+from jaxcable._equations import lagrangian as eq
 from jaxcable.io import SceneError
 
 LINE = jc.LineType(

@@ -212,7 +212,8 @@ _KEY_SCRIPT = textwrap.dedent(
     """
     import jax
     jax.config.update("jax_enable_x64", True)
-    from jaxcable import _programs, _statics
+    from jaxcable import _programs
+    from jaxcable._statics import solve as _statics
     from jaxcable.examples import seed003_line
     model, env = seed003_line(6)
     _programs.use_folder("unused")
@@ -250,7 +251,7 @@ _LIBRARY_SCRIPT = textwrap.dedent(
     monitoring.register_event_listener(listen)
     model, env = seed003_line(6)
     # In a current: a single line in still water is solved in closed form, with no
-    # statics program (`jaxcable._catenary`).
+    # statics program (`jaxcable._statics.catenary`).
     env = eqx.tree_at(lambda e: e.current, env, np.array([0.2, 0.0, 0.0]))
     static = jc.solve_statics(model, env)
     print(len(loaded), float(static.state.positions[2, 2]).hex())
@@ -321,7 +322,8 @@ def test_a_kept_program_runs_in_a_process_with_several_devices(tmp_path):
 def test_statics_and_a_run_load_their_programs_bitwise(folder):
     """The engine's own programs, through `run_scene`: a second run in a new "process"
     (programs forgotten in memory) loads all of them and gives the same bits."""
-    from jaxcable import _blocks, _catenary
+    from jaxcable._simulation import blocks as _blocks
+    from jaxcable._statics import catenary as _catenary
 
     # Statics' program: the fairlead's position at t = 0 (the line's equilibrium is the
     # discrete catenary, in numpy).

@@ -1,4 +1,4 @@
-"""Which segments can reach the seabed (`jaxcable._reach`), against independent values: the
+"""Which segments can reach the seabed (`jaxcable._model.reach`), against independent values: the
 intersection of two balls by dense sampling and by the symmetric closed form, path
 lengths by hand, the largest strain by the quadratic's roots, the supports' excursions
 by evaluating their motions densely, the bound against a simulated run's lowest nodes;
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
-from jaxcable._reach import (
+from jaxcable._model.reach import (
     BREAKING_STRESS,
     for_run,
     largest_strain,
@@ -20,7 +20,7 @@ from jaxcable._reach import (
     seabed_reach,
     surface_reach,
 )
-from jaxcable._stability import STABLE_GROWTH, fixed_step_growth
+from jaxcable._solver.stability import STABLE_GROWTH, fixed_step_growth
 
 
 def rope(axial_stiffness=3e7, quadratic=0.0, area=3e-4, damping_ratio=0.8):

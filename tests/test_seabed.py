@@ -8,7 +8,7 @@ import pytest
 from scipy.optimize import brentq
 
 import jaxcable as jc
-from jaxcable import _lagrangian
+from jaxcable._equations import lagrangian as _lagrangian
 
 RHO, G = 1025.0, 9.81
 DEPTH, LENGTH, SPAN = 50.0, 300.0, 280.0

@@ -8,7 +8,7 @@ import pytest
 from helpers import compilations
 
 import jaxcable as jc
-from jaxcable._stability import stability_function
+from jaxcable._solver.stability import stability_function
 from jaxcable.examples import seed003_line
 
 

@@ -20,9 +20,9 @@ import optimistix as optx
 import pytest
 
 import jaxcable as jc
-from jaxcable import _indexing
-from jaxcable import _lagrangian as lag
-from jaxcable import _materials as materials
+from jaxcable._equations import lagrangian as lag
+from jaxcable._model import indexing as _indexing
+from jaxcable._model import materials
 from jaxcable.examples import moored_net, seed003_line
 
 
@@ -295,12 +295,13 @@ def test_statics_in_still_water_is_the_general_path(scene):
     general path's equilibrium: the same positions, reactions and tensions to rounding.
     (Not always in as many steps: the last ones, which take the force from the tolerance
     down to rounding, end where rounding says.)"""
-    from jaxcable import _statics
+    from jaxcable._statics import solution as _solution
+    from jaxcable._statics import solve as _statics
 
     model, env = _lowe_langley() if scene == "Low & Langley (bending)" else SCENES[scene]()
     env = _still(env)
-    assert _statics._still_water(env)
-    args = (model, env, model.node_positions, 0.0, _statics.MAX_STEPS, _statics.FORCE_TOLERANCE, True)
+    assert _solution.still_water(env)
+    args = (model, env, model.node_positions, 0.0, _solution.MAX_STEPS, _solution.FORCE_TOLERANCE, True)
     general, still = (_statics._equilibrium(*args, flag, False) for flag in (False, True))
     assert bool(general.result == optx.RESULTS.successful) and bool(still.result == optx.RESULTS.successful)
     scale = float(general.force_scale)
@@ -313,15 +314,15 @@ def test_statics_in_still_water_is_the_general_path(scene):
 def test_still_water_is_known_only_before_tracing():
     """Still water is no waves and a concrete current of exactly zero; any current, a
     wave, or a current traced under `jit` (a sweep over it) takes the general path."""
-    from jaxcable import _statics
+    from jaxcable._statics import solution as _solution
 
-    assert _statics._still_water(jc.Environment())
-    assert _statics._still_water(jc.Environment(current=jc.CurrentProfile([-50.0, 0.0], [0.0, 0.0])))
-    assert not _statics._still_water(jc.Environment(current=[0.0, 1e-9, 0.0]))
-    assert not _statics._still_water(jc.Environment(current=jc.CurrentProfile([-50.0, 0.0], [0.0, 0.1])))
+    assert _solution.still_water(jc.Environment())
+    assert _solution.still_water(jc.Environment(current=jc.CurrentProfile([-50.0, 0.0], [0.0, 0.0])))
+    assert not _solution.still_water(jc.Environment(current=[0.0, 1e-9, 0.0]))
+    assert not _solution.still_water(jc.Environment(current=jc.CurrentProfile([-50.0, 0.0], [0.0, 0.1])))
     waves = jc.Environment(depth=50.0, waves=jc.Airy(height=1.0, period=8.0, depth=50.0))
-    assert not _statics._still_water(waves)
-    assert _statics._still_water(waves.without_waves())
+    assert not _solution.still_water(waves)
+    assert _solution.still_water(waves.without_waves())
     seen = []
-    jax.jit(lambda current: seen.append(_statics._still_water(jc.Environment(current=current))))(jnp.zeros(3))
+    jax.jit(lambda current: seen.append(_solution.still_water(jc.Environment(current=current))))(jnp.zeros(3))
     assert seen == [False]

@@ -32,7 +32,7 @@ import pytest
 from helpers import Irvine, chain_nodes, hand_forces, rigid_top_tension
 
 import jaxcable as jc
-from jaxcable._statics import _check_geometry, _start_shape, _water_loads
+from jaxcable._statics.solve import _check_geometry, _start_shape, _water_loads
 
 RHO, G = 1025.0, 9.81
 solve = eqx.filter_jit(jc.solve_statics)

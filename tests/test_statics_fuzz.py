@@ -58,7 +58,7 @@ def test_fuzz_scene_is_the_same_under_jit_and_vmap():
     assert np.max(np.abs(batch.state.positions[1] - batch.state.positions[0])) > 0.1  # the current moved it
 
 
-# The phrases that name a failure's cause (`jaxcable._statics.failure_message`).
+# The phrases that name a failure's cause (`jaxcable._statics.solve.failure_message`).
 CAUSES = ("lies on the seabed", "is on slack line", "close to it", "far from it", "must stretch", "still stretching")
 
 

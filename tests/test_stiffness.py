@@ -23,8 +23,9 @@ from scipy.spatial.transform import Rotation
 
 import jaxcable as jc
 from jaxcable._advice import Labels, advise
-from jaxcable._statics import FORCE_TOLERANCE, MAX_STEPS, nearby_equilibrium
-from jaxcable._stiffness import _supports_moved, pinned_stiffness, stiffness_and_statics
+from jaxcable._statics.solution import FORCE_TOLERANCE, MAX_STEPS
+from jaxcable._statics.solve import nearby_equilibrium
+from jaxcable._statics.stiffness import _supports_moved, pinned_stiffness, stiffness_and_statics
 from jaxcable.io import advice_lines
 
 MASS, DIAMETER, EA = 80.0, 0.1, 5e8  # kg/m, m, N
@@ -462,7 +463,7 @@ def test_the_pinned_derivative_on_the_seabed_at_fine_resolution():
     with J the dense Jacobian of the forces by `jax.jacfwd` and numpy's solve (866.8 N/m
     along the span: the line pinned at its last node on the bed, where the continuous
     line's is 885)."""
-    from jaxcable import _lagrangian as lag
+    from jaxcable._equations import lagrangian as lag
 
     model, env, _ = on_the_bed(128)
     k, _, solution = pinned_stiffness(model, env, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)

@@ -189,7 +189,7 @@ def sloped_line(drag=0.0):
     "wave", [jc.Airy(2.0, 7.0, 25.0, heading=20.0), jc.Cnoidal(3.0, 15.0, 25.0, heading=20.0)], ids=["airy", "cnoidal"]
 )
 def test_fluid_inertia_is_morison_on_the_waters_acceleration(wave):
-    from jaxcable import _lagrangian as lag
+    from jaxcable._equations import lagrangian as lag
 
     model, positions = sloped_line()
     env = jc.Environment(RHO, G, depth=25.0, waves=wave)
@@ -222,7 +222,7 @@ def test_fluid_inertia_is_morison_on_the_waters_acceleration(wave):
 
 
 def count_primitives(model, env, names):
-    from jaxcable import _lagrangian as lag
+    from jaxcable._equations import lagrangian as lag
 
     jaxpr = jax.make_jaxpr(lambda x, v: lag.generalised_forces(model, env, 0.3, x, v))(
         jnp.asarray(model.node_positions), jnp.zeros((model.n_nodes, 3))

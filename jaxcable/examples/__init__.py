@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from .._waves import seed003_amplitude as seed003_amplitude
+    from .._sea.waves import seed003_amplitude as seed003_amplitude
     from .anchored_line import anchored_line_in_current as anchored_line_in_current
     from .seed001 import seed001_element as seed001_element
     from .seed002 import start_tow as start_tow
@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 # the bundled scenes (`jaxcable examples`) does not.
 _BUILDERS = {
     "anchored_line_in_current": ".anchored_line",
-    "seed003_amplitude": ".._waves",
+    "seed003_amplitude": ".._sea.waves",
     "seed001_element": ".seed001",
     "start_tow": ".seed002",
     "towed_trawl": ".seed002",

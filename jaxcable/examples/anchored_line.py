@@ -3,10 +3,10 @@ to a fairlead moved harmonically, in a 0.5 m/s current. Its top segment goes sla
 near 3 s and snaps back, so derivatives through it are the README's example of an
 ill-conditioned sensitivity (`benchmarks/derivative_growth.py`)."""
 
-from .._environment import Environment
-from .._materials import NonlinearElastic
-from .._motion import Fixed, Harmonic
-from .._network import Branch, CableNetwork, LineType
+from .._model.materials import NonlinearElastic
+from .._model.motion import Fixed, Harmonic
+from .._model.network import Branch, CableNetwork, LineType
+from .._sea.environment import Environment
 
 
 def anchored_line_in_current() -> tuple[CableNetwork, Environment]:

@@ -34,12 +34,12 @@ tether of 10 mm rope with EF = 1e5 N, and VerticalTow's scallop cage (25 kg in a
 import jax.numpy as jnp
 from jaxtyping import Array, Float
 
-from .._environment import Environment
-from .._materials import LinearElastic
-from .._motion import Fixed
-from .._network import Body, CableNetwork, LineType
+from .._model.materials import LinearElastic
+from .._model.motion import Fixed
+from .._model.network import Body, CableNetwork, LineType
+from .._sea.environment import Environment
+from .._sea.waves import Airy
 from .._typing import RealLike, RealScalarLike
-from .._waves import Airy
 
 WATER_DENSITY = 1025.0  # kg/m³
 GRAVITY = 9.81  # m/s²

@@ -29,13 +29,14 @@ import equinox as eqx
 import jax.numpy as jnp
 import numpy as np
 
-from .._environment import Environment
-from .._materials import KelvinVoigt
-from .._motion import Towing
-from .._network import Body, Branch, CableNetwork
-from .._state import State
-from .._statics import StaticSolution, solve_statics
-from .._waves import Airy, seed003_amplitude
+from .._model.materials import KelvinVoigt
+from .._model.motion import Towing
+from .._model.network import Body, Branch, CableNetwork
+from .._model.state import State
+from .._sea.environment import Environment
+from .._sea.waves import Airy, seed003_amplitude
+from .._statics.solution import StaticSolution
+from .._statics.solve import solve_statics
 from .seed003 import AXIAL_STIFFNESS, WAVE_PERIOD, seed003_line_type
 
 TOW_LENGTH = 200.0  # m

@@ -83,11 +83,11 @@ here and in the constants below:
 
 import numpy as np
 
-from .._environment import Environment
-from .._materials import KelvinVoigt
-from .._motion import Fixed
-from .._network import Body, Branch, CableNetwork, LineType
-from .._waves import Airy, seed003_amplitude
+from .._model.materials import KelvinVoigt
+from .._model.motion import Fixed
+from .._model.network import Body, Branch, CableNetwork, LineType
+from .._sea.environment import Environment
+from .._sea.waves import Airy, seed003_amplitude
 from .seed003 import AXIAL_STIFFNESS, seed003_line_type
 
 WAVE_PERIOD = 6.4  # s, T_w (the paper's "64c")

@@ -23,11 +23,11 @@ hangs in still water and only its top is driven.
 
 import numpy as np
 
-from .._environment import Environment
-from .._materials import AbstractTensionLaw, NonlinearElastic
-from .._motion import Fixed, Harmonic
-from .._network import Branch, CableNetwork, LineType
-from .._waves import Airy, airy_wavenumber, seed003_amplitude
+from .._model.materials import AbstractTensionLaw, NonlinearElastic
+from .._model.motion import Fixed, Harmonic
+from .._model.network import Branch, CableNetwork, LineType
+from .._sea.environment import Environment
+from .._sea.waves import Airy, airy_wavenumber, seed003_amplitude
 
 DEPTH = 200.0  # H (m)
 MASS_PER_LENGTH = 3.0  # m (kg/m)

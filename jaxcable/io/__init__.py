@@ -20,12 +20,12 @@ from typing import TYPE_CHECKING
 from .. import _lazy
 
 if TYPE_CHECKING:
-    from .._records import COLUMNS as COLUMNS
-    from .._records import CONDITIONS as CONDITIONS
-    from .._records import UNITS as UNITS
-    from .._records import RecordError as RecordError
-    from .._records import TowingRecord as TowingRecord
-    from .._records import to_si as to_si
+    from .._calibration.records import COLUMNS as COLUMNS
+    from .._calibration.records import CONDITIONS as CONDITIONS
+    from .._calibration.records import UNITS as UNITS
+    from .._calibration.records import RecordError as RecordError
+    from .._calibration.records import TowingRecord as TowingRecord
+    from .._calibration.records import to_si as to_si
     from ._advice_text import advice_lines as advice_lines
     from ._moordyn_water import write_wave_frequencies as write_wave_frequencies
     from ._motion_file import read_motion_file as read_motion_file

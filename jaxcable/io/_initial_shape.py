@@ -9,7 +9,7 @@ catenary has no solution (a line too long to reach its fairlead without doubling
 on the bed, a neutrally buoyant line, an iteration that does not converge). Free
 points start at the file's positions, at rest.
 
-The catenary ([`jaxcable._catenary.catenary`][]) is solved in numpy by Newton's method
+The catenary ([`jaxcable._statics.catenary.catenary`][]) is solved in numpy by Newton's method
 on the fairlead tension (H, V) as MoorDyn iterates: its first guess, its damped steps,
 and its stop at a relative step of 1e-5 (before that step is taken). A stiff line's
 start tension depends on that tolerance (on a chain of EA 5e8 N, 1e-4 m of stretch is
@@ -18,7 +18,7 @@ kilonewtons), so a converged catenary would not start where MoorDyn's does.
 
 import numpy as np
 
-from .._catenary import TOLERANCE, catenary
+from .._statics.catenary import TOLERANCE, catenary
 from ._scene import BuiltScene
 
 # MoorDyn's horizontal spread below which a line starts vertical and straight (m); its

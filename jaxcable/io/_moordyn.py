@@ -28,7 +28,7 @@ static-to-dynamic friction ratios, the wave and current modes jaxcable cannot
 represent, its time-step and initial-condition options, but for `TmaxIC = 0`, which
 skips statics as it skips MoorDyn's initial-condition solve). Notes on physics left
 out (a bending table, bathymetry, waves) are also issued as Python warnings. A
-constant `EI` is read as the line type's `bending_stiffness` (`jaxcable._bending`):
+constant `EI` is read as the line type's `bending_stiffness` (`jaxcable._equations.bending`):
 MoorDyn's lines end at points, which are pinned, as jaxcable's line ends are. MoorDyn's steady
 current profile and its wave spectrum and elevation files are read into the water
 (`jaxcable.io._moordyn_water`).

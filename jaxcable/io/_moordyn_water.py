@@ -44,7 +44,7 @@ import numpy as np
 from ._scene import CurrentProfileSpec, SceneError, WaveComponentsSpec
 
 if TYPE_CHECKING:  # the readers are plain numpy: the command line reads a file before it imports JAX
-    from .._irregular import WaveComponents
+    from .._sea.irregular import WaveComponents
 
 CUTOFF = 2 * np.pi * 0.5
 """MoorDyn's cut of an elevation record's spectrum (rad/s): components above 0.5 Hz

@@ -51,7 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._records import (
+from .._calibration.records import (
     COLUMNS,
     CONDITIONS,
     UNITS,

@@ -13,18 +13,20 @@ import diffrax
 import numpy as np
 
 from .. import _programs as programs
-from .._advice import STABLE_STEP, stiffest_axial_mode
-from .._blocks import prepare as prepare_blocks
-from .._blocks import simulate_in_blocks, substeps_per_interval
-from .._config import SolverConfig, describe_stepping
-from .._motion import Sampled
+from .._advice import STABLE_STEP
+from .._equations.modes import stiffest_axial_mode
+from .._model.motion import Sampled
+from .._model.reach import for_run
+from .._model.state import State
 from .._progress import progress_bar
-from .._reach import for_run
-from .._simulate import simulate
-from .._stability import STABLE_GROWTH, STEP_FRACTION, fixed_step_growth, fixed_steps
-from .._state import State
-from .._statics import StaticSolution, solve_statics
-from .._statics import prepare as prepare_statics
+from .._simulation.blocks import prepare as prepare_blocks
+from .._simulation.blocks import simulate_in_blocks, substeps_per_interval
+from .._simulation.simulate import simulate
+from .._solver.config import SolverConfig, describe_stepping
+from .._solver.stability import STABLE_GROWTH, STEP_FRACTION, fixed_step_growth, fixed_steps
+from .._statics.solution import StaticSolution
+from .._statics.solve import prepare as prepare_statics
+from .._statics.solve import solve_statics
 from . import _channels
 from ._initial_shape import initial_positions
 from ._moordyn import read_moordyn
@@ -123,7 +125,7 @@ class SceneRun:
         of MoorDyn's `Point<k>FX` channels (`jaxcable.io._channels`)."""
         import jax
 
-        from .._lagrangian import generalised_forces
+        from .._equations.lagrangian import generalised_forces
 
         model, env = self.built.model, self.built.environment
         forces = jax.vmap(generalised_forces, in_axes=(None, None, 0, 0, 0))
@@ -213,7 +215,7 @@ def run_scene(
     statics, from the file's geometry at rest (MoorDyn's `TmaxIC = 0`).
 
     The motion is integrated interval by interval between output times (see
-    `jaxcable._blocks`), so that its compiled program can stay in JAX's persistent
+    `jaxcable._simulation.blocks`), so that its compiled program can stay in JAX's persistent
     cache; the answers agree with one [`jaxcable.simulate`][] call to within the
     solver's tolerance. A solver with a given `dt0` runs one `simulate` call instead.
 
@@ -334,7 +336,7 @@ def run_scene(
         start = time.perf_counter()
         if blocks:
             # Interval by interval, so that the compiled solve has no host callback and
-            # a second run loads it from JAX's persistent cache (see `jaxcable._blocks`).
+            # a second run loads it from JAX's persistent cache (see `jaxcable._simulation.blocks`).
             with progress_bar(duration, progress) as bar:
                 result = simulate_in_blocks(model, env, ts, initial, solver, on_block=bar)
         else:
@@ -367,7 +369,7 @@ def run_scene(
 def _at_rest(built: BuiltScene, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The segment tensions (N, shape `(1, segments)`) and support reactions (N, shape
     `(1, constrained, 3)`) of the network held at `positions` (m), at rest."""
-    from .._lagrangian import reactions, tension
+    from .._equations.lagrangian import reactions, tension
 
     model, env = built.model, built.environment
     rest = np.zeros_like(positions)
@@ -441,7 +443,7 @@ def _compile_meter(meter: _CompileMeter | None = None) -> Iterator[_CompileMeter
 def _feasible(solver: SolverConfig, built: BuiltScene, ts: np.ndarray) -> tuple[SolverConfig, tuple[str, ...]]:
     """`solver`, or where its fixed step would fail, RK4 at a step that does not
     ([`jaxcable.fixed_steps`][]): a step beyond its method's stability limit at the
-    scene's fastest modes (`jaxcable._stability`), or more steps than its `max_steps`
+    scene's fastest modes (`jaxcable._solver.stability`), or more steps than its `max_steps`
     (then adaptive steps); with a note that says why."""
     if not isinstance(solver.stepsize_controller, diffrax.ConstantStepSize) or solver.dt0 is None:
         return solver, ()

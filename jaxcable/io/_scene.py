@@ -23,13 +23,13 @@ import numpy as np
 
 if TYPE_CHECKING:
     from .._advice import Labels
-    from .._config import SolverConfig
-    from .._environment import CurrentProfile, Environment, Seabed
-    from .._irregular import WaveComponents
-    from .._motion import AbstractMotion
-    from .._network import Body, CableNetwork, LineType
-    from .._spectrum import Jonswap
-    from .._waves import AbstractWave
+    from .._model.motion import AbstractMotion
+    from .._model.network import Body, CableNetwork, LineType
+    from .._sea.environment import CurrentProfile, Environment, Seabed
+    from .._sea.irregular import WaveComponents
+    from .._sea.spectrum import Jonswap
+    from .._sea.waves import AbstractWave
+    from .._solver.config import SolverConfig
 
 POINT_KINDS = ("fixed", "coupled", "free")
 WAVE_THEORIES = ("airy", "cnoidal")
@@ -54,7 +54,7 @@ class CurrentProfileSpec:
 
     def profile(self) -> "CurrentProfile":
         """The engine's [`jaxcable.CurrentProfile`][]."""
-        from .._environment import CurrentProfile
+        from .._sea.environment import CurrentProfile
 
         with located(self.where):
             return CurrentProfile(self.heights, self.speeds, self.heading)
@@ -97,8 +97,8 @@ class WaveSpec:
             raise SceneError(f"{self.where}: give exactly one of height and steepness")
         if self.wheeler and self.theory != "airy":
             raise SceneError(f"{self.where}: Wheeler stretching applies to Airy waves only")
-        from .._cnoidal import Cnoidal
-        from .._waves import Airy
+        from .._sea.cnoidal import Cnoidal
+        from .._sea.waves import Airy
 
         kinds = {"airy": Airy, "cnoidal": Cnoidal}
         kind = kinds[self.theory]
@@ -134,7 +134,7 @@ class WaveComponentsSpec:
     def wave(self, depth: float, gravity: float) -> "AbstractWave":
         """The engine's [`jaxcable.WaveComponents`][] in water of `depth` (m) under
         `gravity` (m/s²); [`jaxcable.io.SceneError`][] at `where` for a value it rejects."""
-        from .._irregular import WaveComponents
+        from .._sea.irregular import WaveComponents
 
         with located(self.where):
             return WaveComponents(
@@ -186,7 +186,7 @@ class SeaStateSpec:
 
     def sea_state(self) -> "Jonswap":
         """The engine's [`jaxcable.Jonswap`][]."""
-        from .._spectrum import Jonswap
+        from .._sea.spectrum import Jonswap
 
         if self.spectrum not in SPECTRA:
             raise SceneError(f"{self.where}: unknown spectrum {self.spectrum!r}; expected one of {SPECTRA}")
@@ -198,7 +198,7 @@ class SeaStateSpec:
         """The engine's [`jaxcable.WaveComponents`][], realised in water of `depth` (m)
         under `gravity` (m/s²); [`jaxcable.io.SceneError`][] at `where` for a value it
         rejects (a band that misses the spectrum among them)."""
-        from .._irregular import WaveComponents
+        from .._sea.irregular import WaveComponents
 
         spectrum = self.sea_state()
         with located(self.where):
@@ -243,7 +243,7 @@ class SeabedSpec:
 
     def seabed(self) -> "Seabed":
         """The engine's [`jaxcable.Seabed`][]."""
-        from .._environment import Seabed
+        from .._sea.environment import Seabed
 
         with located(self.where):
             return Seabed(self.stiffness, self.damping, self.friction, self.friction_speed, self.friction_damping)
@@ -291,7 +291,7 @@ class Water:
         seabed without a depth, both a uniform current and a profile, or a value out of
         range.
         """
-        from .._environment import Environment
+        from .._sea.environment import Environment
 
         where = self.where or "[water]"
         for item, what in ((self.waves[0] if self.waves else None, "waves"), (self.seabed, "a seabed")):
@@ -374,8 +374,8 @@ class LineTypeSpec:
                 f"{self.where}: give one of axial_damping ({self.axial_damping}) or "
                 f"axial_damping_ratio ({self.axial_damping_ratio}), not both"
             )
-        from .._materials import KelvinVoigt
-        from .._network import LineType
+        from .._model.materials import KelvinVoigt
+        from .._model.network import LineType
 
         with located(self.where):
             law = KelvinVoigt(
@@ -466,14 +466,14 @@ class RunSettings:
         (what the checks of a scene's options need)."""
         import diffrax
 
-        from .._config import SOLVERS
         from .._names import AUTO
+        from .._solver.config import SOLVERS
 
         name = "rk4" if self.solver == AUTO else self.solver
         if self.solver == AUTO and self.dt is None:
             if built is None:
                 return SOLVERS[name](max_steps=self.max_steps)
-            from .._stability import fixed_steps
+            from .._solver.stability import fixed_steps
 
             return fixed_steps([(built.model, built.environment)], duration, max_steps=self.max_steps)
         if self.dt is not None:
@@ -560,7 +560,7 @@ class Scene:
             raise SceneError(
                 f"{where}: expected positions for {len(coupled)} coupled point(s), got shape {positions.shape[1:]}"
             )
-        from .._motion import Sampled
+        from .._model.motion import Sampled
 
         points = list(self.points)
         for column, k in enumerate(coupled):
@@ -578,8 +578,8 @@ class Scene:
         [`jaxcable.io.SceneError`][] naming the item's place in the file when a value is
         out of range, or a fixed or coupled point is below the seabed.
         """
-        from .._motion import Fixed
-        from .._network import Branch, CableNetwork, below_seabed
+        from .._model.motion import Fixed
+        from .._model.network import Branch, CableNetwork, below_seabed
 
         for line in self.lines:
             if not line.length > 0:
@@ -695,7 +695,7 @@ class ParsedScene:
 def make_body(**values) -> "Body":
     """`jaxcable.Body(**values)`, for a reader's `EnginePart` (the engine is imported
     only when the part is made)."""
-    from .._network import Body
+    from .._model.network import Body
 
     return Body(**values)
 
@@ -705,7 +705,7 @@ def _check_reach(line: LineSpec, start: PointSpec, end: PointSpec) -> None:
     or whose held ends are farther apart than it can reach without stretching more
     than `MAX_REQUIRED_STRAIN`: a length or a position in the wrong unit, most likely,
     which statics would otherwise report only as a failure to converge."""
-    from .._statics import MAX_REQUIRED_STRAIN
+    from .._statics.solution import MAX_REQUIRED_STRAIN
 
     chord = float(np.linalg.norm(np.subtract(end.position, start.position)))
     if chord == 0.0:

@@ -145,7 +145,7 @@ from ._scene import (
 )
 
 if TYPE_CHECKING:
-    from .._motion import AbstractMotion, Harmonic, Sampled
+    from .._model.motion import AbstractMotion, Harmonic, Sampled
 
 _TOP = ("title", "water", "waves", "seabed", "simulation", "line_types", "points", "lines", "output")
 _WATER = ("density", "gravity", "depth", "current", "current_profile", "free_surface", "fluid_inertia", "wave_ramp")
@@ -658,7 +658,7 @@ class _Reader:
 
 def _harmonic(**values) -> "Harmonic":
     """`jaxcable.Harmonic(**values)`, imported only when the scene is finished."""
-    from .._motion import Harmonic
+    from .._model.motion import Harmonic
 
     return Harmonic(**values)
 
@@ -666,7 +666,7 @@ def _harmonic(**values) -> "Harmonic":
 def _sampled(times, displacements, interpolation: str) -> "Sampled":
     """`jaxcable.Sampled(times, displacements, interpolation)` (s, m), imported only when
     the scene is finished."""
-    from .._motion import Sampled
+    from .._model.motion import Sampled
 
     return Sampled(times, displacements, interpolation)
 

@@ -1,0 +1,861 @@
+"""Static equilibrium under gravity, buoyancy and a steady current.
+
+The equilibrium is found by pseudo-transient continuation: implicit Euler steps of the
+overdamped motion `D ẋ = Q_f(x)` (D each free node's mass with its displaced water),
+each the linear step `(D/Δτ − ∂Q_f/∂x) δ = Q_f` and Newton's corrections towards the
+step's end. The pseudo-time step Δτ grows where the linear model predicted the
+force well and shrinks where it did not (as a trust region), so that far from the
+equilibrium the steps follow the damped motion (a slack line settling in a current, a
+buoyant line floating up through slack) and near it they are Newton's. The term `D/Δτ`
+keeps the linear systems regular where slack segments have no stiffness; each is
+solved along the network's graph by [`jaxcable.NetworkJacobian`][], O(N). Stiff
+networks are first solved softened, then stiffened stage by stage (see
+`_equilibrium`), from a start whose chains sag or hang along their loads (a buoyant
+line arched upward; `_start_shape`). Levenberg–Marquardt on the forces, which this replaced, failed on
+46 % of a user's random legal scenes (issue 23; `benchmarks/statics_fuzz.py`).
+"""
+
+import dataclasses
+import functools
+import typing
+from typing import NamedTuple
+
+import equinox as eqx
+import jax
+import jax.numpy as jnp
+import lineax as lx
+import numpy as np
+import optimistix as optx
+from jaxtyping import Array, Float, Int
+
+from .. import _checks as checks
+from .._equations import lagrangian as lag
+from .._model.network import _GUESS_STRETCH, CableNetwork, Topology, check_held, network_conditions
+from .._model.state import State
+from .._programs import RUN_ONCE, program
+from .._sea.environment import Environment
+from .._solver.jacobian import NetworkJacobian
+from .._typing import RealScalarLike
+from .catenary import applies, catenary_statics
+from .solution import FORCE_TOLERANCE, MAX_REQUIRED_STRAIN, MAX_STEPS, StaticSolution, still_water
+
+# Stiffness continuation (see `_equilibrium`): the softest network's typical strain,
+# the stages from it to the network itself, and the force tolerance of those stages,
+# relative to the scene's force scale (each only starts the next).
+SOFT_STRAIN = 0.01
+STAGES = 6
+STAGE_TOLERANCE = 1e-3
+
+# Failure's causes (`failure_message`), relative to the force scale: a node off the bed
+# whose segments carry less than `SLACK_SHARE` of it is on slack line, and a force left
+# below `STALL_SHARE` of it is close to the equilibrium.
+SLACK_SHARE = 1e-3
+STALL_SHARE = 1e-3
+
+
+def solve_statics(
+    model: CableNetwork,
+    env: Environment,
+    *,
+    t: RealScalarLike = 0.0,
+    initial: State | None = None,
+    max_steps: int = MAX_STEPS,
+    force_tolerance: float = FORCE_TOLERANCE,
+    throw: bool = True,
+) -> StaticSolution:
+    """Find the static equilibrium of `model` in `env`, with constrained nodes at their
+    positions at time `t` (s).
+
+    Solves `Q_f(x, 0) = 0` for the free node positions: gravity, buoyancy, the tension
+    laws, a body's constant force, the seabed's spring and the steady drag of the
+    water's velocity at time `t` (the current; and the waves' at `t`, where they are
+    not ramped out: pass `env.without_waves()` for still water). The method is
+    pseudo-transient continuation, damped motion towards rest that turns into Newton's
+    method near it, with the network's structured Jacobian (see the module's notes).
+    It starts from `initial` or `model.node_positions` ([`jaxcable.CableNetwork.from_branches`][]
+    puts each branch on a catenary sagging downward). From `model.node_positions`,
+    each run of segments between junctions is first put on its own analytic shape
+    under its load, where that lowers the load's potential: the catenary hanging along
+    its weight, buoyancy and drag (so a buoyant line starts arched upward), or, for a
+    line with a free end, turned about its other end to hang along its load. An
+    `initial` is used as given. Unlike a plain Newton or least-squares solve it needs
+    no taut start: slack segments only slow it.
+
+    Equilibrium is a force on every free node no larger than `force_tolerance` times the
+    scene's force scale (the largest tension, wet weight of a segment or body, or
+    drag; `StaticSolution.force_scale`), plus rounding, 16 ε times the largest EA. So a
+    4 mN force left on a 50 kN line of EA 7.5e12 N is equilibrium, and so is a
+    near-massless line's nanonewtons.
+
+    A single line between two supports in still water (no current or waves, nothing on
+    its inner nodes, no bending; on the seabed or off it), called with concrete values
+    and no `initial`, is solved instead as the discrete catenary, in numpy and in
+    milliseconds, with nothing to compile (`jaxcable._statics.catenary`): the same equilibrium
+    of the same equations, to rounding. `StaticSolution.method` says which way a
+    solution was found; a line the catenary cannot solve takes the solver.
+
+    The solver is one compiled program with no branches on values, so it takes the same
+    path eagerly, under `jit` and under `vmap` (where it steps until every case is
+    done). Derivatives are implicit (optimistix's `ImplicitAdjoint`, solved with the
+    same structured Jacobian), so `jax.grad` through it costs one linear solve;
+    where the equilibrium is not unique (a slack line lying on a frictionless bed) the
+    Jacobian is singular and so is the derivative.
+
+    **Arguments:**
+
+    - `model`, `env`: the network and the water.
+    - `t`: the time (s) at which constrained nodes are placed.
+    - `initial`: a starting guess; `model.node_positions` by default.
+    - `max_steps`: pseudo-time steps before giving up, for each of the seven stages of
+        the stiffness continuation (static: a new value recompiles).
+    - `force_tolerance`: the largest residual force on a free node that counts as
+        equilibrium, relative to the scene's force scale (–).
+    - `throw`: raise if no equilibrium is found; otherwise check `result`.
+
+    **Returns:**
+
+    A [`jaxcable.StaticSolution`][].
+
+    **Raises:**
+
+    `ValueError`, before solving, if a part of the network has no constrained node, if a
+    constrained node lies below the seabed (by more than 0.1 % of the depth), if
+    two nodes joined by a segment start at the same point (the tension's direction is
+    undefined: both ends of a line at one point, say), or if the segments between two
+    constrained nodes would have to stretch by more than `MAX_REQUIRED_STRAIN` (100 %)
+    on average to reach from one to the other (a line far shorter than the distance
+    between its ends). Those checks need concrete positions; under `jit` such a scene
+    fails to converge instead. `ValueError` naming the field and value of a bad input
+    (`equinox.EquinoxRuntimeError` naming the field where the model is traced). With
+    `throw=True`, `equinox.EquinoxRuntimeError` (a `RuntimeError`) if no equilibrium is
+    found, eagerly and under `jit` alike, saying why where the values are concrete.
+    """
+    check_held(model)
+    start = model.node_positions if initial is None else initial.positions
+    start = checks.check(start, network_conditions(model, env))
+    if initial is None:
+        # A single line in still water is a discrete catenary, found in numpy in
+        # milliseconds where this solver compiles for seconds.
+        closed_form = catenary_statics(model, env, t, force_tolerance)
+        if closed_form is not None:
+            return closed_form
+    _check_geometry(model, start, t)
+    solution = _equilibrium(model, env, start, t, max_steps, force_tolerance, initial is None, still_water(env), False)
+    if not throw:
+        return solution
+    failed = solution.result != optx.RESULTS.successful
+    if checks.traced(failed):
+        message = (
+            "solve_statics found no equilibrium: the largest force left on a free node is above "
+            f"force_tolerance ({force_tolerance}) times the scene's force scale after at most {max_steps} "
+            "steps (max_steps). Call it outside jit, or with throw=False and read the solution's residual, "
+            "worst_node and result, to see where."
+        )
+    else:
+        message = failure_message(solution, force_tolerance, max_steps) if bool(failed) else ""
+    residual = checks.raise_if(solution.residual, failed, message)
+    return eqx.tree_at(lambda s: s.residual, solution, residual)
+
+
+def prepare(
+    model: CableNetwork,
+    env: Environment,
+    *,
+    t: RealScalarLike = 0.0,
+    max_steps: int = MAX_STEPS,
+    force_tolerance: float = FORCE_TOLERANCE,
+) -> None:
+    """Start compiling the programs of `solve_statics(model, env, t=t, ...)` from the
+    model's own start, in a background thread, where the command line keeps programs
+    (`jaxcable._programs`). Nothing otherwise, nor where the discrete catenary
+    applies (`jaxcable._statics.catenary.applies`), which needs no program."""
+    if applies(model, env, t):
+        return
+    _required_strain.prepare(model, t)
+    _equilibrium.prepare(model, env, model.node_positions, t, max_steps, force_tolerance, True, still_water(env), False)
+
+
+def failure_message(
+    solution: StaticSolution, force_tolerance: float = FORCE_TOLERANCE, max_steps: int = MAX_STEPS
+) -> str:
+    """Why `solution` (concrete, one case) is not an equilibrium, and what to try."""
+    result = solution.result
+    if solution.required_strain > MAX_REQUIRED_STRAIN:
+        return (
+            "solve_statics: the segments between two constrained nodes must stretch "
+            f"{100 * float(solution.required_strain):.3g} % to reach from one to the other, more than the "
+            f"{100 * MAX_REQUIRED_STRAIN:.0f} % allowed. Is a line's length or an end's position wrong?"
+        )
+    stretch = float(jnp.max(solution.strain))
+    if not np.isfinite(stretch) or stretch > MAX_REQUIRED_STRAIN:
+        return (
+            f"solve_statics found no equilibrium: segments were stretched by up to {100 * stretch:.3g} % and "
+            "still stretching. Loads that grow as a line stretches (the drag on a soft line, which grows with "
+            "its length) can outgrow its stiffness, and then there is no equilibrium: check the line's EA "
+            "against its drag and weight."
+        )
+    if result == optx.RESULTS.nonlinear_max_steps_reached:
+        why = f"its {max_steps} steps (max_steps) ran out"
+    elif result == optx.RESULTS.nonfinite:
+        why = "the forces became non-finite"
+    else:
+        why = "its steps stalled (every larger pseudo-time step raised the force)"
+    node = int(solution.worst_node)
+    position = np.array2string(np.asarray(solution.state.positions)[node], precision=4)
+    residual, scale = float(solution.residual), float(solution.force_scale)
+    tension, drag = float(solution.worst_tension), float(solution.worst_drag)
+    left = (
+        f"The largest force left is {residual:.4g} N, on node {node} at {position} m, against force_tolerance "
+        f"({force_tolerance}) times the scene's force scale ({scale:.4g} N)."
+    )
+    if solution.worst_on_seabed:
+        cause = (
+            f"node {node} lies on the seabed, which holds nothing sideways (statics has no friction): only the "
+            f"current's drag there ({drag:.3g} N, a fraction {drag / scale:.2g} of the force scale) and the line's "
+            f"tension ({tension:.3g} N) move it, and they were still laying the line out along the bed when {why}. "
+            f"{left} Start from a shape with the line laid out along the bed (initial=), or check the line's "
+            "length; in still water, slack line on the bed rests in any layout"
+        )
+    elif tension <= SLACK_SHARE * scale:
+        cause = (
+            f"node {node} is on slack line (its segments carry {tension:.3g} N), which has no stiffness to hold it, "
+            f"and it was still moving under its weight, buoyancy or drag ({drag:.3g} N) when {why}. {left} Check "
+            "that this stretch can rest (a line floating up, a buoy that cannot lift its line) or start from a "
+            "shape closer to its rest (initial=)"
+        )
+    elif residual <= STALL_SHARE * scale:
+        cause = (
+            f"{why} close to it, the force left a fraction {residual / scale:.2g} of the force scale, on taut line "
+            f"({tension:.4g} N) at node {node}. {left} Stiff segments whose stretch is far smaller than their turn "
+            "can stall there: start from a shape closer to the equilibrium (initial=)"
+        )
+    else:
+        cause = (
+            f"{why} far from it. {left} Check that this part of the network can rest (a line that must carry its "
+            "load nearly straight, a buoy that cannot lift its line), or start from a shape closer to the "
+            "equilibrium (initial=)"
+        )
+    return f"solve_statics found no equilibrium: {cause}; from Python, max_steps allows more steps."
+
+
+def _check_geometry(model: CableNetwork, start, t) -> None:
+    """Refuse, naming the nodes, a start whose segments have zero length, or two
+    constrained nodes farther apart than `1 + MAX_REQUIRED_STRAIN` times the shortest
+    unstretched chain of segments between them. Concrete values only."""
+    if checks.traced((start, model.node_positions, model.segment_length, model.motions, t)):
+        return
+    needed, pair, distance, chain, held = (np.asarray(x) for x in _required_strain(model, t))
+    positions = np.asarray(start, dtype=float).copy()
+    constrained = np.asarray(model.constrained_nodes)
+    positions[constrained] = held
+    ends = np.asarray(model.segment_nodes)
+    length = np.asarray(model.segment_length)
+    chord = np.linalg.norm(positions[ends[:, 1]] - positions[ends[:, 0]], axis=1)
+    zero = np.flatnonzero(chord <= 1e-12 * length)
+    if zero.size:
+        s = int(zero[0])
+        i, j = ends[s]
+        raise ValueError(
+            f"solve_statics: segment {s} joins nodes {i} and {j}, which start at the same point "
+            f"{positions[i].tolist()} m, so the direction of its tension is undefined. Both ends of a line at "
+            "one point? Give the line ends apart, or an initial shape with its nodes apart"
+        )
+    if needed > MAX_REQUIRED_STRAIN:
+        i, j = constrained[pair]
+        raise ValueError(
+            f"solve_statics: constrained nodes {i} and {j} are {distance:.6g} m apart, but the shortest chain of "
+            f"segments between them is {chain:.6g} m long unstretched: it must stretch {100 * needed:.3g} % to "
+            f"reach, more than the {100 * MAX_REQUIRED_STRAIN:.0f} % allowed. Is a line's length or an end's "
+            "position wrong?"
+        )
+
+
+@functools.partial(program, compiler_options=RUN_ONCE)
+def _required_strain(model: CableNetwork, t):
+    """The largest mean strain (–) that a chain of segments between two constrained
+    nodes needs to reach from one to the other at time `t`: their distance over the
+    shortest such chain's unstretched length, less 1; −1 where no two are joined.
+    Also that pair (indices into `constrained_nodes`, shape `(2,)`), their distance
+    (m), the chain's length (m), and the constrained nodes' positions (m, shape
+    `(constrained, 3)`). Traceable, so that a sweep's case is judged too."""
+    constrained = model.constrained_nodes
+    ends = model.segment_nodes
+    length = jnp.broadcast_to(model.segment_length, (model.n_segments,))
+    count = constrained.size
+    # Bellman–Ford from every constrained node at once: a chain of n segments settles
+    # in n rounds, and no chain is longer than the network has nodes.
+    start = jnp.full((count, model.n_nodes), jnp.inf).at[np.arange(count), constrained].set(0.0)
+
+    def relax(_, reach):
+        reach = reach.at[:, ends[:, 1]].min(reach[:, ends[:, 0]] + length)
+        return reach.at[:, ends[:, 0]].min(reach[:, ends[:, 1]] + length)
+
+    chain = jax.lax.fori_loop(0, model.n_nodes, relax, start)[:, constrained]
+    held, _, _ = lag.constrained_motion(model, t)
+    distance = jnp.linalg.norm(held[:, None, :] - held[None, :, :], axis=-1)
+    joined = jnp.isfinite(chain) & ~np.eye(count, dtype=bool)
+    strain = jnp.where(joined, distance / jnp.where(joined, chain, 1.0) - 1.0, -1.0)
+    worst = jnp.argmax(strain)  # `check_held` has made sure of a constrained node
+    pair = jnp.stack(jnp.divmod(worst, count))
+    return jnp.max(strain), pair, jnp.ravel(distance)[worst], jnp.ravel(chain)[worst], held
+
+
+def nearby_equilibrium(model, env, start: State, t, max_steps, force_tolerance) -> StaticSolution:
+    """The equilibrium from `start`, the equilibrium of a network nearby (the same
+    network with its supports moved a little), by the last stage of `solve_statics`'
+    continuation alone, as `solve_statics(..., throw=False)` gives it otherwise: the
+    softer stages would move the nodes away only for the stiffer ones to bring them
+    back. Traceable; for `jaxcable.stiffness`, which finds tens of such equilibria."""
+    return _equilibrium(model, env, start.positions, t, max_steps, force_tolerance, False, still_water(env), True)
+
+
+@functools.partial(program, compiler_options=RUN_ONCE)
+def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still, nearby) -> StaticSolution:
+    """The whole solve, compiled once per topology and option set; from `start`
+    improved by `_start_shape` if `shaped`, a caller's `initial` as given otherwise;
+    without the water's loads where `still` (`still_water`); the network itself
+    alone, without the softer stages, where `nearby` (`nearby_equilibrium`)."""
+    free = model.free_nodes
+    zeros_free = jnp.zeros((free.shape[0], 3))
+
+    graph = NetworkJacobian(model.topology)
+
+    def solve(model, env, t, start, tolerance):
+        """A root find that carries no derivative (its inputs carry none)."""
+        return optx.root_find(
+            lambda x, _: _forces(model, env, t, x, tolerance, still),
+            _PseudoTransient(graph=graph),
+            start,
+            has_aux=True,
+            options={
+                "mass": _pseudo_mass(model, env)[free],
+                "shortest": jnp.min(model.segment_length),
+                "taut": _taut_strain(model),
+            },
+            max_steps=max_steps,
+            throw=False,
+        )
+
+    # Continuation in stiffness: first the network with its stiffnesses scaled down so
+    # that its strains are about `SOFT_STRAIN`, then stiffer by equal factors, each
+    # stage from the last one's equilibrium, and last the network itself. A stiff
+    # segment turned by a small step stretches by its square, so the linear model that
+    # a step trusts holds only for tiny turns: a light riser of EA 3.8e9 N in a 1.6 m/s
+    # current, which must swing tens of metres from its vertical guess, crept 0.1 m a
+    # step and ran out of 1,000 steps; softened, it swings in a few.
+    # One `scan` over all the stages, the last one the network itself at the caller's
+    # tolerance, so that the root find is traced once: tracing it took 2.7 s of a warm
+    # `jaxcable run` of the Low & Langley file, and twice it took 4.2 s to trace and
+    # 12.6 s to compile against 2.4 s and 10.7 s once (loaded machine, same steps).
+    # No stage carries a derivative (`_implicit` gives the equilibrium its own), nor
+    # does the start: the equilibrium's derivative does not depend on it, and the loads
+    # measured there (a norm of a zero drag) have none that is finite.
+    fixed = jax.lax.stop_gradient((model, env, t, start))
+    # The water's loads at the start, evaluated once for the softening and the start shape.
+    placed = lag.full_state(fixed[0], t, fixed[3][free], zeros_free)[0]
+    water = _water_loads(*fixed[:3], placed, still)
+    softest = jnp.clip(
+        _load_sum(fixed[0], fixed[1], water) / (SOFT_STRAIN * jnp.max(_stiffness(fixed[0]))), 1e-300, 1.0
+    )
+
+    def stage(carry, k):
+        x, _ = carry
+        final = k == STAGES
+        soft = _scaled_stiffness(fixed[0], jnp.where(final, 1.0, softest ** ((STAGES - k) / STAGES)))
+        tolerance = jnp.where(final, force_tolerance, STAGE_TOLERANCE)
+        found = solve(soft, fixed[1], fixed[2], x, tolerance)
+        return (found.value, found.result), found.stats["num_steps"]
+
+    start = _start_shape(fixed[0], fixed[1], placed, water) if shaped else fixed[3]
+    if free.size:
+        (value, found), stage_steps = jax.lax.scan(
+            stage, (start[free], optx.RESULTS.successful), jnp.arange(STAGES if nearby else 0, STAGES + 1)
+        )
+        value = _implicit(model, env, t, value, graph)
+    else:  # every node constrained: nothing to solve, the reactions still to find
+        value, found, stage_steps = zeros_free, optx.RESULTS.successful, jnp.zeros(1, int)
+    positions, _ = lag.full_state(model, t, value, zeros_free)
+    forces, water = lag.static_loads(model, env, t, positions, still)
+    left = jnp.max(jnp.abs(forces[free]), axis=1, initial=0.0)
+    remaining = jnp.max(left, initial=0.0)
+    scale = _force_scale(model, env, positions, water)
+    # Judged here, not by the solver's code alone: a step limit that ends on a force
+    # within the tolerance is still an equilibrium.
+    within = remaining <= force_tolerance * scale + _rounding(model)
+    # Under `jit` and `vmap` the geometry that `solve_statics` refuses eagerly (a line
+    # far too short for its ends) may still reach an "equilibrium" at absurd tension:
+    # failed here, so that a sweep reports the case.
+    needed = _required_strain(model, t)[0]
+    result = optx.RESULTS.where(
+        within & (needed <= MAX_REQUIRED_STRAIN),
+        optx.RESULTS.successful,
+        optx.RESULTS.where(found == optx.RESULTS.successful, optx.RESULTS.nonlinear_divergence, found),
+    )
+    worst = jnp.asarray(free)[jnp.argmax(left)] if free.size else jnp.asarray(0)
+    velocities = jnp.zeros_like(positions)
+    _, _, strain = lag.segment_geometry(model, positions)
+    tension = lag.tension(model, positions, velocities)
+    ends = model.segment_nodes
+    at_node = jnp.zeros(model.n_nodes).at[ends[:, 0]].max(jnp.abs(tension)).at[ends[:, 1]].max(jnp.abs(tension))
+    drag = water[worst]
+    on_seabed = jnp.asarray(False)
+    if env.depth is not None and env.seabed is not None:
+        on_seabed = positions[worst, 2] < -env.depth
+    return StaticSolution(
+        state=State(positions, velocities),
+        strain=strain,
+        tension=tension,
+        reactions=-forces[model.constrained_nodes],  # (M a − Q)_c at rest
+        residual=remaining,
+        force_scale=scale,
+        worst_node=jnp.asarray(worst, jnp.int32),
+        worst_tension=at_node[worst],
+        worst_drag=jnp.linalg.norm(drag),
+        worst_on_seabed=on_seabed,
+        required_strain=needed,
+        result=result,
+        steps=jnp.sum(stage_steps).astype(jnp.int32),
+    )
+
+
+# Jitted inside statics' trace so that it is traced once, not once for each of the
+# root find's evaluations (its first, each step's Newton corrections and JVPs, the
+# step's truncation and its end point): JAX reuses the jaxpr of a call with the same
+# argument types, and the lowered program calls one function.
+@eqx.filter_jit
+def _forces(model, env, t, free_positions, relative, still):
+    """The free nodes' forces (N) and, as the auxiliary output, the tolerance (N) and
+    the segments' strains (–), which steps are truncated by."""
+    positions, _ = lag.full_state(model, t, free_positions, jnp.zeros_like(free_positions))
+    forces, water = lag.static_loads(model, env, t, positions, still)
+    tolerance = relative * _force_scale(model, env, positions, water) + _rounding(model)
+    strain = lag.segment_geometry(model, positions)[2]
+    return forces[model.free_nodes], (tolerance, strain)
+
+
+def _implicit(model, env, t, value, graph: NetworkJacobian):
+    """`value`, the free nodes' equilibrium positions (m, shape `(free, 3)`, found by
+    root finds that carry no derivative), unchanged, with the implicit function
+    theorem's derivative in everything the forces depend on, `δx = −J⁻¹ (∂Q_f/∂θ) δθ`,
+    J = ∂Q_f/∂x at `value` (optimistix's `ImplicitAdjoint`, one linear solve on the
+    network's graph; nothing where no derivative is taken). Only the network's own
+    equilibrium is differentiated: a softened stage of the continuation can rest with
+    compressed segments on the seabed, whose Jacobian is singular (the softest stage
+    of `benchmarks/stiffness.py`'s line on the bed at N = 128: 15 such segments,
+    smallest singular value 0), and the implicit derivative of every stage, which the
+    `scan` computed when each root find had its own adjoint, failed in lineax there
+    although the final Jacobian is regular (condition number 1e8; issue 23)."""
+    adjoint = optx.ImplicitAdjoint(linear_solver=graph)
+    return adjoint.apply(_settled, _balance, (jax.lax.stop_gradient(value), model, env, t), frozenset())[0]
+
+
+# optimistix takes these only as closure-free functions, which a runtime type checker's
+# wrapper (the tests' jaxtyping import hook) is not.
+@typing.no_type_check
+def _settled(inputs):
+    """`_implicit`'s primal: the equilibrium as found."""
+    return inputs[0], None
+
+
+@typing.no_type_check
+def _balance(root, _, inputs):
+    """`_implicit`'s condition: the forces at `root` vanish."""
+    _, model, env, t = inputs[:4]
+    return _free_forces(model, env, t, root)
+
+
+def _free_forces(model, env, t, free_positions, still=False):
+    positions, _ = lag.full_state(model, t, free_positions, jnp.zeros_like(free_positions))
+    return lag.static_forces(model, env, t, positions, still)[model.free_nodes]  # constrained nodes at rest too
+
+
+def _water_loads(model, env, t, positions, still=False):
+    """The water's loads (N, shape `(nodes, 3)`) on the nodes at rest at `positions`
+    (m): the current's drag, and the waves' at `t`, with the bodies' constant forces;
+    zeros, not evaluated, where the water is `still` (`still_water`)."""
+    return lag.static_loads(model, env, t, positions, still)[1]
+
+
+def _force_scale(model, env, positions, water):
+    """The scene's force scale (N) at `positions`: the largest segment tension, wet
+    weight of a segment or a body (weight less buoyancy, either sign), body's constant
+    force, or drag (with the waves' inertia) on a node at rest, of the `water`'s loads
+    there (`_water_loads`, which its callers have evaluated already). Wet, not dry:
+    a near-neutral line's weight and buoyancy cancel, and what is left, not either,
+    is what its tensions carry."""
+    line, body = model.line, model.body
+    g, rho = env.gravity, env.water_density
+    velocities = jnp.zeros_like(positions)
+    loads = [
+        jnp.abs(lag.tension(model, positions, velocities)),
+        jnp.abs(line.mass_per_length - rho * line.area) * g * model.segment_length,
+        jnp.abs(body.mass - rho * body.volume) * g,
+        jnp.linalg.norm(body.force, axis=-1),
+        jnp.linalg.norm(water, axis=-1),
+    ]
+    return jnp.max(jnp.stack([jnp.max(jnp.broadcast_to(x, jnp.shape(x) or (1,))) for x in loads]))
+
+
+def _stiffness(model):
+    """Each segment's C_E (N), the stiffness that continuation scales."""
+    return jnp.broadcast_to(model.line.tension_law.axial_stiffness, (model.n_segments,))
+
+
+def _scaled_stiffness(model, factor):
+    """`model` with its tension law's stiffness coefficients (C_E, C_E1, and C_v, which
+    does nothing at rest) times `factor`; the slack switch's width and the law's static
+    flags (`slack_damping`) unchanged."""
+    law = model.line.tension_law
+    names = [f.name for f in dataclasses.fields(law) if f.name != "slack_width" and not f.metadata.get("static", False)]
+    return eqx.tree_at(
+        lambda m: [getattr(m.line.tension_law, n) for n in names],
+        model,
+        [factor * getattr(law, n) for n in names],
+    )
+
+
+def _load_sum(model, env, water):
+    """The loads (N) that a network's tensions must carry, summed: every segment's
+    weight and displaced weight, the bodies' weights, buoyancy and constant forces, and
+    the `water`'s loads on every node at rest (`_water_loads`). The softened network's
+    tensions are about this."""
+    line, body = model.line, model.body
+    g, rho = env.gravity, env.water_density
+    drag = jnp.linalg.norm(water, axis=-1)
+    return (
+        jnp.sum(
+            jnp.broadcast_to((line.mass_per_length + rho * line.area) * g, (model.n_segments,)) * model.segment_length
+        )
+        + jnp.sum((body.mass + rho * body.volume) * g + jnp.linalg.norm(body.force, axis=-1))
+        + jnp.sum(drag)
+    )
+
+
+class _Chains(NamedTuple):
+    """The network's chains (see `_chains`), as static index arrays."""
+
+    ends: np.ndarray  # (chains, 2): each chain's first and last node
+    tail: np.ndarray  # (chains,): whether its last node is a free node that joins nothing else
+    moving: np.ndarray  # the nodes a start shape places: inner nodes, and a tail's last
+    owner: np.ndarray  # each moving node's chain
+    segments: np.ndarray  # every chain's segments, chain by chain, each from its first node
+    before: np.ndarray  # each moving node's place in `segments`: the segment that ends at it
+    first: np.ndarray  # (chains,): where each chain starts in `segments`
+
+
+@functools.lru_cache(maxsize=32)
+def _chains(topology: Topology) -> _Chains:
+    """The network's chains: runs of segments through nodes that join exactly two (not
+    constrained, not a line's end). A tail is a chain whose last node is a free node
+    that joins nothing else (a hanging line's end, a riser's buoy). A chain that
+    places nothing (one segment between two junctions, a loop) is left out."""
+    neighbours = [[] for _ in range(topology.n_nodes)]
+    for s, (i, j) in enumerate(topology.segment_nodes):
+        neighbours[i].append((j, s))
+        neighbours[j].append((i, s))
+    junction = np.zeros(topology.n_nodes, dtype=bool)
+    junction[topology.line_ends] = True
+    constrained = np.zeros(topology.n_nodes, dtype=bool)
+    constrained[topology.constrained_nodes] = True
+    seen, ends, tail, moving, owner, segments, before, first = set(), [], [], [], [], [], [], []
+    for start in topology.line_ends:
+        for node, segment in neighbours[start]:
+            if segment in seen:
+                continue
+            path, run = [int(start)], [segment]
+            seen.add(segment)
+            while not junction[node]:
+                path.append(int(node))
+                node, segment = next((n, s) for n, s in neighbours[node] if s != segment)
+                run.append(segment)
+                seen.add(segment)
+            path.append(int(node))
+            tip = [len(neighbours[k]) == 1 and not constrained[k] for k in (path[0], path[-1])]
+            if tip[0] and tip[1]:
+                continue  # a loose piece: `check_held` refuses it
+            if tip[0]:
+                path.reverse()
+                run.reverse()
+            placed = path[1:] if tip[0] or tip[1] else path[1:-1]
+            if not placed or path[0] == path[-1]:
+                continue
+            ends.append((path[0], path[-1]))
+            tail.append(tip[0] or tip[1])
+            owner += [len(ends) - 1] * len(placed)
+            moving += placed
+            before += [len(segments) + k for k in range(len(placed))]
+            first.append(len(segments))
+            segments += run
+    arrays = (ends, tail, moving, owner, segments, before, first)
+    return _Chains(*(np.asarray(x, dtype=np.int64) for x in arrays))
+
+
+def _start_shape(model, env, positions, water):
+    """`positions` (m, shape `(nodes, 3)`), with each chain (see `_chains`) put on its
+    own analytic shape under its load, where that lowers the load's potential. The
+    load is the chain's wet weight, bodies' weight, buoyancy and constant force, and
+    the drag on it at rest, summed into one direction ĝ. A chain between two nodes
+    goes on the inextensible catenary of its length (stretched by the 0.1 % that
+    `CableNetwork.from_branches` stretches it) hanging along ĝ in the plane of its
+    chord and ĝ: its nodes at their arc lengths, where that catenary's nodes have less
+    potential `−Σ F · x` under the nodes' loads F than the given ones. A tail is turned
+    about its first node until its chord points along ĝ, where it points against it.
+    So a buoyant line that `from_branches` hung on a downward catenary starts arched
+    upward, and a buoyant line hanging from a point starts standing up from it, rather
+    than floating up through slack (issue 23's fuzz, seeds 75, 105, 208, 220); a line in
+    a current starts in the plane its drag tilts it into; and a start nearer the
+    equilibrium than the catenary (a solved shape, whose stretch lowers it further) is
+    kept."""
+    chains = _chains(model.topology)
+    if not chains.moving.size:
+        return positions
+    ends, tail, moving, owner = chains.ends, chains.tail, chains.moving, chains.owner
+    line, body = model.line, model.body
+    g, rho = env.gravity, env.water_density
+    up = jnp.array([0.0, 0.0, 1.0])
+    wet = jnp.broadcast_to((rho * line.area - line.mass_per_length) * g * model.segment_length, (model.n_segments,))
+    nodes = model.segment_nodes
+    lift = jnp.zeros(model.n_nodes).at[nodes[:, 0]].add(0.5 * wet).at[nodes[:, 1]].add(0.5 * wet)
+    lift = lift + (rho * body.volume - body.mass) * g
+    load = (lift[:, None] * up + body.force + water)[moving]
+    count = ends.shape[0]
+    down = _unit(jax.ops.segment_sum(load, owner, count))
+    pivot, far = positions[ends[:, 0]], positions[ends[:, 1]]
+    chord = far - pivot
+
+    # A chain between two nodes, in the frame of its catenary: `rise` along −ĝ,
+    # `across` the rest of the chord, and arc lengths along its segments.
+    rise = -jnp.sum(chord * down, axis=-1)
+    across = chord + rise[:, None] * down
+    h = jnp.linalg.norm(across, axis=-1)
+    length = jnp.broadcast_to(model.segment_length, (model.n_segments,))[chains.segments]
+    of_segment = np.repeat(np.arange(count), np.diff([*chains.first, length.size]))
+    run = jnp.cumsum(length)
+    fraction = (run[chains.before] - (run - length)[chains.first][owner]) / jax.ops.segment_sum(
+        length, of_segment, count
+    )[owner]
+    target = (1 + _GUESS_STRETCH) * length
+    slack = (h > 0) & (jnp.sum(target) > 0) & ~tail
+    slack = slack & (jax.ops.segment_sum(target, of_segment, count) > jnp.linalg.norm(chord, axis=-1))
+    h = jnp.where(slack, h, 1.0)
+
+    def catenary(total):
+        """The chains' moving nodes on catenaries of arc lengths `total` (m)."""
+        reach = jnp.sqrt(jnp.where(slack, jnp.maximum(total**2 - rise**2, 0.0), 1.0))
+
+        def bisect(_, bounds):  # 2a sinh(h/2a) falls from ∞ to h as a grows
+            low, high = bounds
+            a = jnp.sqrt(low * high)
+            longer = 2 * a * jnp.sinh(jnp.minimum(h / (2 * a), 700.0)) > reach
+            return jnp.where(longer, a, low), jnp.where(longer, high, a)
+
+        a = jnp.sqrt(jnp.prod(jnp.stack(jax.lax.fori_loop(0, 100, bisect, (1e-6 * h, 1e6 * h))), axis=0))
+        x0 = h / 2 - a * jnp.arctanh(jnp.clip(rise / total, -1 + 1e-15, 1 - 1e-15))
+        a, x0, arc = a[owner], x0[owner], fraction * total[owner]
+        x = x0 + a * jnp.arcsinh(arc / a + jnp.sinh(-x0 / a))
+        z = a * (jnp.cosh((x - x0) / a) - jnp.cosh(x0 / a))
+        return pivot[owner] + x[:, None] * (across / h[:, None])[owner] - z[:, None] * down[owner]
+
+    # Sampled at arc lengths, the chords across a tight bend are shorter than their
+    # arcs, so those segments start slack. `from_branches` lengthens the arc until no
+    # chord is; here that stretched the segments away from a coarse chain's bend by up
+    # to 96 % (issue 23's fuzz, seed 4), and a slack segment only slows the solve.
+    shape = catenary(jax.ops.segment_sum(target, of_segment, count))
+    given = positions[moving]
+    lower = jax.ops.segment_sum(jnp.sum(load * (given - shape), axis=-1), owner, count) < 0
+    # (A catenary that overflowed is not finite, so not lower.)
+    use = (slack & lower)[owner, None]
+
+    # A tail, turned about its first node from its chord towards ĝ, where they are
+    # more than 90° apart (about any axis across the chord where exactly opposite).
+    turned = _unit(chord)
+    normal = jnp.cross(turned, down)
+    across_x = jnp.cross(turned, jnp.array([1.0, 0.0, 0.0]))
+    fallback = _unit(
+        jnp.where(jnp.linalg.norm(across_x, axis=-1, keepdims=True) > 0.1, across_x, jnp.cross(turned, up))
+    )
+    axis = jnp.where(jnp.linalg.norm(normal, axis=-1, keepdims=True) > 1e-9, _unit(normal), fallback)
+    cos = jnp.sum(turned * down, axis=-1)
+    against = tail & (cos < 0)
+    cos, sin = jnp.where(against, cos, 1.0), jnp.where(against, jnp.linalg.norm(normal, axis=-1), 0.0)
+    # Rodrigues: v cos θ + (k × v) sin θ + k (k · v)(1 − cos θ).
+    k, c, s_ = axis[owner], cos[owner, None], sin[owner, None]
+    offset = given - pivot[owner]
+    rotated = (
+        pivot[owner] + offset * c + jnp.cross(k, offset) * s_ + k * jnp.sum(k * offset, -1, keepdims=True) * (1 - c)
+    )
+    return positions.at[moving].set(jnp.where(use, shape, rotated))
+
+
+def _unit(vectors):
+    """`vectors` (shape `(n, 3)`) over their lengths; zero where a length is zero."""
+    length = jnp.linalg.norm(vectors, axis=-1, keepdims=True)
+    return vectors / jnp.where(length > 0, length, 1.0)
+
+
+def _rounding(model):
+    """The force (N) that rounding alone leaves on a node: a tension EA ε is known to
+    about EA times float64's ε, and a node sums a few of them."""
+    return 16 * jnp.finfo(float).eps * jnp.max(model.line.tension_law.axial_stiffness)
+
+
+def _taut_strain(model):
+    """The strain (–) from which each segment counts as taut, shape `(segments,)`: the
+    top of its slack switch's band, or 1e-9 for a sharp switch, so that a step truncated
+    there (see `_PseudoTransient`) still moves."""
+    width = jnp.broadcast_to(model.line.tension_law.slack_width, (model.n_segments,))
+    return jnp.maximum(width, 1e-9)
+
+
+def _pseudo_mass(model, env):
+    """Each node's mass with its displaced water (kg), shape `(nodes,)`: the damped
+    motion's inertia, which sets how far a node moves in a small pseudo-time step."""
+    line, body = model.line, model.body
+    per_segment = 0.5 * (line.mass_per_length + env.water_density * line.area) * model.segment_length
+    segments = jnp.broadcast_to(per_segment, (model.n_segments,))
+    ends = model.segment_nodes
+    nodes = jnp.zeros(model.n_nodes).at[ends[:, 0]].add(segments).at[ends[:, 1]].add(segments)
+    return nodes + body.mass + env.water_density * body.volume
+
+
+class _PseudoTransientState(eqx.Module):
+    force: Float[Array, "free 3"]
+    tolerance: Float[Array, ""]
+    strain: Float[Array, " segments"]
+    size: Float[Array, ""]
+    step_size: Float[Array, ""]
+    rejected: Int[Array, ""]
+    previous: Float[Array, ""]
+
+
+class _PseudoTransient(optx.AbstractRootFinder):
+    """Pseudo-transient continuation as an optimistix root finder for the free nodes'
+    forces `fn(x) = Q_f(x)` (N), whose auxiliary output is the force tolerance (N) at
+    `x`; `options["mass"]` holds the free nodes' pseudo-masses D (kg) and
+    `options["shortest"]` the shortest segment (m).
+
+    A step solves `(D/Δτ − J) δ = Q_f`, J = ∂Q_f/∂x, makes up to `corrections` of
+    Newton's corrections towards implicit Euler's end point x' (each linearised at its
+    iterate; they stop once the residual `Q_f(x') − D (x' − x)/Δτ` is below `resolved`
+    times the force before the step), and tries x'. Δτ is steered as a trust region
+    is, by how well the step's model predicted the force there, `Q_f(x') = D (x' −
+    x)/Δτ`: its error, relative to the force before the step, below `good` lets Δτ
+    grow by `grow`; above `poor` shrinks it by `shrink`; above `bad` (or a force that
+    is not finite) refuses the step, unless the force still halved.
+    A model error, not the force's change, is the test because the force need not
+    fall along the way (a slack line falls freely at its weight), and because where a
+    segment switches between slack and taut, Newton-like steps can cycle between the
+    two states with the force rising and falling in turn (seen on a light, stiff
+    riser in a current): the model's error there is large and Δτ shrinks until the
+    steps follow the damped motion across the switch. The first Δτ moves the fastest
+    node a tenth of the shortest segment. `give_up` steps refused in a row end the
+    solve as stalled.
+    """
+
+    graph: NetworkJacobian
+    rtol: float = 0.0  # unused: convergence is the force tolerance
+    atol: float = 0.0
+    norm: object = optx.max_norm
+    good: float = 0.25
+    poor: float = 0.5
+    bad: float = 1.0
+    grow: float = 4.0
+    shrink: float = 0.25
+    give_up: int = 40
+    corrections: int = 10
+    resolved: float = 0.01
+
+    def init(self, fn, y, args, options, f_struct, aux_struct, tags):
+        force, (tolerance, strain) = fn(y, args)
+        mass = options["mass"][:, None]
+        speed = jnp.max(jnp.abs(force) / mass)
+        step_size = jnp.where(speed > 0, 0.1 * options["shortest"] / jnp.where(speed > 0, speed, 1.0), 1.0)
+        return _PseudoTransientState(
+            force, tolerance, strain, jnp.max(jnp.abs(force)), step_size, jnp.array(0), jnp.array(jnp.inf)
+        )
+
+    def step(self, fn, y, args, options, state, tags):
+        mass = options["mass"][:, None]
+
+        def newton(carry):
+            k, x, residual = carry
+            operator = lx.FunctionLinearOperator(
+                lambda v: mass * v / state.step_size - jax.jvp(lambda z: fn(z, args)[0], (x,), (v,))[1],
+                jax.eval_shape(lambda: y),
+            )
+            x = x + lx.linear_solve(operator, residual, self.graph, throw=False).value
+            # Implicit Euler's residual `Q_f(x) − D (x − y)/Δτ`, zero at the step's end.
+            return k + 1, x, fn(x, args)[0] - mass * (x - y) / state.step_size
+
+        def unresolved(carry):
+            k, _, residual = carry
+            return (k <= self.corrections) & (jnp.max(jnp.abs(residual)) > self.resolved * state.size)
+
+        # The linear step, then Newton's corrections towards implicit Euler's end
+        # point, each linearised afresh, until its residual is a small part of the
+        # force. A stiff segment turned by δ stretches by δ²/2L, which the linear
+        # step cannot see; and a stiff line at rest inside its slack switch's band
+        # (strains of 1e-7 to 1e-5, where the law is cubic) is stiffer at every
+        # iterate than at the last. Corrections with the first step's factors (a
+        # chord method) diverged there: every other step was refused and 17 of the
+        # fuzz's stiff lines stalled at 1e-4 of their force scale. Linearised afresh,
+        # they end in tens of steps, not thousands (issue 23). The residual is carried
+        # from one correction to the next (at y it is the force there), so that each
+        # evaluates the forces once besides their JVPs: the loop's condition and a
+        # `jax.linearize` evaluated them again, and tracing those took 0.6 s of the
+        # Low & Langley file's 1.7 s.
+        step = jax.lax.while_loop(unresolved, newton, (0, y, state.force))[1] - y
+        # Truncated where a segment would switch between slack and taut: the linear
+        # model holds on one side of the switch only. A slack segment (ε ≤ 0) that the
+        # step would stretch past the top of its switch's band stops there, a taut one
+        # (above the band) that it would slacken stops at zero strain; one inside the
+        # band moves freely (stiff lines rest there). All by the shortest such fraction α
+        # of the step (the strain taken as linear along it). Without this, a slack
+        # stretch of line drifting under its buoyancy or a current (a buoyant line
+        # floating up, a light line on the bed in a current) moved only as far as the
+        # step's model stayed good across its many switches: a few centimetres a step,
+        # and thousands of steps (issue 23's fuzz, seeds 9, 220, 510).
+        _, (_, ahead) = fn(y + step, args)
+        taut, before = options["taut"], state.strain
+        tightens = (before <= 0) & (ahead > taut)
+        slackens = (before >= taut) & (ahead < 0)
+        change = jnp.where(tightens | slackens, ahead - before, 1.0)
+        fraction = jnp.where(tightens, (taut - before) / change, jnp.where(slackens, -before / change, 1.0))
+        alpha = jnp.clip(jnp.min(fraction, initial=1.0), 0.0, 1.0)
+        candidate = y + alpha * step
+        force, (tolerance, strain) = fn(candidate, args)
+        size = jnp.max(jnp.abs(force))
+        # The linear model's force at the truncated point: `(1 − α) Q_f + α D δ/Δτ`.
+        predicted = (1 - alpha) * state.force + alpha * mass * step / state.step_size
+        error = jnp.max(jnp.abs(force - predicted)) / state.size
+        finite = jnp.isfinite(size) & jnp.isfinite(error)
+        taken = finite & ((error <= self.bad) | (size <= 0.5 * state.size))
+        # A truncated step took a fraction α of what Δτ allowed: Δτ follows it down,
+        # so that the next step ends near the next switch, not far past it.
+        factor = jnp.where(error <= self.good, self.grow, jnp.where(error <= self.poor, 1.0, self.shrink))
+        factor = factor * jnp.maximum(alpha, self.shrink**2)
+        new = _PseudoTransientState(
+            force=jnp.where(taken, force, state.force),
+            tolerance=jnp.where(taken, tolerance, state.tolerance),
+            strain=jnp.where(taken, strain, state.strain),
+            size=jnp.where(taken, size, state.size),
+            step_size=state.step_size * jnp.where(finite, factor, self.shrink),
+            rejected=jnp.where(taken, 0, state.rejected + 1),
+            previous=jnp.where(taken, state.size, state.previous),
+        )
+        return jnp.where(taken, candidate, y), new, (tolerance, strain)
+
+    def terminate(self, fn, y, args, options, state, tags):
+        # Within the tolerance the steps go on while they still halve the force: near
+        # the equilibrium they are Newton's, so a few take it from the tolerance down
+        # to rounding (the supports then carry the weight to 1e-8 and better, where the
+        # tolerance allowed 1e-6 of the tension). A step that no longer halves it, or
+        # one refused (rounding's noise), ends the solve.
+        within = state.size <= state.tolerance
+        done = within & ((state.size > 0.5 * state.previous) | (state.rejected >= 1))
+        stalled = state.rejected >= self.give_up
+        failed = stalled & ~done
+        return done | stalled, optx.RESULTS.where(failed, optx.RESULTS.nonlinear_divergence, optx.RESULTS.successful)
+
+    def postprocess(self, fn, y, aux, args, options, state, tags, result):
+        return y, aux, {}

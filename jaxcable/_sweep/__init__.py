@@ -1,0 +1,1 @@
+"""Batched simulations over parameter values (vmapped sweeps)."""
