@@ -1,7 +1,7 @@
 """jaxcable.equations: the equations of motion, for users who look under `simulate`.
 
 The Lagrangian's parts and the forces it gives, as pure functions of a model, an
-environment and a state (`_lagrangian.py` derives them), the first-order vector field
+environment and a state (`_equations/lagrangian.py` derives them), the first-order vector field
 that [`jaxcable.simulate`][] integrates, the smoothed slack switch H(ε) of the tension
 laws, and the stiffest axial mode that limits an explicit step.
 """

@@ -298,7 +298,7 @@ def synthetic_record(
         `caveats` (HorizontalTow's `tension`: a load cell reads `tow_load`).
     - `name`: the record's name.
     - `solver`: how to integrate, a [`jaxcable.SolverConfig`][];
-        [`jaxcable.rig_solver`][]`()` by default.
+        [`jaxcable.calibration.rig_solver`][]`()` by default.
 
     **Returns:**
 
@@ -340,7 +340,7 @@ def synthetic_record(
 
 def calibration_solver(**options) -> SolverConfig:
     """[`jaxcable.calibrate`][]'s default [`jaxcable.SolverConfig`][]: the rigs'
-    ([`jaxcable.rig_solver`][]) with `adjoint=diffrax.ForwardMode()`, which makes the
+    ([`jaxcable.calibration.rig_solver`][]) with `adjoint=diffrax.ForwardMode()`, which makes the
     fit's gradient forward mode. `options` are `SolverConfig`'s keyword arguments,
     replacing these defaults: `calibration_solver(rtol=1e-8)`."""
     return rig_solver(**{"adjoint": diffrax.ForwardMode(), **options})
@@ -373,7 +373,7 @@ def calibrate(
         Every other coefficient stays as the rig has it.
     - `optimizer`: any optax `GradientTransformation`, stepping in the log of each
         coefficient (so `optax.adam(0.05)` changes each by about 5 % a step).
-        [`jaxcable.default_optimizer`][]`()` by default: L-BFGS with a backtracking
+        [`jaxcable.calibration.default_optimizer`][]`()` by default: L-BFGS with a backtracking
         line search. It is called with the extra arguments `value`, `grad` and
         `value_fn` (the loss), which L-BFGS's line search needs and others ignore.
         Reuse one object across fits to reuse their compilation.
@@ -387,7 +387,7 @@ def calibrate(
         in reverse mode through it. With a few coefficients forward mode is the
         cheaper, and it yields the Jacobian that the uncertainty needs anyway
         (`benchmarks/calibration.py` measures both), so the default is
-        [`jaxcable.calibration_solver`][]`()`.
+        [`jaxcable.calibration.calibration_solver`][]`()`.
     - `progress`: show a progress bar over iterations.
 
     **Returns:**
@@ -961,7 +961,7 @@ def discretisation_check(
 
     - `result`: a [`jaxcable.CalibrationResult`][].
     - `factor`: how many times finer (an integer ≥ 2).
-    - `solver`: how to integrate; [`jaxcable.rig_solver`][]`()` by default.
+    - `solver`: how to integrate; [`jaxcable.calibration.rig_solver`][]`()` by default.
 
     **Returns:**
 
@@ -989,7 +989,7 @@ def discretisation_check(
             raise RuntimeError(
                 f"discretisation_check: {record.name}: the simulation at {coarse * factor} segments failed "
                 f"(diffrax: {run.simulation.result}); finer segments are stiffer, so give a solver with more "
-                "steps, e.g. solver=jaxcable.rig_solver(max_steps=1_000_000)"
+                "steps, e.g. solver=jaxcable.calibration.rig_solver(max_steps=1_000_000)"
             )
         segments[record.name] = (coarse, coarse * factor)
         predicted = {}

@@ -106,14 +106,14 @@ class AbstractTowingRig(eqx.Module):
         `times` must be non-decreasing; repeated final times (padding) are allowed. The
         run starts at `times[0]` and ends at `times[-1]`. `inputs` holds one array per
         name in `inputs`, sampled at `times`. `solver` is how to integrate,
-        [`jaxcable.rig_solver`][]`()` by default.
+        [`jaxcable.calibration.rig_solver`][]`()` by default.
         """
 
     @abc.abstractmethod
     def conditions(self) -> dict[str, float | str]:
         """The rig as a record header's conditions: `rig`, its name in
         `jaxcable.RIGS`, and every argument of its constructor (SI), so that
-        [`jaxcable.rig_from_conditions`][] rebuilds it."""
+        [`jaxcable.calibration.rig_from_conditions`][] rebuilds it."""
 
     def predict(self, times, inputs=None, solver: SolverConfig | None = None):
         """The observables alone, `simulate(...).observables`."""

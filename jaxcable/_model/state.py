@@ -1,6 +1,6 @@
 """The state of a network: node positions and velocities, nothing else.
 
-Tension and strain are pure functions of (model, state); see `_lagrangian`.
+Tension and strain are pure functions of (model, state); see `_equations.lagrangian`.
 """
 
 import equinox as eqx

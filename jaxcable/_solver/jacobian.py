@@ -245,7 +245,7 @@ def _inverse(a):
     pivoting.
 
     Written out rather than LAPACK's LU: a batched LU was seen to deadlock under
-    `vmap` across two host devices on a two-core machine (see `_lagrangian`), and
+    `vmap` across two host devices on a two-core machine (see `_equations.lagrangian`), and
     sweeps vmap this.
     """
     m = a.shape[-1]
