@@ -11,11 +11,11 @@ difference of its peak, all relative to the reference's peak.
 
 Scenes:
 
-- `sweep`: seed 003's line as `first_contact.py`'s sweeps run it (20 segments, linear
+- `sweep`: the anchored line as `first_contact.py`'s sweeps run it (20 segments, linear
   EA, lumped mass, MoorDyn's nodal hydrodynamics), the top's amplitude 0.5 m and 3 m
   (the sweep's ends), with 100 Hz output: the default steps end at the output times.
-- `scene`: the bundled `seed003_line` scene (20 segments, C_E1 = 0.1 C_E, consistent
-  mass), as `jaxcable run seed003_line` runs it with 20 Hz output.
+- `scene`: the bundled `anchored_line` scene (20 segments, C_E1 = 0.1 C_E, consistent
+  mass), as `jaxcable run anchored_line` runs it with 20 Hz output.
 
     python benchmarks/default_stepping.py                 # both scenes
     python benchmarks/default_stepping.py --report        # the latest session's table
@@ -43,14 +43,14 @@ def scenes(duration: float):
     import jaxcable as jc
 
     for amplitude in (0.5, 3.0):
-        model, env = jc.examples.seed003_line(
+        model, env = jc.examples.anchored_line(
             n_segments=20, quadratic_ratio=0.0, mass_matrix="lumped", hydrodynamics="nodes"
         )
         top = list(np.asarray(model.constrained_nodes)).index(1)
         model = eqx.tree_at(lambda m: m.motions[top].amplitude, model, amplitude)
         yield f"sweep, amplitude {amplitude:g} m", model, env, 0.01
-    built = jc.load_scene(jc.examples.scene_path("seed003_line")).build()
-    yield "scene seed003_line", built.model, built.environment, 0.05
+    built = jc.load_scene(jc.examples.scene_path("anchored_line")).build()
+    yield "scene anchored_line", built.model, built.environment, 0.05
 
 
 def runs(model, env, duration: float, interval: float):

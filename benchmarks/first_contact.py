@@ -20,7 +20,7 @@ A process that fails is recorded and the benchmark goes on. Every process runs w
 
 Rows (`--rows` takes these names):
 
-- `line40`: a 40-segment anchored steel rope (seed 003's rope, with internal damping
+- `line40`: a 40-segment anchored steel rope (the anchored-line paper's rope, with internal damping
   BA = -0.8 and a seabed 50 m below the anchor) from a MoorDyn v2 file, its top moved
   along x by a 600 s motion table (`time,x,y,z` every 0.1 s):
   `jaxcable run line40.txt --motion motion.csv --out run.csv`, against a Python process
@@ -35,7 +35,7 @@ Rows (`--rows` takes these names):
   line's fastest modes (`jaxcable.fixed_steps`) in place of the file's dtM and tScheme,
   against the same MoorDyn process, with the same targets.
 - `sweep32`, `sweep256`: a user's script, `jc.sweep(build, {"amplitude":
-  np.linspace(0.5, 3.0, N)}, 60.0, ts=...)` over seed 003's line (N = 20, linear EA,
+  np.linspace(0.5, 3.0, N)}, 60.0, ts=...)` over the anchored line (N = 20, linear EA,
   lumped, nodal hydrodynamics: the model MoorDyn has) at jaxcable's default options,
   against a Python process that runs MoorDyn on the same N cases in a loop (dtM = 1 ms,
   the top's position and secant velocity each step, output at 100 Hz). The figure is
@@ -91,9 +91,9 @@ RESULTS = BENCHMARKS / "results" / "first_contact.json"
 ROWS = ("line40", "line40_auto", "sweep32", "sweep256", "lowe_langley", "examples", "refusal")
 DEFAULTS = {"repeats": 3, "duration": 600.0, "cases": None, "examples": None}
 
-# line40: seed 003's rope, 40 segments, with internal damping and a seabed.
+# line40: the anchored-line paper's rope, 40 segments, with internal damping and a seabed.
 LINE40_TOP = 346.4101615137755  # m: the top's x at rest, H cot 30°
-LINE40_AMPLITUDE, LINE40_PERIOD = 1.5733227425801541, 5.6  # m, s: seed 003's top motion
+LINE40_AMPLITUDE, LINE40_PERIOD = 1.5733227425801541, 5.6  # m, s: the anchored-line paper's top motion
 LINE40_DTM, LINE40_DT_OUT = 0.002, 0.1  # s
 LINE40_SETTLED = 10.0  # s: the tensions are also compared after this, past the start's transient
 LINE40 = f"""line40: a 40-segment anchored steel rope (benchmarks/first_contact.py)
@@ -153,7 +153,7 @@ moordyn.Close(system)
 np.save(out, np.array(tension))
 """
 
-# The sweeps' line: seed 003's, with the equations MoorDyn has (as moordyn_side_by_side's).
+# The sweeps' line: the anchored-line paper's, with the equations MoorDyn has (as moordyn_side_by_side's).
 SWEEP_LINE = {"n_segments": 20, "quadratic_ratio": 0.0, "mass_matrix": "lumped", "hydrodynamics": "nodes"}
 SWEEP_DURATION, SWEEP_SAMPLES, SWEEP_DTM = 60.0, 6001, 1e-3  # s, output times (100 Hz), s
 SWEEP_AMPLITUDES = (0.5, 3.0)  # m: np.linspace's ends
@@ -175,8 +175,8 @@ import numpy as np
 
 
 def build(amplitude):
-    \"\"\"Seed 003's line with the top's harmonic amplitude set.\"\"\"
-    model, env = jc.examples.seed003_line({line})
+    \"\"\"The anchored line with the top's harmonic amplitude set.\"\"\"
+    model, env = jc.examples.anchored_line({line})
     top = list(np.asarray(model.constrained_nodes)).index(1)  # the motion of node 1, the fairlead
     return eqx.tree_at(lambda m: m.motions[top].amplitude, model, amplitude), env
 
@@ -476,7 +476,7 @@ def sweep_moordyn_input() -> tuple[str, list[float]]:
     jax.config.update("jax_enable_x64", True)  # jaxcable's float64 model, whose values the file copies
     import jaxcable as jc
 
-    model, env = jc.examples.seed003_line(**SWEEP_LINE)
+    model, env = jc.examples.anchored_line(**SWEEP_LINE)
     return mss.moordyn_input(model, env, SWEEP_DTM), [float(v) for v in np.asarray(model.node_positions[1])]
 
 
@@ -493,7 +493,7 @@ def row_sweep(args, cases: int, targets: tuple[float, float | None]) -> list[dic
     }
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
-        (folder / "seed003.txt").write_text(text)
+        (folder / "anchored_line.txt").write_text(text)
         (folder / "sweep.py").write_text(
             JAXCABLE_SWEEP.format(line=keywords(SWEEP_LINE), samples=SWEEP_SAMPLES, **settings)
         )
@@ -508,7 +508,7 @@ def row_sweep(args, cases: int, targets: tuple[float, float | None]) -> list[dic
         )
         runs = interleaved(
             lambda cache: process([sys.executable, "sweep.py", "peaks.npy"], folder, cache),
-            lambda: process([sys.executable, "moordyn_sweep.py", "seed003.txt", "moordyn_peaks.npy"], folder),
+            lambda: process([sys.executable, "moordyn_sweep.py", "anchored_line.txt", "moordyn_peaks.npy"], folder),
             args.repeats,
             folder,
             f"sweep of {cases}",
@@ -653,7 +653,7 @@ def row_refusal(args) -> list[dict]:
         ),
         "TOML scene whose axial_stiffness is a string": (
             "bad_ea.toml",
-            replaced(scene_path("seed003_line").read_text(), "axial_stiffness = 3.0e7", 'axial_stiffness = "3.0e7 N"'),
+            replaced(scene_path("anchored_line").read_text(), "axial_stiffness = 3.0e7", 'axial_stiffness = "3.0e7 N"'),
         ),
     }
     rows = []

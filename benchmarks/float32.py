@@ -30,7 +30,7 @@ The speed side: this machine's FMA rate in float32 and float64 through XLA (a fu
 chain on both cores, as `profile_evaluation.roofline` measures float64), the ceiling of
 what float32 could gain on the batched evaluation, which is compute bound.
 
-Scenes: `seed003_20` and `seed003_100`, seed 003's line as the speed table runs it
+Scenes: `anchored_line_20` and `anchored_line_100`, the anchored line as the speed table runs it
 (`moordyn_side_by_side.scene`: lumped, nodal hydrodynamics, linear EA = 3e7 N) over
 the first 3 s (up to its first slack event, where the speed table measures), at
 MoorDyn's dtM for 1e-3 there (0.25 ms at N = 20, scaled by 20/N); and `jumper`, the
@@ -56,7 +56,7 @@ import numpy as np
 from _results import append_session
 
 RESULTS = Path(__file__).resolve().parent / "results" / "float32.json"
-SCENES = ("seed003_20", "seed003_100", "jumper")
+SCENES = ("anchored_line_20", "anchored_line_100", "jumper")
 STORAGE = ("absolute", "displacement")
 LEVEL = 1e-3  # the speed table's matched RMS error, of the peak
 
@@ -65,11 +65,11 @@ def build(scene: str):
     """`(model, env, initial state, top segment, duration (s), dt (s))` for a scene."""
     import jaxcable as jc
 
-    if scene.startswith("seed003"):
-        from moordyn_side_by_side import scene as seed003_scene
+    if scene.startswith("anchored_line"):
+        from moordyn_side_by_side import scene as anchored_line_scene
 
         n = int(scene.split("_")[1])
-        model, env = seed003_scene(slack_width=1e-6, segments=n)
+        model, env = anchored_line_scene(slack_width=1e-6, segments=n)
         return model, env, jc.solve_statics(model, env).state, n - 1, 3.0, 2.5e-4 * 20 / n
     from work_precision import build as work_precision_scene
 

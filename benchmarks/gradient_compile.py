@@ -1,6 +1,6 @@
-"""What a gradient costs against a forward simulation, and what compiles, on seed 003's line.
+"""What a gradient costs against a forward simulation, and what compiles, on the anchored line.
 
-Seed 003's anchored line (`jaxcable.examples.seed003_line`: 200 m depth, 30°, C_E = 3e7 N,
+The anchored line (`jaxcable.examples.anchored_line`: 200 m depth, 30°, C_E = 3e7 N,
 top driven at T_w = 5.6 s), each run from the static equilibrium at the nominal
 parameters, Dopri5 unless said otherwise. Four studies, one command (and one table) each:
 
@@ -202,14 +202,14 @@ def gradient_study(args):
     import numpy as np
 
     import jaxcable as jc
-    from jaxcable.examples import seed003_line
+    from jaxcable.examples import anchored_line
 
     duration = args.duration or 5.6
     n_out = int(round(duration * 20)) + 1
     entries = []
     for mass in args.mass_matrix:
         for n in args.segments or [10, 20]:
-            model, env = seed003_line(n, mass_matrix=mass)
+            model, env = anchored_line(n, mass_matrix=mass)
             static = jc.solve_statics(model, env)
             for k in args.parameters:
                 names = PARAMETERS[:k]
@@ -371,13 +371,13 @@ def segments_study(args):
 
     import jaxcable as jc
     from jaxcable.equations import vector_field
-    from jaxcable.examples import seed003_line
+    from jaxcable.examples import anchored_line
 
     duration = args.duration or 0.2
     ts = np.linspace(0.0, duration, 5)
     entries = []
     for n in args.segments or [5, 10, 20, 50, 100, 200]:
-        model, env = seed003_line(n, mass_matrix="lumped")
+        model, env = anchored_line(n, mass_matrix="lumped")
         static = jc.solve_statics(model, env)
         jax.clear_caches()  # statics' programs are not what is measured
         y = (static.state.positions[model.free_nodes], static.state.velocities[model.free_nodes])
@@ -415,12 +415,12 @@ def solvers_study(args):
     import numpy as np
 
     import jaxcable as jc
-    from jaxcable.examples import seed003_line
+    from jaxcable.examples import anchored_line
 
     duration = args.duration or 0.5
     n = (args.segments or [20])[0]
     ts = np.linspace(0.0, duration, 5)
-    model, env = seed003_line(n, mass_matrix="lumped")
+    model, env = anchored_line(n, mass_matrix="lumped")
     static = jc.solve_statics(model, env)
     solvers = {
         "Dopri5": diffrax.Dopri5,
@@ -467,12 +467,12 @@ def reuse_study(args):
     import numpy as np
 
     import jaxcable as jc
-    from jaxcable.examples import seed003_line
+    from jaxcable.examples import anchored_line
 
     duration = args.duration or 2.0
     n = (args.segments or [10])[0]
     ts = np.linspace(0.0, duration, int(round(duration * 20)) + 1)
-    model, env = seed003_line(n, mass_matrix="lumped")
+    model, env = anchored_line(n, mass_matrix="lumped")
     static = jc.solve_statics(model, env)
     entries = []
 

@@ -2,7 +2,7 @@
 (`jaxcable.NetworkJacobian`: coloured JVPs and a block-tridiagonal factorisation) and
 without it (diffrax's dense Jacobian and LU).
 
-Seed 003's line with lumped mass, from static equilibrium (interpolated from 300
+The anchored line with lumped mass, from static equilibrium (interpolated from 300
 segments' above that), for each N:
 
 - *solve*: one linear solve of an implicit stage, `(h γ J − I) Δ = r` with the
@@ -38,7 +38,7 @@ from _timing import timed
 
 import jaxcable as jc
 from jaxcable.equations import vector_field
-from jaxcable.examples import seed003_line
+from jaxcable.examples import anchored_line
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -64,13 +64,13 @@ def stage_solve(model, env, state, linear_solver, h=1e-3):
 
 
 def equilibrium(n: int, statics_up_to: int) -> jc.State:
-    """Seed 003's line of `n` segments at rest in (or near) equilibrium. Above
+    """The anchored line of `n` segments at rest in (or near) equilibrium. Above
     `statics_up_to` segments the statics' dense solve costs minutes, so the shape of
     the `statics_up_to`-segment equilibrium is interpolated along the line instead:
     a state within the coarse line's discretisation error of equilibrium, which is
     all a step's cost needs."""
     coarse = min(n, statics_up_to)
-    model, env = seed003_line(coarse, mass_matrix="lumped")
+    model, env = anchored_line(coarse, mass_matrix="lumped")
     positions = np.asarray(jc.solve_statics(model, env).state.positions)
     if coarse == n:
         return jc.State(positions, np.zeros_like(positions))
@@ -110,7 +110,7 @@ def main():
 
     rows = []
     for n in args.segments:
-        model, env = seed003_line(n, mass_matrix="lumped")
+        model, env = anchored_line(n, mass_matrix="lumped")
         state = equilibrium(n, args.statics_up_to)
         for jacobian in ("structured", "dense"):
             if jacobian == "dense" and n > args.dense_up_to:
@@ -223,7 +223,7 @@ def plot(sessions):
     ax.loglog(n, 0.05 * (n / 10) ** 3, "-.", color="grey", label="∝ N³")
     ax.set_xlabel("segments N")
     ax.set_ylabel("wall time (ms)")
-    ax.set_title("Implicit steps on seed 003's line (lumped mass)")
+    ax.set_title("Implicit steps on the anchored line (lumped mass)")
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(RESULTS / "implicit_scaling.png", dpi=120)

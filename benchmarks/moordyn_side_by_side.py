@@ -1,13 +1,13 @@
-"""MoorDyn side by side with jaxcable on seed 003's line: accuracy against wall time, and a
+"""MoorDyn side by side with jaxcable on the anchored line: accuracy against wall time, and a
 256-case wave-steepness sweep against 256 sequential MoorDyn runs.
 
-The scene is `jaxcable.examples.seed003_line(n_segments=20, quadratic_ratio=0,
+The scene is `jaxcable.examples.anchored_line(n_segments=20, quadratic_ratio=0,
 mass_matrix="lumped", hydrodynamics="nodes")`: lumped mass, drag and added mass lumped
 at the nodes, and a linear elastic law, as MoorDyn has (the same equations, so that
 the errors compare the two engines' integration, not their models), with
 jaxcable's slack switch narrowed to `--slack-width` (1e-6 of strain, 30 N of tension,
 by default; MoorDyn's switch is sharp). The MoorDyn v2 input is generated from that
-model (`moordyn_input`): the line type's d, m, EA, BA = 0 (seed 003 has no internal
+model (`moordyn_input`): the line type's d, m, EA, BA = 0 (Bezverkhyy & Korniienko has no internal
 damping; MoorDyn 2.7.2 accepts 0), Cd, Ca, CdAx, CaAx copied from jaxcable's
 coefficients (both refer Cd to d·l, CdAx to π·d·l and Ca, CaAx to π d²/4; see
 `jaxcable/io/_moordyn.py`), a fixed anchor and a coupled fairlead, and MoorDyn's
@@ -38,7 +38,7 @@ Parts:
   MoorDyn's IC generation not counted. Then `--history-duration` (30 s) of MoorDyn and
   Dopri5 at the matched pair and of a tight Dopri8, compared with one another.
 - `--part sweep`: `--cases` steepnesses H/λ (H = 2A, λ = gT²/2π) spanning
-  `--span` times seed 003's, as one `jaxcable.sweep` at `--sweep-tol` against
+  `--span` times the anchored-line paper's, as one `jaxcable.sweep` at `--sweep-tol` against
   sequential MoorDyn runs at `--sweep-dtm` (defaults: the pair matched in the latest
   work-precision session), `--sweep-duration` simulated each.
 
@@ -77,7 +77,7 @@ from _results import append_session
 
 RESULTS = Path(__file__).resolve().parent / "results" / "moordyn_side_by_side.json"
 FIGURES = RESULTS.parent
-PERIOD = 5.6  # T (s), seed 003's wave period
+PERIOD = 5.6  # T (s), the anchored-line paper's wave period
 SEGMENTS = 20
 OUTPUT_DT = 0.05  # s: 20 Hz output
 EARLY = 3.0  # s: the sweep's peaks are also compared up to here, before the first slack event
@@ -164,11 +164,11 @@ def parse():
 
 
 def scene(slack_width: float, segments: int = SEGMENTS):
-    """Seed 003's line as compared here: 20 segments (or `segments`), linear elastic,
+    """The anchored line as compared here: 20 segments (or `segments`), linear elastic,
     lumped mass and MoorDyn's nodal hydrodynamics."""
-    from jaxcable.examples import seed003_line
+    from jaxcable.examples import anchored_line
 
-    return seed003_line(
+    return anchored_line(
         segments, quadratic_ratio=0.0, mass_matrix="lumped", slack_width=slack_width, hydrodynamics="nodes"
     )
 
@@ -180,7 +180,8 @@ def moordyn_input(model, env, dtm: float, depth_margin: float = 100.0) -> str:
     The line type's coefficients are jaxcable's, copied: MoorDyn's Cd and CdAx are
     referred to d·l and π·d·l as jaxcable's K_n and K_τ are, and its Ca, CaAx to the
     volume π d²/4 per length, which equals jaxcable's `area` when d is the solid
-    section's diameter, as in seed 003. BA = 0: seed 003 has no internal damping. The
+    section's diameter, as in Bezverkhyy & Korniienko's paper. BA = 0: the paper has no
+    internal damping. The
     water depth is `depth_margin` (m) below the deepest point: MoorDyn always has a
     seabed there, jaxcable's scene has none. `dtm` (s) is MoorDyn's time step.
     """
@@ -212,11 +213,11 @@ def moordyn_input(model, env, dtm: float, depth_margin: float = 100.0) -> str:
             first(line.tangential_added_mass),
         )
     )
-    return f"""jaxcable seed 003 line (benchmarks/moordyn_side_by_side.py)
+    return f"""jaxcable's anchored line (benchmarks/moordyn_side_by_side.py)
 ----------------------- LINE TYPES ------------------------------------------
 TypeName   Diam     Mass/m     EA         BA/-zeta    EI         Cd     Ca     CdAx    CaAx
 (name)     (m)      (kg/m)     (N)        (N-s/-)     (N-m^2)    (-)    (-)    (-)     (-)
-seed003 {row}
+anchored_line {row}
 ---------------------- POINTS --------------------------------
 ID    Type      X       Y       Z       Mass    Volume      CdA    Ca
 (#)   (-)       (m)     (m)     (m)     (kg)    (m^3)       (m^2)  (-)
@@ -225,7 +226,7 @@ ID    Type      X       Y       Z       Mass    Volume      CdA    Ca
 ---------------------- LINES ----------------------------------------
 ID   LineType   AttachA  AttachB  UnstrLen  NumSegs  LineOutputs
 (#)   (name)     (#)      (#)       (m)       (-)     (-)
-1    seed003    1        2        {length!r}  {model.n_segments}  -
+1    anchored_line    1        2        {length!r}  {model.n_segments}  -
 ---------------------- OPTIONS -----------------------------------------
 0             writeLog      no log file
 {dtm!r}       dtM           time step (s)
@@ -402,9 +403,9 @@ def part_check(args) -> dict:
     model, env = scene(args.slack_width)
     static = jc.solve_statics(model, env)
     fairlead = np.asarray(model.node_positions[1])
-    amplitude = float(jc.examples.seed003_amplitude(PERIOD))
+    amplitude = float(jc.examples.floater_amplitude(PERIOD))
     with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "seed003.txt"
+        path = Path(tmp) / "anchored_line.txt"
         path.write_text(moordyn_input(model, env, 1e-3))
         text = path.read_text()
         read = jc.read_moordyn(path)
@@ -422,7 +423,7 @@ def part_check(args) -> dict:
         back_static = jc.solve_statics(back, back_env)
         md = run_moordyn(path, fairlead, amplitude, 2.0, 1e-3)
     top_segment = int(built.line_segments[0][-1])
-    order = [0, *range(2, SEGMENTS + 1), 1]  # seed003_line's nodes from anchor to fairlead
+    order = [0, *range(2, SEGMENTS + 1), 1]  # anchored_line's nodes from anchor to fairlead
     statics_positions = np.asarray(static.state.positions)[order]
     coefficients = {}
     for name in (
@@ -489,7 +490,7 @@ def part_work_precision(args) -> dict:
     model, env = scene(args.slack_width)
     static = jc.solve_statics(model, env)
     fairlead = np.asarray(model.node_positions[1])
-    amplitude = float(jc.examples.seed003_amplitude(PERIOD))
+    amplitude = float(jc.examples.floater_amplitude(PERIOD))
     duration = args.duration
     record = {
         "settings": {
@@ -550,7 +551,7 @@ def part_work_precision(args) -> dict:
     with tempfile.TemporaryDirectory() as tmp:
         overhead = None
         for dtm in args.dtm:
-            path = Path(tmp) / f"seed003_dtm{dtm:g}.txt"
+            path = Path(tmp) / f"anchored_line_dtm{dtm:g}.txt"
             path.write_text(moordyn_input(model, env, dtm))
             runs = [run_moordyn(path, fairlead, amplitude, duration, dtm) for _ in range(args.repeats)]
             row = {
@@ -632,7 +633,7 @@ def part_work_precision(args) -> dict:
     jax.clear_caches()
     long = {}
     with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "seed003.txt"
+        path = Path(tmp) / "anchored_line.txt"
         path.write_text(moordyn_input(model, env, pair["dtm"]))
         md = run_moordyn(path, fairlead, amplitude, args.history_duration, pair["dtm"])
         long[f"MoorDyn RK2 dtM {pair['dtm']:g}"] = (md["tension"], md["run_s"], md["steps"])
@@ -778,7 +779,7 @@ def part_sweep(args) -> dict:
     model, env = scene(args.slack_width)
     static = jc.solve_statics(model, env)
     fairlead = np.asarray(model.node_positions[1])
-    base = float(jc.examples.seed003_amplitude(PERIOD))
+    base = float(jc.examples.floater_amplitude(PERIOD))
     wavelength = float(env.gravity) * PERIOD**2 / (2 * np.pi)
     steepness = 2 * base / wavelength * np.linspace(args.span[0], args.span[1], args.cases)
     amplitudes = steepness * wavelength / 2
@@ -857,7 +858,7 @@ def part_sweep(args) -> dict:
             "wavelength_m": wavelength,
             "steepness_min": float(steepness[0]),
             "steepness_max": float(steepness[-1]),
-            "steepness_seed003": 2 * base / wavelength,
+            "steepness_anchored_line": 2 * base / wavelength,
         },
         "jaxcable": fastest,
         "jaxcable_tried": [m for m, _ in tried],
@@ -873,7 +874,7 @@ def part_sweep(args) -> dict:
     md_early = np.full(args.cases, np.nan)
     md_run, md_ic = [], []
     with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "seed003.txt"
+        path = Path(tmp) / "anchored_line.txt"
         path.write_text(moordyn_input(model, env, dtm))  # one input: only the motion's amplitude changes
         load_before = load()
         start = time.perf_counter()
@@ -948,7 +949,8 @@ def plot_work_precision(rows, path, record):
     axes[0].legend(fontsize=8)
     s = record["settings"]
     figure.suptitle(
-        f"Seed 003, N = {s['segments']}, lumped, linear EA: top-tension error over t ≤ "
+        f"The anchored line (Bezverkhyy & Korniienko), N = {s['segments']}, lumped, linear EA: "
+        "top-tension error over t ≤ "
         f"{s.get('window', s['duration']):g} s against Dopri8 at tol {s['reference_tol']:g}",
         fontsize=10,
     )
@@ -1111,7 +1113,8 @@ def report(path: Path, levels=(1e-2, 3e-3, 1e-3, 6e-4)) -> None:
         st, j, m, p = s["settings"], s["jaxcable"], s["moordyn"], s["peaks"]
         print(
             f"**Sweep** ({s['time']}, {st['n_devices']} device(s)): {st['cases']} steepnesses "
-            f"{st['steepness_min']:.4f}–{st['steepness_max']:.4f} (seed 003: {st['steepness_seed003']:.4f}), "
+            f"{st['steepness_min']:.4f}–{st['steepness_max']:.4f} "
+            f"(Bezverkhyy & Korniienko: {st['steepness_anchored_line']:.4f}), "
             f"{st['duration_s']:g} s each; Dopri5 tol {st['tol']:.3g}, MoorDyn dtM {st['dtm']:g}."
         )
         print()

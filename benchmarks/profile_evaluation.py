@@ -1,7 +1,7 @@
 """Where an evaluation's time goes, single and batched, against this CPU's roofline.
 
-On seed 003's line (lumped mass, at its static equilibrium with small velocities), for
-each segment count N, as `--scene` says: `quadrature` (`seed003_line`'s default,
+On the anchored line (lumped mass, at its static equilibrium with small velocities), for
+each segment count N, as `--scene` says: `quadrature` (`anchored_line`'s default,
 drag by three Gauss points per segment) or `speed` (the speed table's,
 `moordyn_side_by_side.scene`: MoorDyn's nodal hydrodynamics, linear EA), one
 evaluation of each part of the equations, timed as 100 evaluations inside one compiled
@@ -39,7 +39,7 @@ from _timing import timed
 import jaxcable as jc
 from jaxcable._equations import lagrangian as lag
 from jaxcable._model.indexing import take
-from jaxcable.examples import seed003_line
+from jaxcable.examples import anchored_line
 
 RESULTS = Path(__file__).parent / "results" / "profile_evaluation.json"
 EVALUATIONS = 100
@@ -132,7 +132,7 @@ def main():
 
             model, env = scene(slack_width=1e-6, segments=n)
         else:
-            model, env = seed003_line(n, mass_matrix="lumped")
+            model, env = anchored_line(n, mass_matrix="lumped")
         state = jc.solve_statics(model, env).state
         x = lag._cm(state.positions)
         v = lag._cm(state.velocities) + 0.01

@@ -23,7 +23,7 @@ Rows (`--only` takes these names):
   generation, stepping, saving its results). Cold: `JAX_COMPILATION_CACHE_DIR` pointed
   at a new, empty folder, with `JAX_PERSISTENT_CACHE_MIN_COMPILE_TIME_SECS=0` so that
   every program is cached; warm: a second process with the same folder.
-- `seed003`: seed 003's line (`moordyn_side_by_side.scene`: lumped, nodal
+- `anchored_line`: the anchored line (`moordyn_side_by_side.scene`: lumped, nodal
   hydrodynamics as MoorDyn's, linear EA, slack band 1e-6) at each `--segments`,
   `--duration` (60 s) simulated, at matched error. The error is the RMS top-tension
   difference from a Dopri8 reference at rtol = atol = 1e-12, relative to its peak,
@@ -41,23 +41,23 @@ Rows (`--only` takes these names):
   `jaxcable.sweep` (`--sweep-steps`, shared steps by default; the default chunks, one
   per core), against 256 sequential MoorDyn runs (stepping time, IC generation
   apart). MoorDyn runs at dtM = 1 ms; jaxcable at each family's cheapest setting whose
-  error, in the N = 20 `seed003` row of the same run, is no larger than MoorDyn's there
+  error, in the N = 20 `anchored_line` row of the same run, is no larger than MoorDyn's there
   (Dopri5 at the tolerance of equal error, interpolated; each fixed-step family at its
   largest step within that error; `sweep_settings`). Each is timed, and the fastest is
   the row's.
 - `field`: the cost per node of one force evaluation, `jaxcable.equations.vector_field`
-  on seed 003's line (N = 20, 21 nodes, lumped), vmapped over a batch of 256 cases (the
+  on the anchored line (N = 20, 21 nodes, lumped), vmapped over a batch of 256 cases (the
   sweep's fairlead amplitudes) inside one compiled `fori_loop` (`step_cost.field_seconds`),
   in ns per node per case-evaluation; the single run's beside it. MoorDyn's: its
   seconds per RK2 step at dtM = 1 ms on the same line (10 s), less its Python stepping
   loop's share (`moordyn_side_by_side.python_overhead`), over 2 evaluations a step and
   21 nodes (an upper bound: a step also updates the state).
 - `compile`: the first `jaxcable.simulate` call less the median warm call, on
-  `seed003_line(20, mass_matrix="lumped")` from its statics, 10 s at 20 Hz, with JAX's
+  `anchored_line(20, mass_matrix="lumped")` from its statics, 10 s at 20 Hz, with JAX's
   in-memory caches cleared first and its persistent cache off (as it is for this whole
   process: only the `ll` processes use one).
 
-Threads. The rows that time one run at a time (`compile`, `ll`, `seed003`) run as
+Threads. The rows that time one run at a time (`compile`, `ll`, `anchored_line`) run as
 `jaxcable run` does, with XLA's CPU backend on one kernel thread (`PJRT_NPROC=1`; see
 `jaxcable._cli._one_kernel_thread`): when other rows are asked for too, they run in a
 child process of this script. The batched rows (`field`, `sweep`) keep the backend's
@@ -69,7 +69,7 @@ a 16-case 4 s sweep, one process pair.
 
     python benchmarks/speed.py                       # the whole table (25 min here, quiet-ish)
     python benchmarks/speed.py --quick               # smoke run
-    python benchmarks/speed.py --only seed003 --segments 20
+    python benchmarks/speed.py --only anchored_line --segments 20
     python benchmarks/speed.py --report              # the latest table as markdown
 
 Results are appended to benchmarks/results/speed.json.
@@ -90,8 +90,8 @@ import numpy as np
 
 BENCHMARKS = Path(__file__).resolve().parent
 RESULTS = BENCHMARKS / "results" / "speed.json"
-ROWS = ("compile", "field", "ll", "seed003", "sweep")
-SINGLE_RUN_ROWS = ("compile", "ll", "seed003")  # timed on one kernel thread, as `jaxcable run` runs
+ROWS = ("compile", "field", "ll", "anchored_line", "sweep")
+SINGLE_RUN_ROWS = ("compile", "ll", "anchored_line")  # timed on one kernel thread, as `jaxcable run` runs
 OUTPUT_DT = 0.05  # s: 20 Hz, moordyn_side_by_side's output interval
 
 
@@ -107,9 +107,9 @@ def parse(argv=None):
         help="a configuration whose warm run takes longer than this (s) is timed once",
     )
     parser.add_argument("--process-repeats", type=int, default=2, help="cold / warm / MoorDyn process triples")
-    parser.add_argument("--segments", type=int, nargs="+", default=[20, 100], help="seed003 rows' N")
-    parser.add_argument("--duration", type=float, default=60.0, help="seed003 rows' simulated time (s)")
-    parser.add_argument("--level", type=float, default=1e-3, help="seed003 rows' matched RMS error / peak")
+    parser.add_argument("--segments", type=int, nargs="+", default=[20, 100], help="anchored_line rows' N")
+    parser.add_argument("--duration", type=float, default=60.0, help="anchored_line rows' simulated time (s)")
+    parser.add_argument("--level", type=float, default=1e-3, help="anchored_line rows' matched RMS error / peak")
     parser.add_argument("--window", type=float, default=3.0, help="errors are taken over t ≤ window (s)")
     parser.add_argument("--reference-tol", type=float, default=1e-12)
     parser.add_argument("--tols", type=float, nargs="+", default=[1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6])
@@ -283,10 +283,10 @@ def rows_compile(args) -> list[dict]:
     import jax
 
     import jaxcable as jc
-    from jaxcable.examples import seed003_line
+    from jaxcable.examples import anchored_line
 
     before, count = load(), len(PAUSES.events) if PAUSES else 0
-    model, env = seed003_line(20, mass_matrix="lumped")
+    model, env = anchored_line(20, mass_matrix="lumped")
     duration = 10.0
     ts = np.linspace(0.0, duration, round(duration / OUTPUT_DT) + 1)
 
@@ -308,7 +308,7 @@ def rows_compile(args) -> list[dict]:
     print(f"compile: first call {walls[0]:.2f} s, warm {warm:.2f} s, statics first call {statics_first:.2f} s")
     return [
         row(
-            "compile time, standard scene (seed003_line(20, lumped), first simulate − warm)",
+            "compile time, standard scene (anchored_line(20, lumped), first simulate − warm)",
             jaxcable=compile_time,
             target=10.0,
             quantity="jaxcable",
@@ -337,7 +337,7 @@ def rows_field(args) -> list[dict]:
     nodes = int(model.node_positions.shape[0])
     state = jc.solve_statics(model, env).state
     y = (jnp.asarray(state.positions)[model.free_nodes], jnp.asarray(state.velocities)[model.free_nodes])
-    amplitude = float(jc.examples.seed003_amplitude(mss.PERIOD))
+    amplitude = float(jc.examples.floater_amplitude(mss.PERIOD))
     amplitudes = amplitude * np.linspace(0.5, 1.5, args.batch)
     batch_y = jax.tree.map(lambda a: jnp.broadcast_to(a, (args.batch, *a.shape)), y)
 
@@ -354,7 +354,7 @@ def rows_field(args) -> list[dict]:
 
     duration, dtm = 10.0, 1e-3
     with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "seed003.txt"
+        path = Path(tmp) / "anchored_line.txt"
         path.write_text(mss.moordyn_input(model, env, dtm))
         fairlead = np.asarray(model.node_positions[1])
         runs = [
@@ -562,7 +562,7 @@ def bracket(settings: list[dict], level: float) -> list[dict]:
     return []
 
 
-def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
+def rows_anchored_line(args, n: int) -> tuple[list[dict], dict | None]:
     import jax
     import moordyn_side_by_side as mss
 
@@ -573,7 +573,7 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
     model, env = mss.scene(args.slack_width, n)
     static = jc.solve_statics(model, env)
     fairlead = np.asarray(model.node_positions[1])
-    amplitude = float(jc.examples.seed003_amplitude(mss.PERIOD))
+    amplitude = float(jc.examples.floater_amplitude(mss.PERIOD))
     short = args.window + 1.0
 
     def run(setting, duration, max_steps=10_000_000):
@@ -586,7 +586,9 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
     inside = np.linspace(0.0, short, reference.size) <= args.window + 1e-9
     check = run({"solver": "Dopri8", "tol": 10 * args.reference_tol}, short)
     reference_error = mss.errors(check["tension"][inside], reference[inside])
-    print(f"seed003 N = {n}: reference {ref['steps']} steps, its 10× tolerance within {reference_error}", flush=True)
+    print(
+        f"anchored_line N = {n}: reference {ref['steps']} steps, its 10× tolerance within {reference_error}", flush=True
+    )
 
     def window_error(tension):
         return mss.errors(tension[: inside.sum()], reference[inside])
@@ -602,7 +604,7 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         for dtm in steps_for(n, args.dtm):
-            path = folder / f"seed003_{dtm:g}.txt"
+            path = folder / f"anchored_line_{dtm:g}.txt"
             path.write_text(mss.moordyn_input(model, env, dtm))
             r = mss.run_moordyn(path, fairlead, amplitude, short, dtm)
             e = window_error(r["tension"])
@@ -710,7 +712,7 @@ def rows_seed003(args, n: int) -> tuple[list[dict], dict | None]:
     )
     return [
         row(
-            f"seed 003's line, N = {n}, {args.duration:g} s, at matched error ({args.level:g} of the peak)",
+            f"the anchored line, N = {n}, {args.duration:g} s, at matched error ({args.level:g} of the peak)",
             jaxcable=jx_s,
             moordyn=None if md_bound else md_s,
             target=0.3,
@@ -782,7 +784,7 @@ def rows_sweep(args, pair) -> list[dict]:
     s, j, m, p = record["settings"], record["jaxcable"], record["moordyn"], record["peaks"]
     return [
         row(
-            f"{s['cases']}-case wave-steepness sweep of seed 003's line ({s['duration_s']:g} s each, "
+            f"{s['cases']}-case wave-steepness sweep of the anchored line ({s['duration_s']:g} s each, "
             f"steps {s.get('steps', 'per_case')}, chunks on {s.get('cores', 1)} cores) ÷ "
             f"{s['cases']} sequential MoorDyn runs",
             jaxcable=j["run_s"],
@@ -906,9 +908,9 @@ def run_rows(args) -> list[dict]:
         rows += rows_field(args)
     if "ll" in args.only:
         rows += rows_ll(args)
-    if "seed003" in args.only:
+    if "anchored_line" in args.only:
         for n in args.segments:
-            new, found = rows_seed003(args, n)
+            new, found = rows_anchored_line(args, n)
             rows += new
             pair = pair or found
     if "sweep" in args.only:

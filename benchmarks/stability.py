@@ -1,6 +1,6 @@
 """Where each integration method fails: the largest stable fixed step, and how it fails.
 
-Seed 003's anchored line (lumped mass; see `jaxcable.examples.seed003_line`) is simulated
+The anchored line (lumped mass; see `jaxcable.examples.anchored_line`) is simulated
 from static equilibrium over a window of `--window` seconds (6 s by default), which holds
 the violent part of the first wave period: the line goes slack at about 3 s and snaps
 taut again at about 5 s (at C_E = 3e7 N, N = 20). For each method, the largest fixed
@@ -66,7 +66,7 @@ from _results import append_session
 
 import jaxcable as jc
 from jaxcable.equations import kinetic_energy, potential_energy
-from jaxcable.examples import seed003_line
+from jaxcable.examples import anchored_line
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -94,7 +94,7 @@ METHODS = {
 
 ADAPTIVE = {"dopri5 (default)": jc.default_solver, "kvaerno5 (stiff_solver)": jc.stiff_solver}
 
-BASE_STIFFNESS = 3.0e7  # C_E of seed003_line (N)
+BASE_STIFFNESS = 3.0e7  # C_E of anchored_line (N)
 
 
 def result_name(result) -> str:
@@ -146,13 +146,13 @@ def imaginary_axis_limit(solver, tol=1e-9, hi=6.0) -> float:
 
 
 def build(config):
-    """Seed 003's line for one configuration, with its statics.
+    """The anchored line for one configuration, with its statics.
 
     `config` holds `stiffness` (C_E, N; C_E1 stays 0.1 C_E), `segments`, `slack_width`
-    (–), `amplitude_scale` (–, on seed 003's 1.573 m) and `current` (m/s along +x).
+    (–), `amplitude_scale` (–, on the anchored-line paper's 1.573 m) and `current` (m/s along +x).
     Returns `(model, env, static, omega_n)` with ω_n (rad/s) of the lumped line.
     """
-    model, env = seed003_line(config["segments"], slack_width=config["slack_width"], mass_matrix="lumped")
+    model, env = anchored_line(config["segments"], slack_width=config["slack_width"], mass_matrix="lumped")
     law = model.line.tension_law
     # Float leaves: a new stiffness or amplitude reuses the compiled solve.
     model = eqx.tree_at(
@@ -819,7 +819,7 @@ def plot(path: Path) -> None:
             0.01,
             0.01,
             "Points at dt = 1 s (hollow where the marker allows): no failure up to the 1 s cap. "
-            f"Seed 003 line, lumped mass, {s['window_s']:g} s from statics; EA = "
+            f"The anchored line, lumped mass, {s['window_s']:g} s from statics; EA = "
             + ", ".join(f"{ea:.0e}" for ea in stiffness)
             + " N; N = "
             + ", ".join(map(str, segments))
@@ -906,7 +906,7 @@ def plot(path: Path) -> None:
     out = axis_chart(
         "forcing",
         "amplitude_scale",
-        "fairlead amplitude / seed 003's 1.573 m",
+        "fairlead amplitude / the anchored-line paper's 1.573 m",
         "stability_forcing.png",
         "Largest stable step against the forcing",
         lambda r: r["amplitude_scale"],

@@ -5,7 +5,7 @@
   `jaxcable run` solves it (`env.without_waves()`): the first call (tracing, compiling,
   solving) and the median of warm calls (s), each file in a fresh process with an empty
   persistent compilation cache, so that the first call compiles.
-- `--sizes`: seed 003's line (`seed003_line.toml`) cut into 100, 1,000 and 10,000
+- `--sizes`: the anchored line (`anchored_line.toml`) cut into 100, 1,000 and 10,000
   segments, one fresh process each: the first call's wall time, a warm call's, the
   steps, and the process's peak resident memory above what it held after building the
   scene (MiB). `jaxcable.io._run.check_size` estimates statics from these figures.
@@ -103,7 +103,7 @@ def main():
     if args.sizes:
         results["sizes"] = []
         for n in args.segments:
-            results["sizes"].append(fresh(SCENES[[p.name for p in SCENES].index("seed003_line.toml")], n, 1))
+            results["sizes"].append(fresh(SCENES[[p.name for p in SCENES].index("anchored_line.toml")], n, 1))
             print(json.dumps(results["sizes"][-1]), flush=True)
     sys.path.insert(0, str(Path(__file__).parent))
     from _results import append_session

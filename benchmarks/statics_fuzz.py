@@ -83,7 +83,7 @@ def _log_uniform(rng, low, high):
 
 def _line_type(rng, jc, kind):
     """Mass, diameter and law: EA 1e4–1e11 N, m 0.1–400 kg/m, the displaced mass 10–150 %
-    of the line's (buoyant lines too), seed 003's quadratic term on a third of them."""
+    of the line's (buoyant lines too), the anchored-line paper's quadratic term on a third of them."""
     mass = _log_uniform(rng, 0.1, 400.0)
     displaced = mass * rng.uniform(0.1, 1.5) if kind != "riser" else mass * rng.uniform(0.1, 0.9)
     diameter = float(np.sqrt(4 * displaced / (RHO * np.pi)))
@@ -376,7 +376,7 @@ def summary(records: list[dict]) -> dict:
 
 
 def timings(repeats: int = 5) -> dict:
-    """`solve_statics` on the Low & Langley file and on seed 003's line: the first call
+    """`solve_statics` on the Low & Langley file and on the anchored line: the first call
     (tracing, compiling or loading from the persistent cache, solving) and the median of
     `repeats` warm calls (s), with the steps and the force left (N). Run it in a fresh
     process with an empty `JAX_COMPILATION_CACHE_DIR` to time compiling."""
@@ -385,14 +385,14 @@ def timings(repeats: int = 5) -> dict:
     import jax
 
     import jaxcable as jc
-    from jaxcable.examples import seed003_line
+    from jaxcable.examples import anchored_line
 
     jax.config.update("jax_enable_x64", True)
     built = jc.load_scene(TESTS / "data" / "lowe_and_langley_2006" / "line.txt").build()
     out = {}
     for name, (model, env) in {
         "lowe_langley": (built.model, built.environment.without_waves()),
-        "seed003_line": seed003_line(),
+        "anchored_line": anchored_line(),
     }.items():
         start = time.perf_counter()
         solution = jax.block_until_ready(jc.solve_statics(model, env))
@@ -421,7 +421,11 @@ def main():
     )
     parser.add_argument("--max-steps", type=int, default=None)
     parser.add_argument("--report", action="store_true")
-    parser.add_argument("--timings", action="store_true", help="time statics on the Low & Langley file and seed 003")
+    parser.add_argument(
+        "--timings",
+        action="store_true",
+        help="time statics on the Low & Langley file and Bezverkhyy & Korniienko's anchored-line paper",
+    )
     parser.add_argument("--no-save", action="store_true")
     parser.add_argument("--records", type=Path, help="write this run's records here instead of saving a session")
     parser.add_argument("--merge", type=Path, nargs="+", help="save one session from these records files")

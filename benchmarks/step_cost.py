@@ -1,6 +1,6 @@
 """Where a step's time goes: the force evaluation against diffrax's step loop.
 
-On seed 003's line (lumped mass, from statics), per segment count N:
+On the anchored line (lumped mass, from statics), per segment count N:
 
 - *field*: one evaluation of the vector field (forces, mass solve), timed as 200
   evaluations inside one compiled `fori_loop`, so no dispatch is counted;
@@ -12,7 +12,7 @@ On seed 003's line (lumped mass, from statics), per segment count N:
 The differences say what diffrax's bookkeeping costs against the physics. Times are
 medians of warm repeats.
 
-With `--batch B`, the same for a batch of B cases (seed 003's line with its top's
+With `--batch B`, the same for a batch of B cases (the anchored line with its top's
 amplitude spread over ±10 %), per batch: the field `vmap`ped, Euler and Dopri5 as
 `jaxcable.sweep` with `steps="shared"` in one chunk (one core), so a step is the
 batch's step.
@@ -37,7 +37,7 @@ from _timing import timed
 
 import jaxcable as jc
 from jaxcable.equations import vector_field
-from jaxcable.examples import seed003_line
+from jaxcable.examples import anchored_line
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -89,7 +89,7 @@ def main():
         return
     rows = []
     for n in args.segments:
-        model, env = seed003_line(n, mass_matrix="lumped")
+        model, env = anchored_line(n, mass_matrix="lumped")
         state = jc.solve_statics(model, env).state
         y = (state.positions[model.free_nodes], state.velocities[model.free_nodes])
         if args.batch:

@@ -1,15 +1,15 @@
 """Sweep throughput: cases per second of one vmapped, compiled sweep against batch size,
 and against a Python loop of single `simulate` runs.
 
-The model is seed 003's anchored line (`jaxcable.examples.seed003_line`; 200 m depth,
+The model is the anchored line (`jaxcable.examples.anchored_line`; 200 m depth,
 30°, C_E = 3e7 N, C_E1 = 0.1 C_E, top driven at T_w = 5.6 s), swept over one float
 parameter:
 
-- `amplitude`: the fairlead amplitude A, from 0.5 to 1.5 times seed 003's 1.573 m,
+- `amplitude`: the fairlead amplitude A, from 0.5 to 1.5 times the anchored-line paper's 1.573 m,
     replaced in a prebuilt model with `eqx.tree_at`. Larger motions snap harder and
     take more steps, so the cases of a batch differ in cost, as real sweeps do.
 - `quadratic_ratio`: C_E1 / C_E from 0 to 0.2, rebuilding the line with
-    `seed003_line(quadratic_ratio=...)` inside the sweep. The cases take nearly equal
+    `anchored_line(quadratic_ratio=...)` inside the sweep. The cases take nearly equal
     step counts.
 
 Each case starts from its static equilibrium (`--initial statics`, solved inside the
@@ -82,11 +82,11 @@ def main():
 
     import jaxcable as jc
     from jaxcable import sweep
-    from jaxcable.examples import seed003_amplitude, seed003_line
+    from jaxcable.examples import anchored_line, floater_amplitude
 
     jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
-    base_model, env = seed003_line(args.segments, mass_matrix=args.mass_matrix)
+    base_model, env = anchored_line(args.segments, mass_matrix=args.mass_matrix)
     fairlead = int(np.flatnonzero(np.asarray(base_model.constrained_nodes) == 1)[0])
 
     if args.parameter == "amplitude":
@@ -96,11 +96,11 @@ def main():
             return model, env
 
         def values(n):
-            return seed003_amplitude() * np.linspace(0.5, 1.5, n)
+            return floater_amplitude() * np.linspace(0.5, 1.5, n)
     else:
 
         def build(quadratic_ratio):
-            return seed003_line(args.segments, quadratic_ratio=quadratic_ratio, mass_matrix=args.mass_matrix)
+            return anchored_line(args.segments, quadratic_ratio=quadratic_ratio, mass_matrix=args.mass_matrix)
 
         def values(n):
             return np.linspace(0.0, 0.2, n)

@@ -3,17 +3,17 @@ after compilation, for many integrators on four scenes; and error against segmen
 
 Scenes (each run starts from static equilibrium; output at 20 Hz):
 
-- `seed003_taut`: seed 003's anchored line (`jaxcable.examples.seed003_line`), N = 20,
+- `anchored_line_taut`: the anchored line (`jaxcable.examples.anchored_line`), N = 20,
   lumped mass, its top motion's amplitude scaled to a quarter (1.573 → 0.393 m at
   5.6 s), so the line stays taut; 6 s.
-- `seed003_slack`: the same line at seed 003's amplitude (1.573 m): it goes slack and
+- `anchored_line_slack`: the same line at the anchored-line paper's amplitude (1.573 m): it goes slack and
   snaps; 6 s. Also consistent against lumped mass, for Dopri5 and Kvaerno5 (Newton).
 - `y_branch`: the bundled branched scene `jaxcable/examples/scenes/y_branch.toml`
   (26 segments, lumped); 7 s, one heave period.
 - `jumper`: the Low & Langley (2006) jumper from its MoorDyn file (68 segments,
   EA = 5e8 N, lumped), its top driven along x as in `lowe_langley.py` case 1
   (A = 10 m, T = 27 s, smoothstep ramp over the first period); the first 10 s.
-- `segments`: seed 003 with slack, N = 5 ... 80, Dopri5 at one tight tolerance; the top
+- `segments`: the anchored line with slack, N = 5 ... 80, Dopri5 at one tight tolerance; the top
   segment's tension history against the finest N's.
 
 Error: every segment's tension at the 20 Hz output times against a reference of the
@@ -23,7 +23,7 @@ top (driven) segment alone. The reference is checked against a second one at 10�
 tighter tolerance: that difference is the reference's own error floor.
 
 Methods: adaptive ones over rtol = atol (1e-3 ... 1e-8), fixed-step ones (diffrax's
-Heun and Midpoint, the RK2 MoorDyn uses, and seed 001's Picard iteration) over steps
+Heun and Midpoint, the RK2 MoorDyn uses, and Zhukov's Picard iteration) over steps
 dt = c / |λ|, c = 2 ... 1/16, |λ| the fastest axial eigenvalue (ω_n = 2 √(EA/m) / l, or
 larger where the axial damping is over critical; `jaxcable.equations.stiffest_axial_mode`).
 A method's sweep stops when a run took more than a third of `--time-cap` (the next,
@@ -32,10 +32,10 @@ tighter one would likely exceed it); skipped points are recorded as such. Runs t
 size collapse; a fixed step that diverges to non-finite states) are recorded with
 `success = false`. Implicit methods use whatever Jacobian `jc.simulate` picks by default.
 
-    python benchmarks/work_precision.py --scene seed003_taut      # one scene at a time
+    python benchmarks/work_precision.py --scene anchored_line_taut      # one scene at a time
     python benchmarks/work_precision.py --scene jumper --duration 5 --tolerances 1e-4 1e-6 \\
         --methods dopri5 kvaerno5-newton
-    python benchmarks/work_precision.py --plot seed003_slack      # a chart from the results file
+    python benchmarks/work_precision.py --plot anchored_line_slack      # a chart from the results file
     python benchmarks/work_precision.py --report                  # the tables in benchmarks/README.md
 
 Results are appended to benchmarks/results/work_precision.json, one session per scene;
@@ -60,7 +60,7 @@ from _timing import timed
 
 import jaxcable as jc
 from jaxcable.equations import stiffest_axial_mode
-from jaxcable.examples import seed003_line
+from jaxcable.examples import anchored_line
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -70,8 +70,8 @@ OUT = RESULTS / "work_precision.json"
 JUMPER = ROOT / "tests" / "data" / "lowe_and_langley_2006" / "line.txt"
 Y_BRANCH = ROOT / "jaxcable" / "examples" / "scenes" / "y_branch.toml"
 
-SCENES = ("seed003_taut", "seed003_slack", "y_branch", "jumper")
-DURATIONS = {"seed003_taut": 6.0, "seed003_slack": 6.0, "y_branch": 7.0, "jumper": 10.0, "segments": 6.0}
+SCENES = ("anchored_line_taut", "anchored_line_slack", "y_branch", "jumper")
+DURATIONS = {"anchored_line_taut": 6.0, "anchored_line_slack": 6.0, "y_branch": 7.0, "jumper": 10.0, "segments": 6.0}
 TAUT_AMPLITUDE_SCALE = 0.25
 
 
@@ -99,7 +99,7 @@ METHODS = {
     "picard3-fixed": (lambda: jc.PicardTrapezoid(iterations=3), "fixed", 2),
 }
 DEFAULT_METHODS = [m for m in METHODS if m != "picard3-fixed"]  # to fit the study's time
-# Consistent mass against lumped, on seed 003 with slack: one explicit, one implicit.
+# Consistent mass against lumped, on the anchored line with slack: one explicit, one implicit.
 CONSISTENT_METHODS = ("dopri5", "kvaerno5-newton")
 TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
 STEP_FACTORS = (2.0, 1.0, 0.5, 0.25, 0.125, 0.0625)  # |λ| dt, |λ| the fastest axial eigenvalue
@@ -108,9 +108,9 @@ STEP_FACTORS = (2.0, 1.0, 0.5, 0.25, 0.125, 0.0625)  # |λ| dt, |λ| the fastest
 def build(scene: str, segments: int = 20, mass_matrix: str = "lumped"):
     """`(model, env, top)` for a scene: the network, the water, and the index of the
     driven (top) segment."""
-    if scene.startswith("seed003") or scene == "segments":
-        model, env = seed003_line(segments, mass_matrix=mass_matrix)
-        if scene == "seed003_taut":
+    if scene.startswith("anchored_line") or scene == "segments":
+        model, env = anchored_line(segments, mass_matrix=mass_matrix)
+        if scene == "anchored_line_taut":
             model = eqx.tree_at(
                 lambda m: m.motions[1].amplitude, model, model.motions[1].amplitude * TAUT_AMPLITUDE_SCALE
             )
@@ -180,7 +180,7 @@ def run_scene(scene: str, args) -> dict:
 
     duration = args.duration or DURATIONS[scene]
     ts = np.linspace(0.0, duration, int(round(duration * 20)) + 1)  # 20 Hz output
-    masses = ["lumped"] + (["consistent"] if scene == "seed003_slack" and not args.no_consistent else [])
+    masses = ["lumped"] + (["consistent"] if scene == "anchored_line_slack" and not args.no_consistent else [])
     extra = simulate_kwargs()
     session = {
         "scene": scene,
@@ -310,7 +310,7 @@ def run_scene(scene: str, args) -> dict:
 
 
 def run_segments(args) -> dict:
-    """Seed 003 with slack at N segments, Dopri5 at one tolerance, against the finest N."""
+    """The anchored line with slack at N segments, Dopri5 at one tolerance, against the finest N."""
     import jax
 
     duration = args.duration or DURATIONS["segments"]
@@ -489,7 +489,7 @@ def plot_segments(path: Path) -> None:
         axis.set_xticks([r["segments"] for r in everything], [str(r["segments"]) for r in everything])
         axis.minorticks_off()
     figure.suptitle(
-        f"seed 003 with slack, Dopri5 at rtol = atol = {session['tol']:g}, "
+        f"the anchored line with slack, Dopri5 at rtol = atol = {session['tol']:g}, "
         f"{session['duration_s']:g} s simulated; load {session['load_before'][0]:.1f}",
         fontsize=10,
     )
@@ -611,7 +611,7 @@ def report(path: Path, everything: bool) -> None:
     session = latest(path, "segments")
     if session is not None:
         print(
-            f"\n#### segments: seed 003 with slack, Dopri5 at {session['tol']:g}, {session['duration_s']:g} s "
+            f"\n#### segments: the anchored line with slack, Dopri5 at {session['tol']:g}, {session['duration_s']:g} s "
             f"(load average {session['load_before'][0]:.2f} before, {session['load_after'][0]:.2f} after; "
             f"{session['commit']})\n"
         )
@@ -647,7 +647,7 @@ def main() -> None:
     parser.add_argument("--time-cap", type=float, default=30.0, help="a run's time (s) that ends its method's sweep")
     parser.add_argument("--max-steps", type=int, default=300_000)
     parser.add_argument("--implicit-max-steps", type=int, default=5_000)
-    parser.add_argument("--no-consistent", action="store_true", help="skip consistent mass on seed003_slack")
+    parser.add_argument("--no-consistent", action="store_true", help="skip consistent mass on anchored_line_slack")
     parser.add_argument("--segment-counts", type=int, nargs="+", default=[5, 10, 20, 40, 80])
     parser.add_argument("--segments-tol", type=float, default=1e-8)
     parser.add_argument("--out", type=Path, default=OUT)

@@ -17,7 +17,7 @@ public modules:
 - `jaxcable.calibration`: the towing rigs and their registries, and synthetic records.
 - `jaxcable.equations`: energies, forces, tension, the vector field, the stiffest mode.
 - `jaxcable.plot`: figures of a scene run and of a calibration.
-- `jaxcable.examples`: the seed papers' scenes, as builders and bundled scene files.
+- `jaxcable.examples`: the source papers' scenes, as builders and bundled scene files.
 
 The names are imported when first used (PEP 562), so that `import jaxcable` and the
 command line's `--help` do not import JAX; `from jaxcable import X` and `jaxcable.X`

@@ -108,7 +108,7 @@ DEEP_RELATIVE_DEPTH, SHALLOW_RELATIVE_DEPTH = 0.5, 0.05
 DRAG_DOMINATES, INERTIA_DOMINATES = 0.5, 2.0
 # A segment is slack when its tension is below this fraction of the largest at rest.
 SLACK_FRACTION = 0.01
-# The largest stable |λ Δt| of Dopri5 and Tsit5 measured on seed 003's line
+# The largest stable |λ Δt| of Dopri5 and Tsit5 measured on the anchored line
 # (`benchmarks/stability.py`): 1.68–1.92 where the axial mode is fast (ω_n ≥ 300 rad/s),
 # 3–4 only where drag damps it (ω_n ≤ 235 rad/s). The lower figure is the safe one.
 STABLE_STEP = 1.7

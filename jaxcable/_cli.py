@@ -150,7 +150,7 @@ def _one_kernel_thread() -> None:
     than running them together gains. With one thread (`PJRT_NPROC=1`, read when the
     backend starts, which is after this: nothing has run yet), on a 2-core x86_64,
     quiet: the Low & Langley file's 107,000 fixed midpoint steps took 2.17 s instead of
-    2.72–3.90 s, and a Dopri5 step of seed 003's lumped line 29.2 µs instead of 31.6
+    2.72–3.90 s, and a Dopri5 step of the anchored-line paper's lumped line 29.2 µs instead of 31.6
     at N = 20 and 66.5 instead of 77.5 at N = 100, against XLA's in-order scheduler
     (`--xla_cpu_enable_concurrency_optimized_scheduler=false`), which this replaces.
     A sweep is the opposite case: its chunks run on threads of their own

@@ -115,30 +115,30 @@ def error_line(err: str) -> str:
 
 CLI_CASES = [
     # Numbers out of range, by flag.
-    (["run", "seed003_line", "--dt-out", "0"], r"--dt-out must be a positive number of seconds, got 0$"),
-    (["run", "seed003_line", "--dt-out", "-0.1"], r"--dt-out must be a positive number of seconds, got -0.1$"),
-    (["run", "seed003_line", "--dt-out", "nan"], r"--dt-out must be a positive number of seconds, got nan$"),
-    (["run", "seed003_line", "--duration", "-1"], r"--duration must be a non-negative number of seconds, got -1$"),
-    (["run", "seed003_line", "--duration", "inf"], r"--duration must be a non-negative number of seconds, got inf$"),
-    (["info", "seed003_line", "--duration", "-5"], r"--duration must be a non-negative number of seconds, got -5$"),
-    (["run", "seed003_line", "--segments", "0"], r"--segments must be a positive integer, got 0$"),
-    (["info", "seed003_line", "--segments", "-3"], r"--segments must be a positive integer, got -3$"),
+    (["run", "anchored_line", "--dt-out", "0"], r"--dt-out must be a positive number of seconds, got 0$"),
+    (["run", "anchored_line", "--dt-out", "-0.1"], r"--dt-out must be a positive number of seconds, got -0.1$"),
+    (["run", "anchored_line", "--dt-out", "nan"], r"--dt-out must be a positive number of seconds, got nan$"),
+    (["run", "anchored_line", "--duration", "-1"], r"--duration must be a non-negative number of seconds, got -1$"),
+    (["run", "anchored_line", "--duration", "inf"], r"--duration must be a non-negative number of seconds, got inf$"),
+    (["info", "anchored_line", "--duration", "-5"], r"--duration must be a non-negative number of seconds, got -5$"),
+    (["run", "anchored_line", "--segments", "0"], r"--segments must be a positive integer, got 0$"),
+    (["info", "anchored_line", "--segments", "-3"], r"--segments must be a positive integer, got -3$"),
     # Too large to fit in memory, refused before statics.
-    (["run", "seed003_line", "--segments", "1000000"], r"1,000,000 segments .* need about [\d,.]+ GiB .*--segments"),
-    (["info", "seed003_line", "--segments", "1000000"], r"1,000,000 segments .* more than this machine's"),
-    (["run", "seed003_line", "--duration", "1e9"], r"over 1e\+09 s need about .* output times every 0.05 s"),
+    (["run", "anchored_line", "--segments", "1000000"], r"1,000,000 segments .* need about [\d,.]+ GiB .*--segments"),
+    (["info", "anchored_line", "--segments", "1000000"], r"1,000,000 segments .* more than this machine's"),
+    (["run", "anchored_line", "--duration", "1e9"], r"over 1e\+09 s need about .* output times every 0.05 s"),
     # Output and plot files that could not be written at the end.
-    (["run", "seed003_line", "--out", "missing/run.csv"], r"--out missing/run.csv: the folder missing does not exist"),
-    (["run", "seed003_line", "--out", "."], r"--out \.: is a folder"),
-    (["run", "seed003_line", "--out", "run.xlsx"], r"--out run.xlsx: unknown format '.xlsx'; use one of .*'.csv'"),
-    (["run", "seed003_line", "--out", "run"], r"--out run: unknown format '\(no suffix\)'"),
-    (["run", "seed003_line", "--plot", "x.foo"], r"--plot x.foo: unknown format '.foo'; use one of .*'.png'"),
-    (["run", "seed003_line", "--plot", "missing/x.png"], r"--plot missing/x.png: the folder missing does not exist"),
-    (["run", "seed003_line", "--plot", "."], r"--plot \.: is a folder"),
+    (["run", "anchored_line", "--out", "missing/run.csv"], r"--out missing/run.csv: the folder missing does not exist"),
+    (["run", "anchored_line", "--out", "."], r"--out \.: is a folder"),
+    (["run", "anchored_line", "--out", "run.xlsx"], r"--out run.xlsx: unknown format '.xlsx'; use one of .*'.csv'"),
+    (["run", "anchored_line", "--out", "run"], r"--out run: unknown format '\(no suffix\)'"),
+    (["run", "anchored_line", "--plot", "x.foo"], r"--plot x.foo: unknown format '.foo'; use one of .*'.png'"),
+    (["run", "anchored_line", "--plot", "missing/x.png"], r"--plot missing/x.png: the folder missing does not exist"),
+    (["run", "anchored_line", "--plot", "."], r"--plot \.: is a folder"),
     # Inputs that are not there, or not files.
     (["run", "."], r"cannot read \.: Is a directory"),
     (["run", "nowhere.toml"], r"cannot read nowhere.toml: No such file or directory"),
-    (["run", "seed003_line", "--motion", "."], r"cannot read motion file \.: Is a directory"),
+    (["run", "anchored_line", "--motion", "."], r"cannot read motion file \.: Is a directory"),
     # Calibration: records and flags.
     (["calibrate", "nowhere.csv", "--fit", "normal_drag=1.2"], r"cannot read nowhere.csv: No such file"),
     (["calibrate", ".", "--fit", "normal_drag=1.2"], r"cannot read \.: Is a directory"),
@@ -152,7 +152,7 @@ CLI_CASES = [
     ),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--rtol", "-1"], r"--rtol must be a positive number, got -1"),
     # A tolerance float64 cannot meet: the step would shrink without end.
-    (["run", "seed003_line", "--adaptive", "--rtol", "1e-300"], r"--rtol must be at least 1e-13, .* got 1e-300$"),
+    (["run", "anchored_line", "--adaptive", "--rtol", "1e-300"], r"--rtol must be at least 1e-13, .* got 1e-300$"),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--rtol", "1e-300"], r"--rtol must be at least 1e-13"),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--atol", "nan"], r"--atol must be a positive number, got nan"),
 ]
@@ -187,7 +187,7 @@ FILE_CASES = [
 
 @pytest.mark.parametrize("text, command, message", FILE_CASES)
 def test_records_and_motion_tables_are_refused_by_line(cli, text, command, message):
-    args = ["calibrate", "f", "--fit", "normal_drag=1.2"] if command == "calibrate" else ["run", "seed003_line"]
+    args = ["calibrate", "f", "--fit", "normal_drag=1.2"] if command == "calibrate" else ["run", "anchored_line"]
     status, _, err = cli(args + ([] if command == "calibrate" else ["--motion", "f"]), {"f": text})
     assert status == 2
     assert re.search(message, error_line(err)), err
@@ -299,7 +299,7 @@ def test_moordyn_segment_count_that_cannot_fit_is_refused_before_statics(cli):
 
 def test_motion_table_that_makes_the_spline_overshoot_is_warned_of(cli):
     status, _, err = cli(
-        ["run", "seed003_line", "--motion", "step.txt", "--channels", "Nope"], {"step.txt": STEP_TABLE}
+        ["run", "anchored_line", "--motion", "step.txt", "--channels", "Nope"], {"step.txt": STEP_TABLE}
     )
     assert status == 2 and "unknown output channel 'Nope'" in error_line(err)
     (warning,) = [line for line in err.splitlines() if line.startswith("warning:")]
@@ -311,7 +311,7 @@ def test_motion_table_that_makes_the_spline_overshoot_is_warned_of(cli):
 def test_monotone_motion_interpolation_is_not_warned_of(cli, interpolation):
     args = [
         "run",
-        "seed003_line",
+        "anchored_line",
         "--motion",
         "step.txt",
         "--motion-interpolation",
@@ -326,7 +326,7 @@ def test_monotone_motion_interpolation_is_not_warned_of(cli, interpolation):
 def test_unknown_motion_interpolation_is_an_argument_error(cli):
     with pytest.raises(SystemExit) as exit_:
         cli(
-            ["run", "seed003_line", "--motion", "step.txt", "--motion-interpolation", "spline"],
+            ["run", "anchored_line", "--motion", "step.txt", "--motion-interpolation", "spline"],
             {"step.txt": STEP_TABLE},
         )
     assert exit_.value.code == 2
@@ -358,9 +358,9 @@ def test_scene_file_motion_table_overshoot_is_a_note(tmp_path):
 @pytest.mark.parametrize(
     "args, message",
     [
-        (["run", "seed003_line", "--dt-out", "0"], "--dt-out must be a positive number of seconds, got 0"),
+        (["run", "anchored_line", "--dt-out", "0"], "--dt-out must be a positive number of seconds, got 0"),
         (
-            ["run", "seed003_line", "--out", "missing/out.csv"],
+            ["run", "anchored_line", "--out", "missing/out.csv"],
             "--out missing/out.csv: the folder missing does not exist",
         ),
     ],
@@ -697,6 +697,6 @@ def test_segment_count_of_hours_is_warned_of_before_any_work(tmp_path, monkeypat
     with warnings.catch_warnings():
         warnings.simplefilter("error", UserWarning)
         with pytest.raises(UserWarning, match=r"100,000 segments .* would take some [\d.,]+ h"):
-            main(["run", "seed003_line", "--segments", "100000", "--duration", "1"])
+            main(["run", "anchored_line", "--segments", "100000", "--duration", "1"])
     assert time.perf_counter() - start < SECONDS
     assert not list(tmp_path.iterdir())

@@ -80,7 +80,7 @@ def test_bad_times_and_a_first_step_are_refused(driven_line):
 def test_the_progress_bar_changes_no_answer(capsys):
     """`run_scene`'s bar is drawn from Python between blocks: the same arrays with it or
     without it."""
-    scene = jc.read_scene(examples.scene_path("seed003_line"))
+    scene = jc.read_scene(examples.scene_path("anchored_line"))
     quiet = jc.run_scene(scene, duration=0.2, dt_out=0.05)
     assert "simulated" not in capsys.readouterr().err
     shown = jc.run_scene(scene, duration=0.2, dt_out=0.05, progress=True)

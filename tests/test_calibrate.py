@@ -21,7 +21,7 @@ from jaxcable.calibration import HorizontalTow, VerticalTow, synthetic_record
 TRUTH = {"normal_drag": 1.2, "tangential_drag": 0.01, "specific_drag": 0.5}
 START = {name: 2 * value for name, value in TRUTH.items()}
 TIMES = np.linspace(0.0, 30.0, 151)
-STEP_UP = np.interp(TIMES, [0.0, 10.0, 13.0, 30.0], [1.0, 1.0, 2.0, 2.0])  # seed 002's step, scaled
+STEP_UP = np.interp(TIMES, [0.0, 10.0, 13.0, 30.0], [1.0, 1.0, 2.0, 2.0])  # the branched-systems paper's step, scaled
 STEP_DOWN = np.interp(TIMES, [0.0, 10.0, 13.0, 30.0], [1.5, 1.5, 1.0, 1.0])
 SMALL_TOW = dict(cable_length=100.0, segments=4, cable_axial_stiffness=2e6, cable_axial_damping=5e3)
 NEUTRAL = 1025.0 * math.pi * 0.0173**2 / 4  # kg/m: the default cable's displaced mass

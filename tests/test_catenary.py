@@ -3,7 +3,7 @@
 Against things independent of it:
 
 - the compiled solver (`solve_statics` under `jit`, which the closed form never takes),
-  on seed 003's line, a MoorDyn-like chain lying partly on the seabed, the same chain
+  on the anchored line, a MoorDyn-like chain lying partly on the seabed, the same chain
   with a nonlinear law whose slack switch's band holds every segment, and the chain
   half chain, half wire, by per-segment properties: node positions within 1e-6 m,
   tensions within 1e-6 of their own;
@@ -68,11 +68,11 @@ def assert_same_equilibrium(model, env):
     return closed
 
 
-def test_seed003_line_against_the_compiled_solver():
-    """Seed 003's line (nonlinear-elastic, C_E1 = 0.1 C_E), its fairlead driven
+def test_anchored_line_against_the_compiled_solver():
+    """The anchored line (nonlinear-elastic, C_E1 = 0.1 C_E), its fairlead driven
     harmonically (placed at t = 0 by its motion); and what the JAX equations give at
     the positions found: the same forces, tensions and reactions."""
-    model, env = jc.examples.seed003_line(20, 30, 0.1)
+    model, env = jc.examples.anchored_line(20, 30, 0.1)
     env = env.without_waves()
     closed = assert_same_equilibrium(model, env)
     positions, rest = closed.state.positions, np.zeros(closed.state.positions.shape)
@@ -221,11 +221,11 @@ def test_unsupported_scenes_fall_back_to_the_compiled_solver():
 
 
 def test_solve_statics_and_a_scene_run_take_the_closed_form():
-    """`solve_statics` eagerly and `run_scene` of the bundled seed 003 line (statics
+    """`solve_statics` eagerly and `run_scene` of the bundled anchored line (statics
     only) take the discrete catenary, and the run's summary says so."""
     model, env = chain()
     assert jc.solve_statics(model, env).method == "discrete catenary"
-    scene = jc.read_scene(jc.examples.scene_path("seed003_line"))
+    scene = jc.read_scene(jc.examples.scene_path("anchored_line"))
     run = jc.run_scene(scene, duration=0.0)
     assert run.static is not None and run.static.method == "discrete catenary"
     assert "discrete catenary" in run.summary()

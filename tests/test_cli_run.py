@@ -339,7 +339,7 @@ def test_statics_switch_in_files(tmp_path):
     text = HANGING.format(title="switch")
     assert not jc.read_moordyn(_write(tmp_path, text)).run.statics
     assert jc.read_moordyn(_write(tmp_path, text.replace("0        TmaxIC", "60       TmaxIC"))).run.statics
-    scene_text = (jc.examples.scene_path("seed003_line")).read_text()
+    scene_text = (jc.examples.scene_path("anchored_line")).read_text()
     assert "[simulation]" in scene_text
     skipped = scene_text.replace("[simulation]", "[simulation]\nstatics = false", 1)
     path = tmp_path / "scene.toml"
@@ -400,7 +400,7 @@ def test_help_and_examples_do_not_import_jax():
     env = {**os.environ, "PYTHONPATH": str(root)}
     result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env, timeout=60)
     assert result.returncode == 0, result.stderr
-    assert "--no-statics" in result.stdout and "seed003_line" in result.stdout
+    assert "--no-statics" in result.stdout and "anchored_line" in result.stdout
 
 
 def test_the_command_ends_its_process_with_everything_written(tmp_path):
@@ -414,7 +414,7 @@ def test_the_command_ends_its_process_with_everything_written(tmp_path):
     cache = tmp_path / "cache"
     env = {**os.environ, "PYTHONPATH": str(root), "JAXCABLE_CACHE_DIR": str(cache), "XLA_FLAGS": DEFAULT_XLA_FLAGS}
     out = tmp_path / "run.csv"
-    argv = [sys.executable, "-m", "jaxcable", "run", "seed003_line", "--segments", "4", "--duration", "0"]
+    argv = [sys.executable, "-m", "jaxcable", "run", "anchored_line", "--segments", "4", "--duration", "0"]
     result = subprocess.run(
         [*argv, "--out", str(out), "--channels", "FairTen1"], capture_output=True, text=True, env=env
     )
@@ -439,7 +439,7 @@ def test_lazy_names_are_the_modules_own():
         _ = jc.nonesuch  # type: ignore[attr-defined]
     assert tuple(jc.SOLVERS) == SOLVER_NAMES
     assert engine_interpolations is INTERPOLATIONS and reader_kinds is DROPPED_KINDS
-    assert jc.examples.seed003_line is jc.examples.seed003.seed003_line
+    assert jc.examples.anchored_line is jc.examples._anchored_line.anchored_line
 
 
 def _write(tmp_path: Path, text: str) -> Path:

@@ -2,7 +2,7 @@
 
 References:
 
-- Seed 004's notes, §7.4: the (H, d, T) → (m, λ, c, U, crest/trough, u_max/u_min,
+- The cnoidal-loads paper's notes, §7.4: the (H, d, T) → (m, λ, c, U, crest/trough, u_max/u_min,
   max ∂u/∂t) table, the point values of the H = 2 m, d = 10 m, T = 12 s wave, and the
   Fig. 1 analogue (U → m, crest/H, acceleration ratio), each to one unit of its last
   printed digit.
@@ -97,7 +97,7 @@ def wave():
 # ---------------------------------------------------------------------------------------
 
 TABLE = [
-    # H, d, T, m, λ, c, U, crest, trough, u_max, u_min, max ∂u/∂t: seed 004 §7.4.
+    # H, d, T, m, λ, c, U, crest, trough, u_max, u_min, max ∂u/∂t: Yakovlev et al.'s cnoidal-loads paper §7.4.
     ("2", "10", "12", "0.855964", "115.03", "9.586", "26.5", "1.231", "-0.769", "1.219", "-0.761", "0.635"),
     ("1", "10", "8", "0.296966", "68.14", "8.517", "4.6", "0.522", "-0.478", "0.517", "-0.473", "0.393"),
     ("3", "10", "15", "0.988715", "152.44", "10.162", "69.7", "2.185", "-0.815", "2.164", "-0.807", "1.112"),
@@ -145,7 +145,7 @@ def test_point_values_of_the_notes(wave):
 
 
 FIGURE_1 = [
-    # U, m (or 1 − m), crest/H, max ∂u/∂t over linear theory's: seed 004 §7.4.
+    # U, m (or 1 − m), crest/H, max ∂u/∂t over linear theory's: Yakovlev et al.'s cnoidal-loads paper §7.4.
     (5, "0.3157", "0.524", "1.011"),
     (26, "0.8513", "0.614", "1.218"),
     (50, "0.9673", "0.688", "1.538"),

@@ -11,7 +11,7 @@ import pytest
 import jaxcable as jc
 from jaxcable._equations import lagrangian as lag
 from jaxcable._simulation.simulate import nonstiff_field, stiff_field, vector_field
-from jaxcable.examples import seed003_line
+from jaxcable.examples import anchored_line
 
 
 def _moving_state(model, seed=0):
@@ -27,7 +27,7 @@ def _moving_state(model, seed=0):
 def test_internal_forces_are_the_elastic_gradient_plus_viscous_pull(mass_matrix):
     """`internal_forces` written directly as T τ equals −∂/∂x of the elastic energy
     Σ L W(ε) (by `jax.grad`) plus the viscous tension along each segment."""
-    model, env = seed003_line(5, mass_matrix=mass_matrix)
+    model, env = anchored_line(5, mass_matrix=mass_matrix)
     law = jc.KelvinVoigt(3e7, 3e6, 2e5)
     model = eqx.tree_at(lambda m: m.line.tension_law, model, jax.tree.map(lambda x: jnp.broadcast_to(x, (5,)), law))
     positions, velocities = lag.full_state(model, 0.4, *_moving_state(model))
@@ -51,7 +51,7 @@ def test_internal_forces_are_the_elastic_gradient_plus_viscous_pull(mass_matrix)
 
 @pytest.mark.parametrize("mass_matrix", ["lumped", "consistent"])
 def test_split_fields_sum_to_the_whole(mass_matrix):
-    model, env = seed003_line(5, mass_matrix=mass_matrix)
+    model, env = anchored_line(5, mass_matrix=mass_matrix)
     y = _moving_state(model, 3)
     whole = vector_field(0.7, y, (model, env))
     parts = jax.tree.map(jnp.add, stiff_field(0.7, y, (model, env)), nonstiff_field(0.7, y, (model, env)))
@@ -60,16 +60,16 @@ def test_split_fields_sum_to_the_whole(mass_matrix):
 
 
 def test_a_misspelt_part_is_an_error_not_all_forces():
-    model, env = seed003_line(3, mass_matrix="lumped")
+    model, env = anchored_line(3, mass_matrix="lumped")
     with pytest.raises(ValueError, match=r"part must be one of \('all', 'internal', 'external'\), got 'intrenal'"):
         lag.free_accelerations(model, env, 0.0, *_moving_state(model), part="intrenal")
 
 
 @pytest.mark.slow
 def test_kencarp_follows_a_tight_reference():
-    """KenCarp4 (axial forces implicit, the rest explicit) on seed 003's line over 2 s
+    """KenCarp4 (axial forces implicit, the rest explicit) on the anchored line over 2 s
     against Dopri5 at rtol = 1e-10."""
-    model, env = seed003_line(6, mass_matrix="lumped")
+    model, env = anchored_line(6, mass_matrix="lumped")
     static = jc.solve_statics(model, env)
     ts = np.linspace(0.0, 2.0, 21)
     tight, kencarp = jc.SolverConfig(rtol=1e-10, atol=1e-10), jc.SolverConfig(diffrax.KenCarp4(), rtol=1e-7, atol=1e-7)

@@ -49,7 +49,7 @@ def test_the_command_line_enables_float64_for_its_own_process():
         import jax
         from jaxcable._cli import main
         # Refused (2) once JAX is set up: a malformed input would be refused before.
-        main(["run", "seed003_line", "--out", "run.xlsx"])
+        main(["run", "anchored_line", "--out", "run.xlsx"])
         print(jax.config.jax_enable_x64)
         """
     )

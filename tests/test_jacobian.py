@@ -24,7 +24,7 @@ from jaxcable._solver.jacobian import (
     _neighbours,
     _reverse_cuthill_mckee,
 )
-from jaxcable.examples import scene_path, seed003_line
+from jaxcable.examples import anchored_line, scene_path
 
 
 def _scene(name):
@@ -34,7 +34,7 @@ def _scene(name):
 
 @pytest.fixture(scope="module")
 def models():
-    line = seed003_line(8, mass_matrix="lumped")
+    line = anchored_line(8, mass_matrix="lumped")
     # A line with bending stiffness, whose hinges couple nodes two apart.
     bending = jc.LineType(20.0, 0.1, jc.LinearElastic(1e7), bending_stiffness=5e4)
     bent = jc.CableNetwork.from_branches(
@@ -175,7 +175,7 @@ def kvaerno5(linear_solver):
 
 @pytest.fixture(scope="module")
 def implicit_runs():
-    model, env = seed003_line(6, mass_matrix="lumped")
+    model, env = anchored_line(6, mass_matrix="lumped")
     static = jc.solve_statics(model, env)
     ts = np.linspace(0.0, 2.0, 21)
     linear_solvers = {"structured": NetworkJacobian(model), "dense": lx.LU()}
@@ -200,7 +200,7 @@ def test_structured_run_matches_dense_run(implicit_runs):
 
 def test_auto_applies_only_where_it_holds(models):
     model, env = models["line"]
-    consistent, _ = seed003_line(4)
+    consistent, _ = anchored_line(4)
     from jaxcable._solver.jacobian import with_network_jacobian
 
     stiff = jc.stiff_solver()
@@ -238,7 +238,7 @@ def test_auto_is_structured_under_jit(models, implicit_runs):
     assert type(chosen[0]) is NetworkJacobian
     assert (chosen[0].colours, chosen[0].order, chosen[0].group) == (eager.colours, eager.order, eager.group)
 
-    line, env = seed003_line(6, mass_matrix="lumped")
+    line, env = anchored_line(6, mass_matrix="lumped")
     static = jc.solve_statics(line, env)
     ts = np.linspace(0.0, 2.0, 21)
     run = eqx.filter_jit(
@@ -253,7 +253,7 @@ def test_auto_is_structured_under_jit(models, implicit_runs):
 def test_structured_refuses_what_it_cannot_do(models):
     """Asking for the structured solver on a consistent-mass model is an error, not a
     silent dense solve."""
-    consistent, _ = seed003_line(4)
+    consistent, _ = anchored_line(4)
     with pytest.raises(ValueError, match="mass_matrix='lumped', got 'consistent'"):
         kvaerno5(NetworkJacobian(consistent))
 
@@ -265,7 +265,7 @@ def test_sweep_vmaps_the_structured_solver():
     import equinox as eqx
 
     def build(scale):
-        model, env = seed003_line(4, mass_matrix="lumped")
+        model, env = anchored_line(4, mass_matrix="lumped")
         return eqx.tree_at(lambda m: m.motions[1].amplitude, model, model.motions[1].amplitude * scale), env
 
     ts = np.linspace(0.0, 0.5, 6)

@@ -192,7 +192,7 @@ def test_energy_matches_integral_of_tension(width, index):
 @pytest.mark.parametrize("width, index", LAW_CASES)
 def test_energy_derivative_is_elastic_tension(width, index):
     """∂Π_e/∂ε = T_e(ε) exactly (the law is the energy's derivative, not 3/2 C_E1 as in
-    seed 003's misprint), checked against the reference formula, not the code's tension."""
+    the anchored-line paper's misprint), checked against the reference formula, not the code's tension."""
     law, c_e, c_e1, _ = laws(width)[index]
     strains = np.concatenate([STRAINS, np.linspace(0, 3 * max(width, 1e-3), 301)])
     # ε = w exactly is a separate (failing) case: test_energy_derivative_at_band_edge.
@@ -211,8 +211,8 @@ def test_energy_derivative_at_band_edge(index):
     assert grad == pytest.approx(c_e * WIDTH + c_e1 * WIDTH**2, rel=1e-12)
 
 
-def test_energy_derivative_is_not_seed003_misprint():
-    """A law whose energy carried `C_E1 ε³/2` (seed 003's energy) would give 3/2 C_E1 ε²
+def test_energy_derivative_is_not_the_papers_misprint():
+    """A law whose energy carried `C_E1 ε³/2` (the anchored-line paper's energy) would give 3/2 C_E1 ε²
     here; this pins the documented choice."""
     law = jc.NonlinearElastic(C_E, C_E1, 0.0)
     e = 0.1

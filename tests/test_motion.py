@@ -95,7 +95,7 @@ def test_ramped_harmonic_starts_at_rest_and_matches_its_closed_form():
 
 
 def test_towing_follows_its_speed_history():
-    # Seed 002's step, 1 -> 3 m/s over 2 s: distance by hand, piece by piece.
+    # The branched-systems paper's step, 1 -> 3 m/s over 2 s: distance by hand, piece by piece.
     motion = jc.Towing([0.0, 10.0, 12.0, 20.0], [1.0, 1.0, 3.0, 3.0], direction=(0.0, 2.0, 0.0))
     for t, distance, speed, acceleration in [
         (-1.0, -1.0, 1.0, 0.0),  # before the record: the first speed, held

@@ -83,7 +83,7 @@ def test_adaptive_steps_reach_the_tolerance():
 
 @pytest.mark.slow
 def test_simulates_a_cable_like_dopri5():
-    # Seed 001's thread, as jaxcable's own simulation: a stretched two-segment string
+    # Zhukov's thread, as jaxcable's own simulation: a stretched two-segment string
     # whose middle mass is let go; the baseline must agree with Dopri5.
     line = jc.LineType(
         mass_per_length=0.5,

@@ -214,8 +214,8 @@ _KEY_SCRIPT = textwrap.dedent(
     jax.config.update("jax_enable_x64", True)
     from jaxcable import _programs
     from jaxcable._statics import solve as _statics
-    from jaxcable.examples import seed003_line
-    model, env = seed003_line(6)
+    from jaxcable.examples import anchored_line
+    model, env = anchored_line(6)
     _programs.use_folder("unused")
     key, _ = _statics._equilibrium._program((model, env, model.node_positions, 0.0, 100, 1e-6, True, True, False), {})
     print(key)
@@ -243,13 +243,13 @@ _LIBRARY_SCRIPT = textwrap.dedent(
     from jax import monitoring
     import jaxcable as jc
     from jaxcable import _programs
-    from jaxcable.examples import seed003_line
+    from jaxcable.examples import anchored_line
     loaded = []
     def listen(event, **_):
         if event == _programs.LOADED_EVENT:
             loaded.append(event)
     monitoring.register_event_listener(listen)
-    model, env = seed003_line(6)
+    model, env = anchored_line(6)
     # In a current: a single line in still water is solved in closed form, with no
     # statics program (`jaxcable._statics.catenary`).
     env = eqx.tree_at(lambda e: e.current, env, np.array([0.2, 0.0, 0.0]))
@@ -335,7 +335,7 @@ def test_statics_and_a_run_load_their_programs_bitwise(folder):
             program._programs.clear()
             program._shapes.clear()
 
-    scene = load_scene(Path(jc.examples.__file__).parent / "scenes" / "seed003_line.toml")
+    scene = load_scene(Path(jc.examples.__file__).parent / "scenes" / "anchored_line.toml")
     new_process()
     first = jc.run_scene(scene, duration=0.5, dt_out=0.1)
     names = {p.split("-")[0] for p in _files(folder)}

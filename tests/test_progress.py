@@ -9,7 +9,7 @@ import numpy as np
 
 import jaxcable as jc
 from jaxcable import _progress
-from jaxcable.examples import seed003_line
+from jaxcable.examples import anchored_line
 
 
 def test_a_bar_for_a_log_writes_a_few_lines(monkeypatch):
@@ -45,7 +45,7 @@ def test_simulate_shows_simulated_seconds_and_the_same_answer(capsys):
     """`simulate(progress=True)` writes its bar in simulated seconds (to a log here:
     capsys is not a terminal), ending at the whole duration, and returns what the run
     without a bar returns, bitwise."""
-    model, env = seed003_line(n_segments=4)
+    model, env = anchored_line(n_segments=4)
     quiet = jc.simulate(model, env, 0.5, initial="rest")
     capsys.readouterr()
     shown = jc.simulate(model, env, 0.5, initial="rest", progress=True)
@@ -57,7 +57,7 @@ def test_simulate_shows_simulated_seconds_and_the_same_answer(capsys):
 def test_simulate_under_jit_shows_the_traced_duration(capsys):
     """With `t1` traced the bar still knows the duration: it is read when the solve
     starts, so a new `t1` reuses the compiled solve and shows its own."""
-    model, env = seed003_line(n_segments=4)
+    model, env = anchored_line(n_segments=4)
 
     @jax.jit
     def last_tension(t1):
@@ -75,7 +75,7 @@ def test_sweep_shows_the_cases_simulated_seconds(capsys):
     0.5 s end at 1.5 s, and the results are those of the sweep without a bar."""
 
     def build(amplitude):
-        model, env = seed003_line(n_segments=4)
+        model, env = anchored_line(n_segments=4)
         top = list(np.asarray(model.constrained_nodes)).index(1)
         return eqx.tree_at(lambda m: m.motions[top].amplitude, model, amplitude), env
 

@@ -30,7 +30,7 @@ def rope(axial_stiffness=3e7, quadratic=0.0, area=3e-4, damping_ratio=0.8):
 
 
 def anchored_line(anchor_z: float, segments: int = 20, motion=None, length: float = 400.0):
-    """Seed 003's geometry: an anchor at `anchor_z`, a top 346 m away at the surface, a
+    """The anchored-line paper's geometry: an anchor at `anchor_z`, a top 346 m away at the surface, a
     line of `length` between them."""
     top = jc.Harmonic(1.57, 5.6) if motion is None else motion
     return jc.CableNetwork.from_branches(
@@ -133,7 +133,7 @@ def test_motion_excursions_bound_the_motion_evaluated_densely(make):
 
 
 def test_the_bound_holds_over_a_run_and_flags_a_line_on_the_bed():
-    # Seed 003's line hung 50 m above the bed, driven hard (its top 10 m along x and z).
+    # The anchored line hung 50 m above the bed, driven hard (its top 10 m along x and z).
     model = anchored_line(-200.0, segments=10, motion=jc.Harmonic(10.0, 5.6, direction=(1.0, 0.0, 1.0)))
     env = jc.Environment(depth=250.0, seabed=jc.Seabed())
     lowest, highest = reach_bounds(model, 12.0)

@@ -319,7 +319,7 @@ STILL_WATER = [n for n in CALM if not np.any(water(toml(n))[2])]
 def test_still_water_lines_are_elastic_catenaries(name, runs):
     """Each line between its equilibrium end points is the continuum's catenary: the
     segment tensions are its tension at mid-segment, the nodes lie on it."""
-    assert {"seed003_line", "y_branch"} <= set(STILL_WATER)
+    assert {"anchored_line", "y_branch"} <= set(STILL_WATER)
     data = toml(name)
     rho, g, _ = water(data)
     run = runs(name)
@@ -406,9 +406,9 @@ def test_wave_mooring_chain_rests_on_the_seabed(runs):
     assert np.argmax(tension) == tension.size - 1
 
 
-def test_seed003_file_is_the_seed003_builder():
-    built = jc.read_scene(examples.scene_path("seed003_line")).build()
-    model, env = examples.seed003_line(20, 30, 0.1)
+def test_anchored_line_file_is_its_builder():
+    built = jc.read_scene(examples.scene_path("anchored_line")).build()
+    model, env = examples.anchored_line(20, 30, 0.1)
     ours = built.model
 
     def close(a, b, what):
@@ -523,9 +523,9 @@ def test_cli_info_on_the_sea(capsys):
 
 def test_cli_statics_only(runs, tmp_path, capsys):
     npz = tmp_path / "s.npz"
-    assert main(["run", "seed003_line", "--duration", "0", "--out", str(npz), "--no-progress"]) == 0
+    assert main(["run", "anchored_line", "--duration", "0", "--out", str(npz), "--no-progress"]) == 0
     assert capsys.readouterr().out.strip().splitlines()[-2].startswith("statics only; peak tension")
-    static = runs("seed003_line").static
+    static = runs("anchored_line").static
     with np.load(npz) as archive:
         np.testing.assert_array_equal(archive["time"], [0.0])
         positions = np.asarray(static.state.positions)[None]
@@ -539,9 +539,9 @@ def test_cli_statics_only(runs, tmp_path, capsys):
 def test_cli_out_writes_the_scenes_channels(tmp_path, capsys):
     """With no --channels, --out writes the channels the scene file's [output] names."""
     csv = tmp_path / "s.csv"
-    assert main(["run", "seed003_line", "--duration", "0", "--out", str(csv), "--no-progress"]) == 0
+    assert main(["run", "anchored_line", "--duration", "0", "--out", str(csv), "--no-progress"]) == 0
     capsys.readouterr()
-    assert csv.read_text().splitlines()[0] == "Time," + ",".join(toml("seed003_line")["output"]["channels"])
+    assert csv.read_text().splitlines()[0] == "Time," + ",".join(toml("anchored_line")["output"]["channels"])
 
 
 def test_run_settings_name_a_solver_configuration():
@@ -550,7 +550,7 @@ def test_run_settings_name_a_solver_configuration():
     config = jc.io.RunSettings(solver="kvaerno5", rtol=1e-7, atol=1e-8).solver_config()
     assert isinstance(config.solver, diffrax.Kvaerno5)
     assert float(config.stepsize_controller.rtol) == 1e-7 and float(config.stepsize_controller.atol) == 1e-8
-    scene = jc.read_scene(examples.scene_path("seed003_line"))
+    scene = jc.read_scene(examples.scene_path("anchored_line"))
     bad = scene.replace(run=dataclasses.replace(scene.run, solver="rk5"))
     with pytest.raises(jc.io.SceneError, match=r"solver must be one of \('dopri5'.*, got 'rk5'"):
         jc.run_scene(bad, duration=0.1)
@@ -560,9 +560,9 @@ def test_cli_solver_runs_the_named_configuration_at_the_scenes_tolerances(tmp_pa
     """`--solver tsit5` gives the same tensions as the library's run with
     `SOLVERS["tsit5"]` at the scene file's tolerances."""
     npz = tmp_path / "t.npz"
-    argv = ["run", "seed003_line", "--duration", "0.2", "--dt-out", "0.05", "--solver", "tsit5", "--out", str(npz)]
+    argv = ["run", "anchored_line", "--duration", "0.2", "--dt-out", "0.05", "--solver", "tsit5", "--out", str(npz)]
     assert main([*argv, "--no-progress"]) == 0, capsys.readouterr().err
-    scene = jc.read_scene(examples.scene_path("seed003_line"))
+    scene = jc.read_scene(examples.scene_path("anchored_line"))
     config = jc.SOLVERS["tsit5"](rtol=scene.run.rtol, atol=scene.run.atol)
     run = jc.run_scene(scene, duration=0.2, dt_out=0.05, solver=config)
     with np.load(npz) as archive:
@@ -574,14 +574,14 @@ def test_cli_solver_runs_the_named_configuration_at_the_scenes_tolerances(tmp_pa
 # modes, replaced by adaptive steps with a note where it is not.
 
 
-def seed003_scene(damping_ratio: float = 0.0, **run) -> jc.io.Scene:
-    scene = jc.read_scene(examples.scene_path("seed003_line"))
+def anchored_line_scene(damping_ratio: float = 0.0, **run) -> jc.io.Scene:
+    scene = jc.read_scene(examples.scene_path("anchored_line"))
     rope = dataclasses.replace(scene.line_types[0], axial_damping_ratio=damping_ratio)
     return scene.replace(line_types=(rope,), run=dataclasses.replace(scene.run, **run))
 
 
 def test_a_damped_scene_takes_its_fixed_steps():
-    scene = seed003_scene(0.5, solver="midpoint", dt=2e-3)
+    scene = anchored_line_scene(0.5, solver="midpoint", dt=2e-3)
     run = jc.run_scene(scene, duration=0.2, dt_out=0.05)
     assert run.steps == 100 and run.stepping == "Midpoint, fixed steps of 0.002 s"
     assert not any("stability" in note for note in run.notes)
@@ -592,7 +592,10 @@ def test_fixed_steps_beyond_the_stability_limit_are_replaced_by_stable_ones():
     # Undamped, the axial mode grows under any two-stage step; damped at ζ = 0.5
     # (ω_n = 514 rad/s with the consistent mass matrix) |R| is 0.35 a step at 2 ms, as
     # above, and 1.63 at 5 ms. RK4 at 0.7 of its own limit takes their place.
-    for scene in (seed003_scene(0.0, solver="midpoint", dt=2e-3), seed003_scene(0.5, solver="midpoint", dt=5e-3)):
+    for scene in (
+        anchored_line_scene(0.0, solver="midpoint", dt=2e-3),
+        anchored_line_scene(0.5, solver="midpoint", dt=5e-3),
+    ):
         run = jc.run_scene(scene, duration=0.2, dt_out=0.05)
         stable = jc.fixed_steps([(run.built.model, run.built.environment)], 0.2)
         assert run.stepping == f"RK4, fixed steps of {float(stable.dt0):g} s"  # pyright: ignore[reportArgumentType]
@@ -601,7 +604,7 @@ def test_fixed_steps_beyond_the_stability_limit_are_replaced_by_stable_ones():
 
 
 def test_fixed_steps_past_max_steps_are_replaced_by_adaptive_ones():
-    run = jc.run_scene(seed003_scene(0.5, solver="midpoint", dt=2e-3, max_steps=99), duration=0.2, dt_out=0.05)
+    run = jc.run_scene(anchored_line_scene(0.5, solver="midpoint", dt=2e-3, max_steps=99), duration=0.2, dt_out=0.05)
     assert run.stepping.startswith("Dopri5, adaptive")
     assert any("would take 100 steps, more than max_steps = 99" in note for note in run.notes)
 
@@ -610,7 +613,7 @@ def test_a_scene_that_names_no_solver_steps_auto_and_tolerances_ask_for_dopri5(t
     """Told no solver a scene takes `auto`: RK4 at the fixed step `jc.fixed_steps`
     chooses for it. Tolerances without a solver ask for adaptive Dopri5; with `auto`
     named, the file's key and the flags are refused, as they would be lost."""
-    text = examples.scene_path("seed003_line").read_text(encoding="utf-8")
+    text = examples.scene_path("anchored_line").read_text(encoding="utf-8")
     path = tmp_path / "line.toml"
     path.write_text(text)
     scene = jc.read_scene(path)
@@ -633,7 +636,7 @@ def test_a_scene_that_names_no_solver_steps_auto_and_tolerances_ask_for_dopri5(t
 
 
 def test_scene_file_fixed_step_and_max_steps(tmp_path):
-    text = examples.scene_path("seed003_line").read_text(encoding="utf-8")
+    text = examples.scene_path("anchored_line").read_text(encoding="utf-8")
     path = tmp_path / "fixed.toml"
     path.write_text(text.replace("[simulation]", '[simulation]\nsolver = "heun"\ndt = 0.001\nmax_steps = 5000'))
     run = jc.read_scene(path).run
@@ -658,18 +661,18 @@ def test_scene_file_fixed_step_and_max_steps(tmp_path):
     ],
 )
 def test_cli_stepping_flags_are_checked_before_running(flags, message, capsys):
-    assert main(["run", "seed003_line", "--duration", "0.1", "--no-progress", *flags]) == 2
+    assert main(["run", "anchored_line", "--duration", "0.1", "--no-progress", *flags]) == 2
     assert re.search(message, capsys.readouterr().err)
 
 
 def test_cli_fixed_step_beyond_the_limit_warns_and_takes_a_stable_one(capsys):
     status = main(
-        ["run", "seed003_line", "--duration", "0.1", "--solver", "midpoint", "--dt", "0.002", "--no-progress"]
+        ["run", "anchored_line", "--duration", "0.1", "--solver", "midpoint", "--dt", "0.002", "--no-progress"]
     )
     out, err = capsys.readouterr()
     assert status == 0, err
     assert "warning: fixed steps of 0.002 s are beyond Midpoint's stability limit here" in err
-    built = jc.load_scene(examples.scene_path("seed003_line")).build()
+    built = jc.load_scene(examples.scene_path("anchored_line")).build()
     stable = jc.fixed_steps([(built.model, built.environment)], 0.1)
     assert f"(RK4, fixed steps of {float(stable.dt0):g} s)" in out.splitlines()[-2]  # pyright: ignore[reportArgumentType]
 

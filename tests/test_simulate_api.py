@@ -9,7 +9,7 @@ from helpers import compilations
 
 import jaxcable as jc
 from jaxcable._solver.stability import stability_function
-from jaxcable.examples import seed003_line
+from jaxcable.examples import anchored_line
 
 
 def test_result_shapes_and_constrained_nodes(driven_line):
@@ -134,9 +134,9 @@ def test_statics_state_is_at_rest(driven_line):
 
 @pytest.mark.slow
 def test_fixed_step_blow_up_is_a_failure_not_output():
-    """Heun at 20× its stable step on seed 003's line goes non-finite; the result says
+    """Heun at 20× its stable step on the anchored line goes non-finite; the result says
     so (and raises with `throw=True`) rather than passing the NaNs on as a success."""
-    model, env = seed003_line(6, mass_matrix="lumped")
+    model, env = anchored_line(6, mass_matrix="lumped")
     static = jc.solve_statics(model, env)
 
     def heun(dt0):

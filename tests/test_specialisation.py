@@ -6,7 +6,7 @@ the viscous force, the elastic forces use the tension law as the energy's deriva
 the conservative forces are written out rather than taken by `jax.grad` of the
 potential, the lumped solve uses Woodbury's identity along a line and Cramer's rule at
 junctions, and statics' forces leave out what vanishes at rest. Each is checked here
-against the general form it replaces, on scenes that exercise it: seed 003's chain, the
+against the general form it replaces, on scenes that exercise it: the anchored-line paper's chain, the
 moored net (a graph with junctions, buoys that pierce the surface, waves and a damped
 law), a line on a seabed, and a line that pierces the free surface with anisotropic
 added mass and a spar buoy.
@@ -23,7 +23,7 @@ import jaxcable as jc
 from jaxcable._equations import lagrangian as lag
 from jaxcable._model import indexing as _indexing
 from jaxcable._model import materials
-from jaxcable.examples import moored_net, seed003_line
+from jaxcable.examples import anchored_line, moored_net
 
 
 def _seabed_line():
@@ -54,9 +54,9 @@ def _surface_line():
 
 
 SCENES = {
-    "seed003 chain": lambda: seed003_line(6, mass_matrix="lumped"),
+    "anchored_line chain": lambda: anchored_line(6, mass_matrix="lumped"),
     "surface line": _surface_line,
-    "seed003 consistent": lambda: seed003_line(4, mass_matrix="consistent"),
+    "anchored_line consistent": lambda: anchored_line(4, mass_matrix="consistent"),
     "moored net": lambda: moored_net(segments=(1, 2, 2, 1)),
     "seabed": _seabed_line,
 }
@@ -154,7 +154,7 @@ def test_energy_density_derivative_is_the_tension_law(width):
 def test_undamped_law_skips_the_viscous_force():
     """A law without damping (`damped = False`) gives the forces of a damped law whose
     damping is zero."""
-    model, env = seed003_line(5, mass_matrix="lumped")
+    model, env = anchored_line(5, mass_matrix="lumped")
     law = model.line.tension_law
     zero_damping = jc.KelvinVoigt(law.axial_stiffness, law.quadratic_stiffness(), 0.0, law.slack_width)
     damped = eqx.tree_at(lambda m: m.line.tension_law, model, zero_damping)
@@ -177,7 +177,7 @@ def test_cramer_solve_matches_a_dense_solve():
     np.testing.assert_allclose(np.moveaxis(np.asarray(inverse), -1, 0), np.linalg.inv(blocks), rtol=1e-13)
 
 
-@pytest.mark.parametrize("scene", ["seed003 chain", "surface line", "seabed"])
+@pytest.mark.parametrize("scene", ["anchored_line chain", "surface line", "seabed"])
 def test_closed_form_lumped_solve_gives_cramers_answer(scene, monkeypatch):
     """Woodbury's closed form for `a I + b₁ τ₁τ₁ᵀ + b₂ τ₂τ₂ᵀ` gives the free
     accelerations of the 3 × 3 blocks and Cramer's rule (the general path, forced by
@@ -289,7 +289,9 @@ def _lowe_langley():
     return built.model, built.environment
 
 
-@pytest.mark.parametrize("scene", ["seed003 chain", "surface line", "moored net", "seabed", "Low & Langley (bending)"])
+@pytest.mark.parametrize(
+    "scene", ["anchored_line chain", "surface line", "moored net", "seabed", "Low & Langley (bending)"]
+)
 def test_statics_in_still_water_is_the_general_path(scene):
     """Statics in water known to be still, without the water's loads, finds the
     general path's equilibrium: the same positions, reactions and tensions to rounding.

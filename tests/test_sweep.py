@@ -18,7 +18,7 @@ import pytest
 import jaxcable as jc
 from jaxcable import sweep, sweep_grid
 from jaxcable._solver.stability import STEP_FRACTION, stable_step
-from jaxcable.examples import seed003_line
+from jaxcable.examples import anchored_line
 
 T1 = 1.0
 TS = np.linspace(0.0, T1, 21)
@@ -36,11 +36,11 @@ CASES = {"stiffness_scale": [1.0, 2.0, 100.0, 1.0, -1.0, 1.0], "stretch": [1.0, 
 
 @functools.cache
 def base():
-    return seed003_line(n_segments=4, mass_matrix="lumped")
+    return anchored_line(n_segments=4, mass_matrix="lumped")
 
 
 def build(stiffness_scale, stretch):
-    """Seed 003's line with C_E scaled and the unstretched lengths scaled: float
+    """The anchored line with C_E scaled and the unstretched lengths scaled: float
     leaves replaced with `eqx.tree_at`, as a sweep over a prebuilt model does."""
     model, env = base()
     law = model.line.tension_law
@@ -228,7 +228,7 @@ def test_chunks_equal_one_batch(swept, monkeypatch):
 def test_cases_with_their_own_steps_run_in_turn_as_their_single_runs(monkeypatch):
     """On one CPU device, cases with their own adaptive steps are not batched: by
     default each is a chunk of its own, and each equals its single `simulate` run
-    bitwise, steps included, over snap loads and slack (seed 003's line over 3.5 s:
+    bitwise, steps included, over snap loads and slack (the anchored line over 3.5 s:
     over 2,000 steps each), where batched code rounds differently."""
     chunked = []
     split = jc._sweep.sweep._split
@@ -240,7 +240,7 @@ def test_cases_with_their_own_steps_run_in_turn_as_their_single_runs(monkeypatch
     monkeypatch.setattr(jc._sweep.sweep, "_split", counted)
 
     def amplitude_build(amplitude):
-        model, env = seed003_line()
+        model, env = anchored_line()
         top = list(np.asarray(model.constrained_nodes)).index(1)  # the fairlead's motion
         return eqx.tree_at(lambda m: m.motions[top].amplitude, model, amplitude), env
 
@@ -291,11 +291,11 @@ _SHARDED = textwrap.dedent(
     import jax
     import numpy as np
     from jaxcable import RK4, SolverConfig, sweep
-    from jaxcable.examples import seed003_line
+    from jaxcable.examples import anchored_line
 
     assert len(jax.devices()) == 2, jax.devices()
 
-    base, env = seed003_line(n_segments=4, mass_matrix="lumped")
+    base, env = anchored_line(n_segments=4, mass_matrix="lumped")
 
     def build(amplitude, stiffness_scale):
         law = base.line.tension_law
@@ -384,7 +384,7 @@ def test_sweep_grid():
 
 def _int_topology(n, stiffness_scale):
     model, env = build(stiffness_scale, 1.0)
-    return seed003_line(n_segments=int(n))[0], env
+    return anchored_line(n_segments=int(n))[0], env
 
 
 def _batched_topology(stiffness_scale):
@@ -406,8 +406,8 @@ def _tracer_dependent_structure(stiffness_scale):
     # Four segments for a concrete value, five when traced: a structure change that
     # only shows under vmap.
     if isinstance(stiffness_scale, jax.core.Tracer):
-        return seed003_line(n_segments=5)
-    return seed003_line(n_segments=4)
+        return anchored_line(n_segments=5)
+    return anchored_line(n_segments=4)
 
 
 def _not_a_model(stiffness_scale):
@@ -489,7 +489,7 @@ def test_build_errors_name_the_first_case():
     # A constructor's own check on a real value still fires (under vmap it could not),
     # and a note says which case raised it.
     def driven(period):
-        return seed003_line(n_segments=4, period=period)
+        return anchored_line(n_segments=4, period=period)
 
     with pytest.raises(ValueError, match="Harmonic.period must be positive, got -1.0") as info:
         sweep(driven, {"period": [-1.0, 5.6]}, T1)

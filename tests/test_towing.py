@@ -1,5 +1,5 @@
 """The towing rigs against closed forms: a neutrally buoyant cable towed along the flow
-(tangential drag alone), and seed 001's leader and element rising at the speed where
+(tangential drag alone), and Zhukov's leader and element rising at the speed where
 lift balances drag."""
 
 import math

@@ -124,9 +124,9 @@ def test_steepness_and_gradients():
         assert grad == pytest.approx(fd, rel=1e-6)
 
 
-def test_seed003_amplitude():
+def test_floater_amplitude():
     # 0.085 (9.81 · 5.6² / 2π)^0.75, by hand: 48.963^0.75 = 18.51.
-    assert float(jc.examples.seed003_amplitude(5.6)) == pytest.approx(1.5733, abs=1e-3)
+    assert float(jc.examples.floater_amplitude(5.6)) == pytest.approx(1.5733, abs=1e-3)
 
 
 def test_wave_input_errors():

@@ -10,9 +10,9 @@ differentiable and vmappable over records.
 Two rigs are provided:
 
 - [`jaxcable.HorizontalTow`][]: a cable towed near the surface under a speed history,
-  with a weight or depressor at its end (seed 002's towing, speed steps 1 → 3 m/s).
+  with a weight or depressor at its end (the branched-systems paper's towing, speed steps 1 → 3 m/s).
   It pins the cable's drag coefficients K_n and K_τ.
-- [`jaxcable.VerticalTow`][]: seed 001's vertical towing of a growing element by a
+- [`jaxcable.VerticalTow`][]: Zhukov's vertical towing of a growing element by a
   buoyant leader. It pins the element's specific-weight drag coefficient k₀.
 """
 
@@ -341,7 +341,7 @@ class HorizontalTow(AbstractTowingRig):
 
 
 class VerticalTow(AbstractTowingRig):
-    """Seed 001's vertical towing: a buoyant leader pulls a growing element up.
+    """Zhukov's vertical towing: a buoyant leader pulls a growing element up.
 
     The leader is a float whose net lift in water is set by lead inserts; on a tether
     below it hangs the element, a cage or collector holding organisms of mass m_o,
@@ -383,7 +383,7 @@ class VerticalTow(AbstractTowingRig):
     - `segments`: the tether's segments.
 
     The defaults describe a scallop cage (25 kg in air, 20 kg of it organisms, k₀ =
-    0.5 s²/m²) on 3 m of 8 mm rope below a streamlined leader. Seed 001 gives no values
+    0.5 s²/m²) on 3 m of 8 mm rope below a streamlined leader. Zhukov's growing-element thesis gives no values
     of k₀ in its text (its figures plot R/(m g) against speed), so these are
     illustrative.
 

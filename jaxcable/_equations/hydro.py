@@ -103,7 +103,7 @@ def body_drag(
     """Quadratic drag on a body, `c |u| u` (N), component-major.
 
     Both of jaxcable's body laws have this form: `c = ½ ρ C_D A` for form drag, and
-    `c = k₀ m g` for Zhukov's specific-weight law `R = k₀ u² m g` (seed 001, eq. 3).
+    `c = k₀ m g` for Zhukov's specific-weight law `R = k₀ u² m g` (Zhukov's growing-element thesis, eq. 3).
     """
     relative_velocity, coefficient = jnp.asarray(relative_velocity), jnp.asarray(coefficient)
     return coefficient * safe_norm(relative_velocity) * relative_velocity

@@ -1,4 +1,4 @@
-"""The equations of motion, from the Lagrangian of the polyline (seed 003).
+"""The equations of motion, from the Lagrangian of the polyline (Bezverkhyy & Korniienko).
 
 Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0, 1]` (eq. 7).
 
@@ -6,7 +6,8 @@ Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0
   mass matrix (shape-function weights 1/3 and 1/6); integrated at the two ends
   (trapezoid rule), the lumped one.
 - Added mass is Morison's inertia force, `−ρ F (C_a (I − ττᵀ) + C_aτ ττᵀ) R̈`, entered by
-  its virtual work as seed 003 and MoorDyn do, and moved to the left-hand side: the mass
+  its virtual work as Bezverkhyy & Korniienko and MoorDyn do, and moved to the left-hand
+  side: the mass
   matrix M(x) carries `μ = m I + ρ F (...)` per length. When C_a ≠ C_aτ, M depends on the
   segments' directions and `½ vᵀMv + Π` is not conserved: it changes at the rate
   `½ vᵀ Ṁ v` (tested). With isotropic added mass it is conserved exactly.
@@ -24,7 +25,7 @@ Between nodes i and j a segment is `R(ξ) = x_i (1 − ξ) + x_j ξ`, `ξ ∈ [0
   the viscous part of the tension; the seabed's damping and friction; and the same
   loads on point bodies.
 
-Prescribed nodes are eliminated (seed 003, eq. 8): with the free and constrained blocks
+Prescribed nodes are eliminated (Bezverkhyy & Korniienko, eq. 8): with the free and constrained blocks
 of the mass matrix, `M_ff a_f = Q_f − M_fc a_c`. What remains at the constrained nodes,
 `M a − Q`, is the reaction of their supports.
 

@@ -30,7 +30,7 @@ def stiffest_axial_mode(model, env: Environment | None = None) -> tuple[float, f
     `m_n λ² + 4 c λ + 4 k = 0` with segment stiffness k = EA / l, damping c = C_v / l
     and the mass that mode sees at a node, m_n = m l with a lumped mass matrix and
     m l / 3 with the consistent one (whose row is m l (1, 4, 1) / 6), m including the
-    tangential added mass. Lumped, ω_n = 2 √(EA / m) / l, seed 003's and MoorDyn's
+    tangential added mass. Lumped, ω_n = 2 √(EA / m) / l, the anchored-line paper's and MoorDyn's
     stiffness bound; consistent, √3 times that.
 
     **Arguments:**

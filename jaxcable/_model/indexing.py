@@ -5,7 +5,7 @@ array the equations use — each segment's end nodes, the free nodes, the segmen
 meet at a node — is known when tracing. A chain's indices are mostly runs of
 consecutive integers, and a run is a slice. XLA fuses slices, pads and concatenations
 with the arithmetic around them into one loop, where a gather or a scatter is a kernel
-of its own: on seed 003's line, the scatters and gathers of the old formulation were
+of its own: on the anchored line, the scatters and gathers of the old formulation were
 about a third of an evaluation's kernels. Indices with many short runs (a net numbered
 in no useful order) fall back to one gather, so the program stays small.
 """

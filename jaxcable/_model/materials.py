@@ -5,7 +5,8 @@ function `H(ε)`, either sharp or smoothed over a strain band `[0, w]` by the cu
 smoothstep `3s² − 2s³`, `s = ε / w`. Putting the band on the taut side keeps the laws
 strictly tension-only (no force at all in compression) and exact once `ε ≥ w`.
 
-Seed 003 writes the law as `T = (C_E ε + C_E1 ε²) H(ε)` but differentiates an energy
+Bezverkhyy & Korniienko write the law as `T = (C_E ε + C_E1 ε²) H(ε)` but differentiate
+an energy
 whose derivative carries `3/2 C_E1`, which does not match the law. jaxcable defines
 the tension directly and takes the elastic energy as its integral,
 `Π_e = L ∫₀^ε T(e) de`, so that `∂Π_e/∂ε = L T(ε)` holds exactly.
@@ -228,12 +229,12 @@ class LinearElastic(AbstractTensionLaw):
 
 
 class NonlinearElastic(AbstractTensionLaw):
-    """Seed 003's law: `T = (C_E ε + C_E1 ε²) H(ε)`.
+    """The anchored-line paper's law: `T = (C_E ε + C_E1 ε²) H(ε)`.
 
     **Arguments:**
 
     - `axial_stiffness`: C_E (N).
-    - `quadratic_stiffness`: C_E1 (N); seed 003 uses 0.05–0.2 × C_E. A negative C_E1
+    - `quadratic_stiffness`: C_E1 (N); Bezverkhyy & Korniienko use 0.05–0.2 × C_E. A negative C_E1
         must keep the tension rising up to ε = 1 (`C_E1 ≥ −C_E/2`), which
         [`jaxcable.LineType`][] checks.
     - `slack_width`: w (–), as for [`jaxcable.LinearElastic`][].
@@ -257,13 +258,13 @@ class NonlinearElastic(AbstractTensionLaw):
 
 
 class KelvinVoigt(AbstractTensionLaw):
-    """Seed 002's viscoelastic law: `T = (C_E ε + C_E1 ε² + C_v ε̇) H(ε)`.
+    """The branched-systems paper's viscoelastic law: `T = (C_E ε + C_E1 ε² + C_v ε̇) H(ε)`.
 
     **Arguments:**
 
     - `axial_stiffness`: C_E (N).
     - `quadratic_stiffness`: C_E1 (N).
-    - `axial_damping`: C_v (N·s); seed 002 takes 0.02 × C_E (in seconds × N).
+    - `axial_damping`: C_v (N·s); Bezverkhyy & Korniienko's branched-systems paper takes 0.02 × C_E (in seconds × N).
     - `slack_width`: w (–), as for [`jaxcable.LinearElastic`][].
     - `slack_damping`: whether the damping acts on a slack segment too, `T = (C_E ε +
         C_E1 ε²) H(ε) + C_v ε̇`, as MoorDyn's `BA` does (its `Line::getStateDeriv`

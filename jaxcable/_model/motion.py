@@ -1,7 +1,7 @@
 """Boundary conditions: how a constrained node moves.
 
 A constrained node's position is its reference position plus a displacement that is a
-known function of time. Its degrees of freedom are removed from the unknowns (seed 003,
+known function of time. Its degrees of freedom are removed from the unknowns (Bezverkhyy & Korniienko,
 eq. 8), and the velocity and acceleration that the equations need are the displacement's
 time derivatives, taken here by forward-mode differentiation so that each motion only
 has to say where the node is.
@@ -63,7 +63,7 @@ class Fixed(AbstractMotion):
 
 
 class Harmonic(AbstractMotion):
-    """`r(t) = f(t) A sin(ω t + φ) e`, seed 003's fairlead motion (eq. 6), optionally
+    """`r(t) = f(t) A sin(ω t + φ) e`, the anchored-line paper's fairlead motion (eq. 6), optionally
     switched on smoothly.
 
     Without a ramp (f = 1) a motion that does not start at rest jerks the line at
@@ -348,7 +348,7 @@ class Towing(AbstractMotion):
     speed holds its end value.
 
     Piecewise-linear, not a spline: a towing record's speed is a measured input, and a
-    spline through a speed step (seed 002's 1 → 3 m/s) would overshoot it. The
+    spline through a speed step (the branched-systems paper's 1 → 3 m/s) would overshoot it. The
     acceleration steps at each sample; with the lumped mass matrix it enters only the
     support's reaction, not the free nodes' equations, so the solver does not see the
     steps. Smooth a noisy measured speed before using it: its differences are

@@ -137,7 +137,7 @@ class Body(eqx.Module):
 
     Every field is a scalar or an array with one entry per node (`force`: a 3-vector, or
     one per node). Its drag is `(½ ρ C_D A + k₀ m_o g) |u| u` on the relative velocity
-    u: form drag, Zhukov's specific-weight law `R = k₀ u² m_o g` (seed 001, eq. 3), or
+    u: form drag, Zhukov's specific-weight law `R = k₀ u² m_o g` (Zhukov's growing-element thesis, eq. 3), or
     both.
 
     **Arguments:**
@@ -149,7 +149,7 @@ class Body(eqx.Module):
     - `organism_mass`: m_o (kg), the mass that k₀ refers to; `mass` by default.
     - `added_mass`: C_a (–), added mass `C_a ρ V`, MoorDyn's `Ca`.
     - `force`: a constant force (N) in the fixed frame, shape `(3,)`: a trawl
-        diverter's spreading force (seed 002's F₀), a thruster, a load not otherwise
+        diverter's spreading force (the branched-systems paper's F₀), a thruster, a load not otherwise
         modelled. Zero by default.
     - `height`: h (m). 0 (default): a point body, always fully submerged. Positive: a
         vertical column of height h and cross-section V/h centred on its node, which
@@ -412,7 +412,8 @@ class CableNetwork(eqx.Module):
         other node is free.
     - `bodies`: a mapping from node index to a [`jaxcable.Body`][] (scalar fields).
     - `mass_matrix`: `"consistent"` (the kinetic energy of the polyline, weights 1/3 and
-        1/6, seed 003) or `"lumped"` (half of each segment to each end, as MoorDyn).
+        1/6, as Bezverkhyy & Korniienko) or `"lumped"` (half of each segment to each end,
+        as MoorDyn).
     - `drag_points`: Gauss–Legendre points per segment for the drag's virtual work.
     - `hydrodynamics`: where drag, Morison's inertia force and added mass act.
         `"segments"` (the default): along each segment, about its direction, drag and

@@ -1,6 +1,6 @@
 """First-order cnoidal waves: the Korteweg–de Vries wave of shallow water.
 
-Seed 004 (Yakovlev et al. 2024) recommends cnoidal theory on the shallow shelf, where
+Yakovlev et al.'s cnoidal-loads paper (Yakovlev et al. 2024) recommends cnoidal theory on the shallow shelf, where
 its steep crests and flat troughs carry larger particle accelerations than linear
 theory's. Its notes (§3.3, §7.2) give the first-order set coded here, with H the wave
 height, d the mean depth, m the elliptic parameter, K = K(m), E = E(m), c₀ = √(g d):
@@ -32,7 +32,7 @@ from .elliptic import ellipj, ellipk, ellipke
 from .waves import BREAKING_HEIGHT_RATIO, AbstractWave, _check_wave, airy_wavenumber
 
 # Below this Ursell number the cnoidal wave differs from linear theory by a few per cent
-# (crest 0.524 H instead of H/2 at U = 5, seed 004 §7.4), less than the error of the
+# (crest 0.524 H instead of H/2 at U = 5, Yakovlev et al.'s cnoidal-loads paper §7.4), less than the error of the
 # long-wave approximation it rests on, whose (k d)² = 4π² (H/d) / U is then of order 1:
 # Airy fits better.
 URSELL_MINIMUM = 5.0
@@ -123,7 +123,7 @@ def cnoidal_coefficients(
         cn²(Kθ/π | m) = (E/K − 1 + m)/m + Σₙ aₙ cos nθ,
         aₙ = (π² / (m K²)) n / sinh(nπK'/K) = (2π² / (m K²)) n qⁿ / (1 − q²ⁿ),
 
-    where K' = K(1 − m) and q = e^{−πK'/K} is the nome (seed 004's eq. 33). A cnoidal
+    where K' = K(1 − m) and q = e^{−πK'/K} is the nome (the cnoidal-loads paper's eq. 33). A cnoidal
     wave's elevation is η = H Σₙ aₙ cos nθ. aₙ → 1/2 for n = 1 (and 0 for the rest) as
     m → 0. The terms fall like qⁿ: about ln(ε)/ln q of them reach a relative error ε,
     that is 20 for m ≤ 0.9 (q ≤ 0.18) and 100 at 1 − m = 1e-12 (q ≈ 0.72).
@@ -374,7 +374,7 @@ class Cnoidal(AbstractWave):
 
     def acceleration(self, position, t):
         """The local acceleration ∂u/∂t (m/s²) at a fixed `position` (m) and time `t` (s),
-        in closed form (seed 004 §7.2):
+        in closed form (Yakovlev et al. §7.2):
 
             ∂u/∂t = (c₀/d) H (4K/T) sn cn dn,
             ∂w/∂t = −(z + d) (c₀/d) H (4K/λ) (2K/T) [1 − 2(1 + m) sn² + 3m sn⁴].
@@ -398,7 +398,7 @@ class Cnoidal(AbstractWave):
         weights: Float[ArrayLike, " count"] | None = None,
     ) -> tuple[Float[Array, "*batch"], Float[Array, "*batch 3"], Float[Array, "*batch 3"]]:
         """The elevation, velocity and local acceleration as `count` phase-locked
-        harmonics (seed 004 §7.2), aₙ from [`jaxcable.cnoidal_coefficients`][]:
+        harmonics (Yakovlev et al. §7.2), aₙ from [`jaxcable.cnoidal_coefficients`][]:
 
             η = H Σ aₙ cos nθ,    u = (c₀/d) η,    w = (z + d) (c₀/d) H k₀ Σ n aₙ sin nθ,
             ∂u/∂t = (c₀/d) H ω Σ n aₙ sin nθ,    ∂w/∂t = −(z + d) (c₀/d) H k₀ ω Σ n² aₙ cos nθ.

@@ -173,7 +173,7 @@ class Environment(eqx.Module):
     - `seabed`: a [`jaxcable.Seabed`][] at z = −d; `None` (default) for none.
     - `fluid_inertia`: with waves, whether the water's acceleration loads the lines and
         bodies (Froude–Krylov plus added mass, Morison's inertia term). `True` by
-        default; `False` leaves only drag, which seed 001 found sufficient for
+        default; `False` leaves only drag, which Zhukov's growing-element thesis found sufficient for
         mariculture's growing elements. The added mass on a line's or body's own
         acceleration is set by its `C_a`, not by this switch.
     - `free_surface`: if `True`, lines are in water only below the still-water level

@@ -40,8 +40,8 @@ def breaking_height(wavelength: RealLike, depth: RealLike) -> Array:
     return jnp.minimum(miche, BREAKING_HEIGHT_RATIO * depth)
 
 
-def seed003_amplitude(period: RealScalarLike = 5.6, gravity: RealScalarLike = 9.81) -> Array:
-    """Seed 003's wave amplitude law, `A = 0.085 (g T² / 2π)^0.75` (m).
+def floater_amplitude(period: RealScalarLike = 5.6, gravity: RealScalarLike = 9.81) -> Array:
+    """The anchored-line paper's wave amplitude law, `A = 0.085 (g T² / 2π)^0.75` (m).
 
     Bezverkhyy & Korniienko use it for the amplitude of a floating object's motion
     at wave period `period` T (s), 5.6 s in their study; `g T² / 2π` is the deep-water

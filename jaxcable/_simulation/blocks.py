@@ -384,7 +384,7 @@ def _batch_outputs(cases, system, ends, ys, failure):
     """`_outputs` of every case. Compiled as XLA compiles by default, not as a program
     that runs once (`RUN_ONCE`): over a sweep's blocks it runs as many field
     evaluations as there are output times, which the kernels of `RUN_ONCE` took
-    three times as long over (32 cases of seed 003's line, 6,001 output times: 1.9 s
+    three times as long over (32 cases of the anchored line, 6,001 output times: 1.9 s
     of CPU against 0.6 s)."""
 
     def one(case, ys, failure):

@@ -24,14 +24,14 @@ from .rk4 import RK4
 def default_solver() -> diffrax.AbstractSolver:
     """`diffrax.Dopri5()`: jaxcable's default, chosen from measurements.
 
-    On seed 003's taut, snapping line (C_E = 3e7 N) the step size is limited by
+    On the anchored-line paper's taut, snapping line (C_E = 3e7 N) the step size is limited by
     accuracy, not stability: slackening and snap loads need short steps whatever the
     method. With 10 segments over 10 s at rtol = atol = 1e-6, an explicit Runge–Kutta
     method took about as many steps as `Kvaerno5` (Tsit5 4,055; Kvaerno5 with Newton
     3,952) and ran 45× faster, since an implicit step must form and factor the Jacobian.
     Of the explicit methods, Dopri5 took 11–28 % fewer steps than Tsit5 (fewer rejected
     across snap loads) and ran as fast to 1.6× faster at 10–100 segments over 60 s.
-    `benchmarks/seed003.py` measures it; `benchmarks/README.md` has the figures.
+    `benchmarks/anchored_line.py` measures it; `benchmarks/README.md` has the figures.
     Use [`jaxcable.stiff_solver`][] where stability, not accuracy, limits the step.
     """
     return diffrax.Dopri5()
@@ -42,7 +42,7 @@ def stiff_solver() -> diffrax.AbstractSolver:
 
     diffrax's default root finder for implicit solvers, `VeryChord`, reuses one
     Jacobian across iterations; as segments slacken and re-tension that Jacobian goes
-    stale and steps are rejected. On seed 003's line (10 segments, 10 s) it took 8,277
+    stale and steps are rejected. On the anchored line (10 segments, 10 s) it took 8,277
     steps where Newton took 3,952, though each was cheaper.
 
     The root finder's linear solver is lineax's automatic choice, which
@@ -231,5 +231,5 @@ for fixed steps as MoorDyn takes them (its `RK2` is the midpoint method) with
 `dt0=` and `stepsize_controller=diffrax.ConstantStepSize()`; implicit `kvaerno5`
 ([`jaxcable.stiff_solver`][]),
 implicit–explicit `kencarp4` (the line's axial forces implicit, the rest explicit), and
-`picard`, seed 001's Picard–trapezoid iteration ([`jaxcable.PicardTrapezoid`][]), the
+`picard`, Zhukov's Picard–trapezoid iteration ([`jaxcable.PicardTrapezoid`][]), the
 historical baseline. An unknown name raises `ValueError` naming it and the choices."""

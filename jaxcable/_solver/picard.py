@@ -1,4 +1,4 @@
-"""Zhukov's integrators (seed 001) as diffrax solvers: the trapezoid rule and Simpson's
+"""Zhukov's integrators (Zhukov's growing-element thesis) as diffrax solvers: the trapezoid rule and Simpson's
 rule, each solved by a fixed number of Picard iterations. They are the historical
 baseline that the speed-against-accuracy studies set the modern methods beside."""
 
@@ -14,12 +14,12 @@ from diffrax._local_interpolation import ThirdOrderHermitePolynomialInterpolatio
 
 class PicardTrapezoid(diffrax.AbstractAdaptiveSolver):
     """The trapezoid rule `y₁ = y₀ + h/2 (f(t₀, y₀) + f(t₁, y₁))`, solved for y₁ by
-    `iterations` Picard iterations from an Euler predictor, as seed 001 integrates its
+    `iterations` Picard iterations from an Euler predictor, as Zhukov's growing-element thesis integrates its
     thread: `y_{i+1} = y_i + ∫ f(x, y_i) dx` with the integral by the trapezoid rule.
 
     One iteration is Heun's method. More iterations approach the implicit trapezoid
     rule, but only while the iteration contracts, `h ‖∂f/∂y‖ / 2 < 1`: its stability,
-    unlike the trapezoid rule's, is that of an explicit method, which is what seed 001
+    unlike the trapezoid rule's, is that of an explicit method, which is what Zhukov's growing-element thesis
     meant by the number of iterations trading against the step size. Second order; the
     difference from the Euler predictor is the error estimate for adaptive steps (as
     for diffrax's `Heun`); dense output is cubic Hermite.
@@ -67,7 +67,7 @@ class PicardTrapezoid(diffrax.AbstractAdaptiveSolver):
 
 class PicardSimpson(diffrax.AbstractAdaptiveSolver):
     """Simpson's rule `y₁ = y₀ + h/6 (f₀ + 4 f_m + f₁)` over the step, solved by
-    `iterations` Picard iterations from an Euler predictor: seed 001's other quadrature
+    `iterations` Picard iterations from an Euler predictor: Zhukov's other quadrature
     for `y_{i+1} = y_i + ∫ f(x, y_i) dx`.
 
     Simpson's rule needs the iterate at the step's midpoint too; it is updated by the

@@ -158,7 +158,7 @@ def fixed_steps(
 
     Explicit steps are limited by the fastest axial mode, ω_n = 2 (N/L) √(EA/m): no
     explicit method steps past its stability limit, and an adaptive Dopri5 at rtol
-    1e-6 stepped well below it (seed 003's line, 20 segments over 60 s: 17,100–58,700
+    1e-6 stepped well below it (the anchored line, 20 segments over 60 s: 17,100–58,700
     steps where RK4 at this step takes 9,000), six field evaluations a step against
     RK4's four. With fixed steps every case of a sweep takes the same steps, so the
     batch runs in lockstep without a mask per case, and the output times end steps.

@@ -17,7 +17,7 @@ On one device no mesh is built: the sweep is a plain `jit(vmap(...))`.
 
 On a CPU the batch is also split into chunks, run by the same compiled program on
 threads, one a core. XLA's CPU backend ran a batched step's kernels on about one core
-(128 cases of seed 003's line: 32.7 s in one batch, 17.3 s in two chunks on two
+(128 cases of the anchored line: 32.7 s in one batch, 17.3 s in two chunks on two
 cores), and JAX releases the GIL while a program runs, so the threads keep every core
 busy without the process-wide `XLA_FLAGS` that would split the host into devices.
 
@@ -25,7 +25,7 @@ There, on one device, cases that choose their own adaptive steps are not batched
 all: each chunk's cases run one after another (`lax.map`), each chunk one case by
 default. In lockstep under `vmap` every case waits for the slowest, and the while loop
 selects every carried array between each case's old and new value at every step; on a
-CPU that cost more than it saved (seed 003's line, 20 segments, Dopri5 over 10 s: 28 µs
+CPU that cost more than it saved (the anchored line, 20 segments, Dopri5 over 10 s: 28 µs
 a case and step for 16 cases in lockstep, 21 µs for one case alone, and 32 cases over
 60 s took 17,100 to 58,700 steps each). Fixed steps, shared steps and other devices keep
 the batch.
@@ -324,7 +324,7 @@ def sweep(
     the fastest mode of its stiffest case ([`jaxcable.fixed_steps`][]), shortened so
     that each interval between output times is a whole number of steps: every case
     takes the same steps, the batch runs in lockstep, and each output time ends a
-    step. `SweepResult.stepping` says which. On seed 003's line (20 segments, lumped,
+    step. `SweepResult.stepping` says which. On the anchored line (20 segments, lumped,
     60 s at 100 Hz) that is 5 ms steps, 12,000 a case, where the adaptive Dopri5 of
     `simulate` took 17,100–58,700, and the peak tension over the first snap lies
     within 0.5 % of a converged run's (MoorDyn's midpoint steps of 1 ms: 0.2–0.4 %;
@@ -353,7 +353,7 @@ def sweep(
 
     With fixed steps each case equals its single run with them to rounding. With
     adaptive steps each case matches its single [`jaxcable.simulate`][] run to rounding
-    at first (1e-11 of the peak tension over seed 003's first second). Batched and
+    at first (1e-11 of the peak tension over the anchored-line paper's first second). Batched and
     single compiled code round differently, though, and over long snapping histories
     that can change the adaptive steps: over 4 s, step counts differed by up to 4 % and
     tensions at a given time by up to 3 % of the peak, the same order as the solver's
@@ -396,7 +396,7 @@ def sweep(
         the same position at `t0` (a harmonic amplitude with zero phase, say; not a
         phase, a current, a length or a stiffness, and not the waves, whose loads
         at `t0` statics includes). The batch's program then compiles without
-        statics: the first call of a 32-case, 60 s RK4 sweep of seed 003's line took
+        statics: the first call of a 32-case, 60 s RK4 sweep of the anchored line took
         10.3 s instead of 19.6 s. `SweepResult.statics_shared` and the summary say
         so. A shared equilibrium agrees with the per-case ones to the statics'
         tolerance, not to rounding.
@@ -650,7 +650,7 @@ def _run(per_case, shared, mode, steps, mesh, in_turn):
             # conditions (diffrax's over steps and, within each step, over the output
             # times it passes) are the batch's, not each case's, so `vmap` masks
             # nothing. With a condition per case, saving 6,001 output times of 16
-            # cases over 7,200 RK4 steps of seed 003's line cost 0.64 s of CPU time
+            # cases over 7,200 RK4 steps of the anchored line cost 0.64 s of CPU time
             # beside the steps' 1.02 s; with the batch's, 0.01 s. A case not to be
             # integrated runs a copy of one that is (`finish` replaces its outputs),
             # and none runs when none is to.
@@ -1035,7 +1035,7 @@ def _check_chunks(chunks, devices, n_cases: int) -> int:
         cores = max(1, _cores() // len(devices))
         # Two chunks a core finish sooner than one: a thread held up (by the Python
         # thread, or another process) leaves its core's second chunk to the other core.
-        # Measured on 2 cores, Bosh3 fixed steps on seed 003's line: 256 cases at N = 20
+        # Measured on 2 cores, Bosh3 fixed steps on the anchored line: 256 cases at N = 20
         # 1.14 s in 4 chunks against 1.20 s in 2; 64 cases at N = 100 0.55 s against
         # 0.59 s. Not below 16 cases a chunk, where padding to a multiple of the chunks
         # would cost more.
@@ -1153,7 +1153,7 @@ def _statics_differ(batched, unbatched, t0) -> bool:
 
 # Each one compiled program, kept on disk (`jaxcable._programs`), rather than run as
 # eager operations under `vmap`, each of which compiled a program of its own: 2.6 s of
-# a 32-case sweep's set-up on seed 003's line.
+# a 32-case sweep's set-up on the anchored line.
 @program
 def _case_violations(batched, unbatched):
     """`checks.violations` of each case's model and water: whether each condition is
@@ -1182,7 +1182,7 @@ def _build_batch(build, values, reference):
     """`build` under an eager `jax.vmap` over the cases.
 
     Not under `jit`: there, every value is a tracer, and builders that compute with
-    numpy on their fixed inputs (`seed003_line` does) would fail. Under an eager vmap
+    numpy on their fixed inputs (`anchored_line` does) would fail. Under an eager vmap
     only what depends on a swept parameter is a tracer, which tells the batched leaves
     from the shared ones.
 

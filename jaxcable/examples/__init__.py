@@ -1,11 +1,11 @@
 """Bundled examples: scene files in `scenes/`, sample towing records for `jaxcable
-calibrate` in `records/` (made by `make_records.py`), and the seed papers' scenes as
+calibrate` in `records/` (made by `make_records.py`), and the source papers' scenes as
 Python builders returning `(model, environment)`.
 
 The builders are re-exported here; each paper's constants (its cable, bodies and sea) live in
-its module: `jaxcable.examples.seed001` (growing elements), `.seed002` (the towed trawl),
-`.seed002_net` (the moored net of buoys) and `.seed003` (the anchored line);
-`.anchored_line` holds the README's line in a current. The studies that
+its module: `jaxcable.examples._growing_element` (growing elements), `._towed_trawl` (the towed trawl),
+`._moored_net` (the moored net of buoys) and `._anchored_line` (the anchored line, and
+the README's line in a current). The studies that
 reproduce the papers are not part of the package: they are in the repository's `studies/`."""
 
 import importlib
@@ -14,24 +14,24 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from .._sea.waves import seed003_amplitude as seed003_amplitude
-    from .anchored_line import anchored_line_in_current as anchored_line_in_current
-    from .seed001 import seed001_element as seed001_element
-    from .seed002 import start_tow as start_tow
-    from .seed002 import towed_trawl as towed_trawl
-    from .seed002_net import moored_net as moored_net
-    from .seed003 import seed003_line as seed003_line
+    from .._sea.waves import floater_amplitude as floater_amplitude
+    from ._anchored_line import anchored_line as anchored_line
+    from ._anchored_line import anchored_line_in_current as anchored_line_in_current
+    from ._growing_element import growing_element as growing_element
+    from ._moored_net import moored_net as moored_net
+    from ._towed_trawl import start_tow as start_tow
+    from ._towed_trawl import towed_trawl as towed_trawl
 
 # The builders import JAX: they are imported on first use (PEP 562), so that listing
 # the bundled scenes (`jaxcable examples`) does not.
 _BUILDERS = {
-    "anchored_line_in_current": ".anchored_line",
-    "seed003_amplitude": ".._sea.waves",
-    "seed001_element": ".seed001",
-    "start_tow": ".seed002",
-    "towed_trawl": ".seed002",
-    "moored_net": ".seed002_net",
-    "seed003_line": ".seed003",
+    "anchored_line_in_current": "._anchored_line",
+    "floater_amplitude": ".._sea.waves",
+    "growing_element": "._growing_element",
+    "start_tow": "._towed_trawl",
+    "towed_trawl": "._towed_trawl",
+    "moored_net": "._moored_net",
+    "anchored_line": "._anchored_line",
 }
 
 

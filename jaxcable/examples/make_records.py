@@ -14,7 +14,7 @@ drag coefficients (`TRUTH`) and 2 % Gaussian noise on every observable
   is mostly tangential drag: it pins K_τ.
 
 Both start in steady tow at 1 m/s and are stepped to 2 m/s over 3 s from t = 6 s, as
-seed 002's towing tests were; each is 20 s long, sampled every 0.2 s (101 samples),
+the branched-systems paper's towing tests were; each is 20 s long, sampled every 0.2 s (101 samples),
 and written in the units a towing tank would log (speed in knots, the load cell's
 `tow_load` in kN). Each records what instruments read: the tow-point load, the body's
 depth and layback, all at nodes, so a fit at another segment count measures the same

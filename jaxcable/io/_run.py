@@ -44,7 +44,7 @@ STEADY = 1e-6
 STEP_SECONDS, EVALUATION_SECONDS_PER_NODE, EVALUATIONS_PER_STEP = 13.5e-6, 144e-9, 6
 # Statics (pseudo-transient continuation on the network's block-tridiagonal Jacobian)
 # costs O(F) a step for F free nodes, after a compilation whose time does not grow with
-# F. Seed 003's line cut into 100, 1,000 and 10,000 segments (`python
+# F. The anchored line cut into 100, 1,000 and 10,000 segments (`python
 # benchmarks/statics_cost.py --sizes`, a fresh process each, a shared 2-core x86_64):
 # first calls of 32, 30 and 37 s, warm calls of 0.11, 2.4 and 2.5 s over 110, 357 and
 # 16 steps (1.0 ms, 6.8 ms and 157 ms a step: about 16 µs per free node at 10,000), and
