@@ -86,9 +86,9 @@ if TYPE_CHECKING:
     from ._statics.solve import solve_statics as solve_statics
     from ._statics.stiffness import body_stiffness as body_stiffness
     from ._statics.stiffness import stiffness as stiffness
-    from ._sweep.sweep import SweepResult as SweepResult
+    from ._sweep.cases import sweep_grid as sweep_grid
+    from ._sweep.result import SweepResult as SweepResult
     from ._sweep.sweep import sweep as sweep
-    from ._sweep.sweep import sweep_grid as sweep_grid
     from .io._moordyn import read_moordyn as read_moordyn
     from .io._run import load_scene as load_scene
     from .io._run import run_scene as run_scene

@@ -188,15 +188,15 @@ def test_default_chunks_are_two_a_core_where_each_keeps_sixteen_cases(monkeypatc
     """On a CPU the default gives each core two chunks once every chunk would hold at
     least 16 cases, and one chunk a core below that (padding to a multiple of the
     chunks wastes up to a chunk's share less one); one chunk on other devices."""
-    monkeypatch.setattr(jc._sweep.sweep, "_cores", lambda: 2)
+    monkeypatch.setattr(jc._sweep.devices, "available_cores", lambda: 2)
     cpu = jax.devices("cpu")[:1]
-    assert [jc._sweep.sweep._check_chunks(None, cpu, n) for n in (1, 6, 63, 64, 256)] == [2, 2, 2, 4, 4]
-    assert jc._sweep.sweep._check_chunks(3, cpu, 256) == 3
+    assert [jc._sweep.devices.check_chunks(None, cpu, n) for n in (1, 6, 63, 64, 256)] == [2, 2, 2, 4, 4]
+    assert jc._sweep.devices.check_chunks(3, cpu, 256) == 3
 
     class Accelerator:
         platform = "gpu"
 
-    assert jc._sweep.sweep._check_chunks(None, [Accelerator()], 256) == 1
+    assert jc._sweep.devices.check_chunks(None, [Accelerator()], 256) == 1
 
 
 def test_chunks_equal_one_batch(swept, monkeypatch):
@@ -204,14 +204,14 @@ def test_chunks_equal_one_batch(swept, monkeypatch):
     in four chunks (padded to eight) equal `swept` (one case a chunk by default on one
     CPU device) and one chunk of six, case by case, status included."""
     calls = []
-    split = jc._sweep.sweep._split
+    split = jc._sweep.sweep.split
 
     def counted(per_case, chunks):
         parts = split(per_case, chunks)
         calls.append([len(part["valid"]) for part in parts])
         return parts
 
-    monkeypatch.setattr(jc._sweep.sweep, "_split", counted)
+    monkeypatch.setattr(jc._sweep.sweep, "split", counted)
     config = jc.SolverConfig(max_steps=MAX_STEPS)
     four = sweep(build, CASES, T1, ts=TS, solver=config, chunks=4)
     one = sweep(build, CASES, T1, ts=TS, solver=config, chunks=1)
@@ -231,13 +231,13 @@ def test_cases_with_their_own_steps_run_in_turn_as_their_single_runs(monkeypatch
     bitwise, steps included, over snap loads and slack (the anchored line over 3.5 s:
     over 2,000 steps each), where batched code rounds differently."""
     chunked = []
-    split = jc._sweep.sweep._split
+    split = jc._sweep.sweep.split
 
     def counted(per_case, chunks):
         chunked.append(chunks)
         return split(per_case, chunks)
 
-    monkeypatch.setattr(jc._sweep.sweep, "_split", counted)
+    monkeypatch.setattr(jc._sweep.sweep, "split", counted)
 
     def amplitude_build(amplitude):
         model, env = anchored_line()
@@ -556,7 +556,7 @@ def test_statics_solved_once_where_the_parameters_cannot_change_it(monkeypatch):
     for field in ("positions", "velocities"):
         np.testing.assert_array_equal(getattr(once.statics.state, field), np.stack(3 * [getattr(alone.state, field)]))
 
-    monkeypatch.setattr(jc._sweep.sweep, "_statics_differ", lambda *arguments: True)
+    monkeypatch.setattr(jc._sweep.sweep, "statics_differ", lambda *arguments: True)
     per_case = sweep(driven, AMPLITUDES, T1, ts=TS, solver=jc.SolverConfig())
     assert not per_case.statics_shared and all(per_case.success), per_case.status
     assert "statics solved once" not in per_case.summary()
@@ -596,9 +596,9 @@ def test_statics_refused_before_solving_is_reported_per_case():
 
 
 def _differ(build, values, t0=0.0):
-    reference = jc._sweep.sweep._build_first(build, values)
-    batched, unbatched = jc._sweep.sweep._build_batch(build, values, reference)
-    return jc._sweep.sweep._statics_differ(batched, unbatched, t0)
+    reference = jc._sweep.cases.build_first(build, values)
+    batched, unbatched = jc._sweep.cases.build_batch(build, values, reference)
+    return jc._sweep.cases.statics_differ(batched, unbatched, t0)
 
 
 @pytest.mark.parametrize(

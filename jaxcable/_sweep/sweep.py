@@ -32,32 +32,25 @@ the batch.
 """
 
 import functools
-import inspect
 import itertools
-import os
 import threading
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any
 
 import diffrax
 import equinox as eqx
 import jax
-import jax.core
 import jax.numpy as jnp
 import numpy as np
 import optimistix as optx
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
-from jaxtyping import Array, Bool, Float
 
 from .. import _checks as checks
-from .._equations import lagrangian as lag
-from .._model.network import CableNetwork, network_conditions, unheld_nodes
+from .._model.network import CableNetwork, unheld_nodes
 from .._model.state import State
 from .._programs import RUN_ONCE, program
 from .._progress import progress_bar
 from .._sea.environment import Environment
-from .._sea.extremes import ExtremeStatistics, extreme_statistics
 from .._simulation.blocks import integrate_batch_in_blocks, prepare_batch, substeps_per_interval
 from .._simulation.simulate import (
     IMEX_SOLVERS,
@@ -74,225 +67,16 @@ from .._solver.stability import STEP_FRACTION, fixed_steps
 from .._statics.solution import StaticSolution
 from .._statics.solve import failure_message, solve_statics
 from .._typing import RealLike
+from .cases import build_batch, build_first, check_keywords, check_parameters, each_case, invalid_cases, statics_differ
+from .devices import CASES, available_cores, check_chunks, check_devices, place, split
+from .result import SweepResult
 
 STEPS = ("per_case", "shared")
 
-# The mesh axis that cases are split along.
-_CASES = "cases"
-
-# What `SweepResult.summary` says under its table when the statics was solved once.
-_SHARED_STATICS = "statics solved once: the swept parameters do not change the equilibrium"
 
 # Step-size controllers whose steps do not depend on the state: every case of a batch
 # takes the same steps.
 _FIXED_STEPS = (diffrax.ConstantStepSize, diffrax.StepTo)
-
-# What `build` does with a traced parameter that it cannot do under `vmap`: use its
-# value in Python (`float(x)`, `if x > 0`, numpy, a segment count).
-_TRACER_ERRORS = (
-    jax.errors.ConcretizationTypeError,
-    jax.errors.TracerArrayConversionError,
-    jax.errors.TracerBoolConversionError,
-    jax.errors.TracerIntegerConversionError,
-)
-
-
-class SweepResult(eqx.Module):
-    """What a sweep produced: one simulation per case, with a status for each.
-
-    Every array has a leading case axis of length `cases`, in the order of the
-    parameter arrays given to [`jaxcable.sweep`][].
-
-    **Attributes:**
-
-    - `parameters`: the swept values, a dict from each parameter's name to an array of
-        shape `(cases,)`.
-    - `simulation`: a [`jaxcable.SimulationResult`][] whose arrays carry the case axis
-        first: `tension` has shape `(cases, times, segments)`, `positions`
-        `(cases, times, nodes, 3)`, `result` one diffrax code per case. After a failure
-        a case's times and states are `inf` (diffrax's convention) and the strains and
-        tensions computed from them are not finite; a case whose statics failed is
-        `inf` throughout and has the statics' code, promoted to diffrax's `RESULTS`.
-    - `statics`: with `initial="statics"`, each case's
-        [`jaxcable.StaticSolution`][] (`tension` of shape `(cases, segments)`, ...);
-        otherwise `None`.
-    - `statics_shared`: `True` where the statics was solved once and its equilibrium
-        shared by every case, because the swept parameters do not change what
-        statics reads (see [`jaxcable.sweep`][]'s `initial`); `statics` then holds
-        that one solution for every case.
-    - `stepping`: how the cases were integrated, in words (`"RK4, fixed steps of
-        0.005 s (chosen for the scene's fastest modes)"`, say).
-    - `success`: `True` for a case whose statics (if any) and dynamics both succeeded,
-        shape `(cases,)`.
-    - `status`: one human-readable line per case: `"successful"`, diffrax's message,
-        `"statics failed: ..."`, or `"invalid input: ..."` naming the case, the field
-        and the value.
-
-    `times`, `positions`, `velocities`, `strain`, `tension`, `reactions`, `stats` and
-    `result` are the simulation's, as a [`jaxcable.SimulationResult`][] names them:
-    `result.tension` is `result.simulation.tension`.
-    """
-
-    parameters: dict[str, Float[Array, " cases"]]
-    simulation: SimulationResult
-    statics: StaticSolution | None
-    success: Bool[Array, " cases"]
-    status: tuple[str, ...] = eqx.field(static=True)
-    statics_shared: bool = eqx.field(static=True, default=False)
-    stepping: str = eqx.field(static=True, default="")
-
-    @property
-    def n_cases(self) -> int:
-        """The number of cases."""
-        return len(self.status)
-
-    # What a `SimulationResult` exposes, with the case axis first, so that code written
-    # for one run reads a sweep as it reads `simulate`'s result.
-    @property
-    def times(self) -> Float[Array, "cases times"]:
-        """The output times (s), shape `(cases, times)` (`simulation.times`)."""
-        return self.simulation.times
-
-    @property
-    def positions(self) -> Float[Array, "cases times nodes 3"]:
-        """The nodes' positions (m), shape `(cases, times, nodes, 3)` (`simulation.positions`)."""
-        return self.simulation.positions
-
-    @property
-    def velocities(self) -> Float[Array, "cases times nodes 3"]:
-        """The nodes' velocities (m/s), shape `(cases, times, nodes, 3)` (`simulation.velocities`)."""
-        return self.simulation.velocities
-
-    @property
-    def strain(self) -> Float[Array, "cases times segments"]:
-        """The segments' axial strain (–), shape `(cases, times, segments)` (`simulation.strain`)."""
-        return self.simulation.strain
-
-    @property
-    def tension(self) -> Float[Array, "cases times segments"]:
-        """The segments' tension (N), shape `(cases, times, segments)` (`simulation.tension`)."""
-        return self.simulation.tension
-
-    @property
-    def reactions(self) -> Float[Array, "cases times constrained 3"]:
-        """The force (N) of each constrained node's support on the network, shape
-        `(cases, times, constrained, 3)` (`simulation.reactions`)."""
-        return self.simulation.reactions
-
-    @property
-    def stats(self) -> dict[str, Any]:
-        """diffrax's step counts per case (`simulation.stats`)."""
-        return self.simulation.stats
-
-    @property
-    def result(self) -> diffrax.RESULTS:
-        """diffrax's code per case (`simulation.result`); `success` also counts statics."""
-        return self.simulation.result
-
-    @property
-    def failed(self) -> np.ndarray:
-        """Indices of the cases that failed, as a NumPy integer array."""
-        return np.flatnonzero(~np.asarray(self.success))
-
-    @property
-    def peak_tension(self) -> Float[Array, " cases"]:
-        """The largest tension (N) in any segment at any output time, shape `(cases,)`;
-        `nan` for a failed case, whose history stops early."""
-        peak = jnp.max(self.simulation.tension, axis=(1, 2))
-        return jnp.where(self.success, peak, jnp.nan)
-
-    def case(self, index: int) -> SimulationResult:
-        """The [`jaxcable.SimulationResult`][] of case `index` alone, as
-        [`jaxcable.simulate`][] would return it."""
-        if not -self.n_cases <= index < self.n_cases:
-            raise IndexError(f"SweepResult.case: index {index} is out of range for {self.n_cases} cases")
-        return jax.tree.map(lambda x: x[index], self.simulation)
-
-    def tension_extremes(
-        self, start: float | None = None, *, segments: RealLike | None = None, duration: float | None = None
-    ) -> ExtremeStatistics:
-        """The most probable maximum tension and its distribution, taking each case as
-        one realisation of one sea state (a sweep over seeds):
-        [`jaxcable.extreme_statistics`][] of each case's largest tension (N) over
-        `segments` at each output time.
-
-        **Arguments:**
-
-        - `start`: the first output time (s) kept, to leave out the start-up transient;
-            the first by default.
-        - `segments`: the segments' indices (an int or an array); all by default.
-        - `duration`: D (s) the maximum is for; the kept record's length by default.
-
-        **Raises:**
-
-        `ValueError` if any case failed (naming them) or the sweep has one case.
-
-        For several sea states, seeds in each, reshape the tension of a
-        [`jaxcable.sweep_grid`][] (its last axis varies fastest) and call
-        [`jaxcable.extreme_statistics`][] on it.
-        """
-        if self.failed.size:
-            raise ValueError(
-                f"SweepResult.tension_extremes: cases {self.failed.tolist()} failed ({self.status[self.failed[0]]}); "
-                "extremes over realisations need every one"
-            )
-        tension = self.simulation.tension
-        if segments is not None:
-            tension = tension[:, :, jnp.atleast_1d(jnp.asarray(segments))]
-        return extreme_statistics(
-            jnp.max(tension, axis=-1), np.asarray(self.simulation.times[0]), start=start, duration=duration
-        )
-
-    def summary(self) -> str:
-        """A markdown table: one row per case with its parameters, peak tension (kN) and
-        status; below it, how the cases were integrated and, where the statics was
-        solved once, a line that says so."""
-        names = list(self.parameters)
-        values = {k: np.asarray(v) for k, v in self.parameters.items()}
-        peak = np.asarray(self.peak_tension)
-        lines = [
-            "| case | " + " | ".join(names) + " | peak T (kN) | status |",
-            "|---" * (len(names) + 3) + "|",
-        ]
-        for i, status in enumerate(self.status):
-            row = [str(i), *(f"{values[k][i]:.6g}" for k in names), f"{peak[i] / 1e3:.2f}", status]
-            lines.append("| " + " | ".join(row) + " |")
-        if self.stepping:
-            lines += ["", f"stepping: {self.stepping}"]
-        if self.statics_shared:
-            lines += ["", _SHARED_STATICS]
-        return "\n".join(lines)
-
-
-def sweep_grid(**axes: RealLike) -> dict[str, np.ndarray]:
-    """The Cartesian product of parameter axes, as the flat arrays [`jaxcable.sweep`][]
-    takes.
-
-    The first axis varies slowest, as in `itertools.product` (or `numpy.meshgrid` with
-    `indexing="ij"`).
-
-    **Arguments:**
-
-    - `**axes`: each parameter's values, a non-empty 1-D array-like.
-
-    **Returns:**
-
-    A dict from each name to a float array of shape `(cases,)`, `cases` being the
-    product of the axes' lengths.
-
-    **Raises:**
-
-    `ValueError` naming the axis if it is not 1-D, empty or not finite, or if no axis is
-    given.
-
-    For example, `sweep_grid(a=[1.0, 2.0], b=[10.0, 20.0, 30.0])` gives six cases with
-    `a = [1, 1, 1, 2, 2, 2]` and `b = [10, 20, 30, 10, 20, 30]`.
-    """
-    if not axes:
-        raise ValueError("sweep_grid: give at least one axis, e.g. sweep_grid(steepness=[0.02, 0.04])")
-    values = {name: _parameter_values("sweep_grid", name, value) for name, value in axes.items()}
-    product = list(itertools.product(*values.values()))
-    return {name: np.array([case[k] for case in product]) for k, name in enumerate(values)}
 
 
 def sweep(
@@ -455,9 +239,9 @@ def sweep(
     invalid (naming the first); and for bad times, `initial`, `solver` or `devices`.
     Errors raised by `build` on the first case propagate, with a note naming the case.
     """
-    values = _check_parameters(parameters)
+    values = check_parameters(parameters)
     n_cases = len(next(iter(values.values())))
-    _check_keywords(build, values)
+    check_keywords(build, values)
     if not t1 > t0:
         raise ValueError(f"sweep: t1 must be greater than t0, got t0={t0}, t1={t1}")
     ts = np.linspace(t0, t1, 201) if ts is None else np.asarray(ts, dtype=float)
@@ -473,7 +257,7 @@ def sweep(
         raise ValueError(f"sweep: initial must be 'statics', 'rest' or a jaxcable.State, got {initial!r}")
     checks.option("sweep: steps", steps, STEPS)
     config = None if solver is None else as_config("sweep", solver)
-    devices = _check_devices(devices)
+    devices = check_devices(devices)
     # On one CPU device, cases with their own adaptive steps run one at a time (see the
     # module's notes): a chunk a case unless told otherwise.
     if steps == "shared":
@@ -482,15 +266,15 @@ def sweep(
         if isinstance(config.solver, IMEX_SOLVERS) or isinstance(config.solver, diffrax.AbstractImplicitSolver):
             raise ValueError(f"sweep: steps='shared' takes an explicit solver, got {type(config.solver).__name__}")
 
-    reference = _build_first(build, values)
-    batched, unbatched = _build_batch(build, values, reference)
+    reference = build_first(build, values)
+    batched, unbatched = build_batch(build, values, reference)
     if not jax.tree.leaves(batched):
         raise ValueError(
             f"sweep: build returned the same model and water for every case: nothing it returns depends on "
             f"{', '.join(map(repr, values))}, so the cases would not differ. Use the parameters in build "
             "(jax.numpy on them, or eqx.tree_at on a prebuilt model's float leaves)"
         )
-    invalid = _invalid_cases(batched, unbatched, reference)
+    invalid = invalid_cases(batched, unbatched, reference)
     if len(invalid) == n_cases:
         raise ValueError(f"sweep: every case is invalid; {invalid[0]}")
     if invalid:
@@ -498,7 +282,7 @@ def sweep(
         good = next(i for i in range(n_cases) if i not in invalid)
         batched = jax.tree.map(lambda x: x.at[bad].set(x[good]), batched)
     if config is None:
-        config = fixed_steps(_cases(batched, unbatched), duration=t1 - t0)
+        config = fixed_steps(each_case(batched, unbatched), duration=t1 - t0)
     # With fixed steps every case takes the same steps: the batch runs in lockstep, in
     # blocks of output intervals whose programs are kept on disk (`jaxcable._simulation.blocks`).
     in_blocks = (
@@ -514,7 +298,7 @@ def sweep(
         and devices[0].platform == "cpu"
         and not isinstance(config.stepsize_controller, _FIXED_STEPS)
     )
-    chunks = n_cases if in_turn and chunks is None else min(_check_chunks(chunks, devices, n_cases), n_cases)
+    chunks = n_cases if in_turn and chunks is None else min(check_chunks(chunks, devices, n_cases), n_cases)
 
     # Per-case inputs carry the case axis and are split across devices; shared inputs
     # (the topology among them) are replicated.
@@ -529,7 +313,7 @@ def sweep(
     mode = initial if isinstance(initial, str) else "state"
     if mode == "statics" and unheld_nodes(reference[0]) is not None:
         mode = "rest"  # a part that nothing holds has no equilibrium, as in `simulate`
-    if mode == "statics" and n_cases > 1 and not _statics_differ(batched, unbatched, t0):
+    if mode == "statics" and n_cases > 1 and not statics_differ(batched, unbatched, t0):
         good = next(i for i in range(n_cases) if i not in invalid)
         model, env = eqx.combine(jax.tree.map(lambda x: x[good], batched), unbatched)
         try:
@@ -560,12 +344,12 @@ def sweep(
         per_case = jax.tree.map(lambda x: jnp.concatenate([x, jnp.repeat(x[-1:], padding, axis=0)]), per_case)
     if n_devices == 1:
         mesh = None
-        parts = _place(_split(per_case, chunks), devices[0])
-        shared = _place(shared, devices[0])
+        parts = place(split(per_case, chunks), devices[0])
+        shared = place(shared, devices[0])
     else:
-        mesh = Mesh(np.asarray(devices), (_CASES,))
-        parts = _place(_split(per_case, chunks), NamedSharding(mesh, PartitionSpec(_CASES)))
-        shared = _place(shared, NamedSharding(mesh, PartitionSpec()))
+        mesh = Mesh(np.asarray(devices), (CASES,))
+        parts = place(split(per_case, chunks), NamedSharding(mesh, PartitionSpec(CASES)))
+        shared = place(shared, NamedSharding(mesh, PartitionSpec()))
 
     stepping = describe_stepping(config)
     if in_blocks:
@@ -588,8 +372,8 @@ def sweep(
             # first call ran one after the other (a 128-case run: 5.0 s against 2.4 s warm).
             compiled = _run.lower(parts[0], shared, mode, steps, mesh, in_turn).compile()
             # Chunks run in turn take a core each; batched chunks each take a thread, as
-            # measured where their default was chosen (`_check_chunks`).
-            threads = min(chunks, _cores()) if in_turn else chunks
+            # measured where their default was chosen (`check_chunks`).
+            threads = min(chunks, available_cores()) if in_turn else chunks
 
             def run(part):
                 return done(compiled(part, shared, mode, steps, mesh, in_turn), len(part["valid"]))
@@ -598,8 +382,8 @@ def sweep(
                 outputs = list(pool.map(run, parts))
             simulation, statics, success = jax.tree.map(lambda *x: jnp.concatenate(x), *outputs)
         if mesh is not None:
-            simulation, statics, success = _place(
-                (simulation, statics, success), NamedSharding(mesh, PartitionSpec(_CASES))
+            simulation, statics, success = place(
+                (simulation, statics, success), NamedSharding(mesh, PartitionSpec(CASES))
             )
     if padding:
         simulation, statics, success = jax.tree.map(lambda x: x[:n_cases], (simulation, statics, success))
@@ -674,7 +458,7 @@ def _run(per_case, shared, mode, steps, mesh, in_turn):
     if mesh is not None:
         # Keep every output split by case, as the inputs are, so that no device
         # gathers the whole batch.
-        outputs = jax.lax.with_sharding_constraint(outputs, NamedSharding(mesh, PartitionSpec(_CASES)))
+        outputs = jax.lax.with_sharding_constraint(outputs, NamedSharding(mesh, PartitionSpec(CASES)))
     return outputs
 
 
@@ -846,15 +630,6 @@ def _grid(t0: float, t1: float, ts: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     return grid, np.searchsorted(grid, ts)
 
 
-def _cases(batched, unbatched):
-    """Each case's `(model, env)`, concrete, from the batched leaves (leading case
-    axis) and the shared ones."""
-    n_cases = len(jax.tree.leaves(batched)[0])
-    host = jax.tree.map(np.asarray, batched)
-    for i in range(n_cases):
-        yield eqx.combine(jax.tree.map(lambda x: x[i], host), unbatched)  # noqa: B023 (used within the iteration)
-
-
 @program
 def _starts(per_case, shared, mode: str):
     """Each case's start `(positions, velocities)`, statics (or `None`), and `valid`
@@ -929,13 +704,6 @@ def _free_nodes(systems):
     return model.free_nodes
 
 
-def _place(tree, where):
-    """`jax.device_put` of the arrays in `tree`, leaving other leaves (a solver's
-    functions, say) as they are."""
-    arrays, rest = eqx.partition(tree, eqx.is_array)
-    return eqx.combine(jax.device_put(arrays, where), rest)
-
-
 def _status(simulation: SimulationResult, statics: StaticSolution | None, invalid: dict[int, str]) -> tuple[str, ...]:
     """One line per case, from the result codes fetched to the host once."""
     host = jax.tree.map(np.asarray, (simulation.result, simulation.stats, statics))
@@ -959,272 +727,3 @@ def _status(simulation: SimulationResult, statics: StaticSolution | None, invali
                 f"{stats['num_rejected_steps'][i]} rejected)"
             )
     return tuple(lines)
-
-
-def _parameter_values(where: str, name: str, value: Any) -> np.ndarray:
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as e:
-        raise ValueError(f"{where}: parameter {name!r} must be an array of floats, got {value!r}") from e
-    if array.ndim != 1 or array.size == 0:
-        raise ValueError(f"{where}: parameter {name!r} must be a non-empty 1-D array, got shape {array.shape}")
-    bad = np.flatnonzero(~np.isfinite(array))
-    if bad.size:
-        raise ValueError(f"{where}: parameter {name!r} must be finite, got {array[bad[0]]} at index {bad[0]}")
-    return array
-
-
-def _check_parameters(parameters) -> dict[str, np.ndarray]:
-    if not isinstance(parameters, Mapping):
-        raise ValueError(f"sweep: parameters must be a dict from names to 1-D arrays, got {type(parameters).__name__}")
-    if not parameters:
-        raise ValueError("sweep: parameters must name at least one parameter")
-    values = {}
-    for name, value in parameters.items():
-        if not (isinstance(name, str) and name.isidentifier()):
-            raise ValueError(f"sweep: parameter names must be keyword names, got {name!r}")
-        values[name] = _parameter_values("sweep", name, value)
-    lengths = {name: len(v) for name, v in values.items()}
-    if len(set(lengths.values())) > 1:
-        raise ValueError(f"sweep: every parameter must have the same number of cases, got lengths {lengths}")
-    return values
-
-
-def _check_keywords(build, values) -> None:
-    """Match the parameters against `build`'s signature, where it has one."""
-    if not callable(build):
-        raise ValueError(f"sweep: build must be a function build(**case) -> (model, env), got {build!r}")
-    try:
-        signature = inspect.signature(build)
-    except (TypeError, ValueError):
-        return
-    try:
-        signature.bind(**values)
-    except TypeError as e:
-        accepted = [
-            p.name for p in signature.parameters.values() if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
-        ]
-        unknown = [k for k in values if k not in accepted]
-        if unknown and not any(p.kind == p.VAR_KEYWORD for p in signature.parameters.values()):
-            raise ValueError(
-                f"sweep: parameter {unknown[0]!r} is not a keyword of build{signature}; it takes {accepted}"
-            ) from e
-        raise ValueError(f"sweep: build{signature} cannot be called with parameters {list(values)}: {e}") from e
-
-
-def _check_devices(devices) -> list:
-    devices = jax.devices() if devices is None else list(devices)
-    if not devices:
-        raise ValueError("sweep: devices must not be empty")
-    for d in devices:
-        if not isinstance(d, jax.Device):
-            raise ValueError(f"sweep: devices must be JAX devices (from jax.devices()), got {d!r}")
-    if len(set(devices)) != len(devices):
-        raise ValueError(f"sweep: devices must not repeat, got {devices}")
-    return devices
-
-
-# Cases a chunk keeps, at least, when the default gives each core two chunks.
-_CASES_PER_CHUNK = 16
-
-
-def _check_chunks(chunks, devices, n_cases: int) -> int:
-    if chunks is None:
-        if devices[0].platform != "cpu":
-            return 1
-        cores = max(1, _cores() // len(devices))
-        # Two chunks a core finish sooner than one: a thread held up (by the Python
-        # thread, or another process) leaves its core's second chunk to the other core.
-        # Measured on 2 cores, Bosh3 fixed steps on the anchored line: 256 cases at N = 20
-        # 1.14 s in 4 chunks against 1.20 s in 2; 64 cases at N = 100 0.55 s against
-        # 0.59 s. Not below 16 cases a chunk, where padding to a multiple of the chunks
-        # would cost more.
-        return 2 * cores if n_cases >= 2 * cores * len(devices) * _CASES_PER_CHUNK else cores
-    if not (isinstance(chunks, int) and not isinstance(chunks, bool) and chunks >= 1):
-        raise ValueError(f"sweep: chunks must be a positive integer, got {chunks!r}")
-    return chunks
-
-
-def _cores() -> int:
-    """The CPU cores this process may run on (its affinity, where the OS has one)."""
-    if hasattr(os, "sched_getaffinity"):
-        return len(os.sched_getaffinity(0))
-    return os.cpu_count() or 1
-
-
-def _split(per_case, chunks: int) -> list:
-    """`per_case` cut into `chunks` equal runs of consecutive cases, as numpy arrays:
-    JAX would compile a slicing program for each chunk's offset."""
-    size = len(per_case["valid"]) // chunks
-    per_case = jax.tree.map(np.asarray, per_case)
-
-    def part(i):
-        return jax.tree.map(lambda x: x[i * size : (i + 1) * size], per_case)
-
-    return [part(i) for i in range(chunks)]
-
-
-def _check_output(output, where: str) -> None:
-    if not (
-        isinstance(output, tuple)
-        and len(output) == 2
-        and isinstance(output[0], CableNetwork)
-        and isinstance(output[1], Environment)
-    ):
-        raise ValueError(f"sweep: build must return (CableNetwork, Environment), got {output!r} {where}")
-
-
-def _build_first(build, values) -> tuple[CableNetwork, Environment]:
-    """`build` on the first case's concrete values: constructors check real values
-    there (they cannot check tracers), and it is the reference the traced build must
-    match."""
-    first = {k: float(v[0]) for k, v in values.items()}
-    try:
-        output = build(**first)
-    except Exception as e:
-        e.add_note(f"raised by sweep's build(**{first}) (the first case)")
-        raise
-    _check_output(output, f"for the first case {first}")
-    return output
-
-
-def _culprits(build, values) -> str:
-    """Name the parameters that `build` cannot take traced: each is tried alone under
-    vmap, the others held at the first case's values."""
-    first = {k: float(v[0]) for k, v in values.items()}
-    names = []
-    for name, value in values.items():
-
-        def alone(x, name=name):
-            return jax.tree.leaves(build(**{**first, name: x}))
-
-        try:
-            jax.vmap(alone)(jnp.asarray(value))
-        except _TRACER_ERRORS:
-            names.append(repr(name))
-        except Exception:  # another failure says nothing about this parameter
-            pass
-    if not names:
-        return "a swept parameter"
-    return ("parameter " if len(names) == 1 else "parameters ") + ", ".join(names)
-
-
-def _invalid_cases(batched, unbatched, reference) -> dict[int, str]:
-    """The cases whose values break a condition of their model or water, each with its
-    status line naming the case, the field and the value.
-
-    The conditions are the constructors' own (`conditions()` of the model and the
-    water), evaluated per case under `vmap` on the batched leaves, which are concrete
-    here; the first case's concrete build gives their names and order.
-    """
-    conditions = network_conditions(*reference)
-    broken, first = jax.tree.map(np.asarray, _case_violations(batched, unbatched))
-    invalid = {}
-    for i in range(broken.shape[0]):
-        message = checks.first_violation(conditions, broken[i], first[i])
-        if message is not None:
-            invalid[i] = f"invalid input: case {i}: {message}"
-    return invalid
-
-
-def _statics_differ(batched, unbatched, t0) -> bool:
-    """Whether `solve_statics(model, env, t=t0)` would be given different inputs in
-    different cases of the batch.
-
-    Statics reads every float leaf of the model and the water (the waves' too, whose
-    loads at `t0` it includes) except the motions', which it reads only as the
-    constrained nodes' positions at `t0`. So the inputs differ where a batched leaf
-    outside the motions, or a constrained node's position at `t0`, is not the same in
-    every case: compared exactly, in numpy, on the concrete batch (after invalid cases
-    took a valid case's values). A harmonic amplitude with zero phase leaves every
-    position at `t0` unchanged (A sin 0 = 0); its phase does not.
-
-    **Arguments:**
-
-    - `batched`, `unbatched`: `_build_batch`'s trees, the batched leaves with a
-        leading case axis and the shared ones.
-    - `t0`: the time (s) at which statics places the constrained nodes.
-    """
-    motions = (jax.tree_util.SequenceKey(0), jax.tree_util.GetAttrKey("motions"))
-    leaves = [x for path, x in jax.tree_util.tree_flatten_with_path(batched)[0] if tuple(path[:2]) != motions]
-    leaves.append(_held_at(batched, unbatched, np.asarray(t0, dtype=float)))
-    return not all(np.array_equal(x, np.broadcast_to(x[:1], x.shape), equal_nan=True) for x in map(np.asarray, leaves))
-
-
-# Each one compiled program, kept on disk (`jaxcable._programs`), rather than run as
-# eager operations under `vmap`, each of which compiled a program of its own: 2.6 s of
-# a 32-case sweep's set-up on the anchored line.
-@program
-def _case_violations(batched, unbatched):
-    """`checks.violations` of each case's model and water: whether each condition is
-    broken, and its first bad value, with a leading case axis."""
-
-    def one(case):
-        model, env = eqx.combine(case, unbatched)
-        return checks.violations(network_conditions(model, env))
-
-    return jax.vmap(one)(batched)
-
-
-@program
-def _held_at(batched, unbatched, t0):
-    """Each case's constrained nodes' positions (m) at `t0` (s), shape
-    `(cases, constrained, 3)`."""
-
-    def one(case):
-        model, _ = eqx.combine(case, unbatched)
-        return lag.constrained_motion(model, t0)[0]
-
-    return jax.vmap(one)(batched)
-
-
-def _build_batch(build, values, reference):
-    """`build` under an eager `jax.vmap` over the cases.
-
-    Not under `jit`: there, every value is a tracer, and builders that compute with
-    numpy on their fixed inputs (`anchored_line` does) would fail. Under an eager vmap
-    only what depends on a swept parameter is a tracer, which tells the batched leaves
-    from the shared ones.
-
-    Returns two trees shaped like `(model, env)`: the batched leaves, with a leading
-    case axis, and the shared leaves, each with `None` in the other's places (as
-    `eqx.partition` makes them).
-    """
-    seen = {}
-
-    def traced(case):
-        output = build(**case)
-        _check_output(output, "when traced under vmap")
-        leaves, seen["treedef"] = jax.tree.flatten(output)
-        seen["is_batched"] = [isinstance(x, jax.core.Tracer) for x in leaves]
-        seen["shapes"] = [jnp.shape(x) for x in leaves]
-        seen["shared"] = [None if b else x for x, b in zip(leaves, seen["is_batched"])]
-        return [x for x, b in zip(leaves, seen["is_batched"]) if b]
-
-    try:
-        batched = jax.vmap(traced)({k: jnp.asarray(v) for k, v in values.items()})
-    except _TRACER_ERRORS as e:
-        raise ValueError(
-            f"sweep: build used the value of {_culprits(build, values)} in Python (float(), int(), "
-            "`if`, numpy, or as a count), which it cannot under vmap. Compute with jax.numpy on "
-            "the parameters, or replace float leaves of a prebuilt model with eqx.tree_at; "
-            "topology cannot be swept."
-        ) from e
-    leaves, treedef = jax.tree.flatten(reference)
-    if treedef != seen["treedef"] or [jnp.shape(x) for x in leaves] != seen["shapes"]:
-        raise ValueError(
-            "sweep: build returned a different structure when traced under vmap than for the "
-            "first case's values (different static options, node or segment counts, or leaves); "
-            "topology must not depend on the swept parameters."
-        )
-    paths = [jax.tree_util.keystr(p) for p, _ in jax.tree_util.tree_flatten_with_path(reference)[0]]
-    for path, leaf, is_batched in zip(paths, leaves, seen["is_batched"]):
-        if is_batched and not jnp.issubdtype(jnp.result_type(leaf), jnp.inexact):
-            raise ValueError(
-                f"sweep: build returned (model, env){path}, an integer or boolean array (topology), "
-                "that depends on the swept parameters; only float leaves can be swept. Run one "
-                "sweep per topology."
-            )
-    batched = iter(batched)
-    case_leaves = [next(batched) if b else None for b in seen["is_batched"]]
-    return jax.tree.unflatten(treedef, case_leaves), jax.tree.unflatten(treedef, seen["shared"])
