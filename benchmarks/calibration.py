@@ -108,7 +108,7 @@ def main():
     import numpy as np
 
     import jaxcable as jc
-    from jaxcable._calibration import calibrate as _calibrate
+    from jaxcable._calibration import problem as _problem
 
     jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
@@ -116,14 +116,14 @@ def main():
     for name in args.sets:
         for length in args.lengths:
             records, names = records_for(name, length, args.sample_interval, args.segments)
-            problem, _ = _calibrate._problem(records, names, jc.calibration.calibration_solver())
+            problem, _ = _problem.fitting_problem(records, names, jc.calibration.calibration_solver())
             start = np.log(np.array([2 * TRUTH[n] for n in names]))
             loss = eqx.filter_jit(problem.loss)
             # The solver's adjoint is calibrate's gradient mode.
             reverse = eqx.tree_at(lambda p: p.solver.adjoint, problem, diffrax.RecursiveCheckpointAdjoint())
             _, forward_compile, forward_run = timed(lambda: loss(start), args.repeats)
-            _, jac_compile, jac_run = timed(lambda: _calibrate._evaluate(start, problem), args.repeats)
-            _, rev_compile, rev_run = timed(lambda: _calibrate._evaluate(start, reverse), args.repeats)
+            _, jac_compile, jac_run = timed(lambda: _problem.evaluate(start, problem), args.repeats)
+            _, rev_compile, rev_run = timed(lambda: _problem.evaluate(start, reverse), args.repeats)
             steps = [int(np.max(s.simulation.stats["num_steps"])) for s in _steps(problem, start)]
             entry = {
                 "set": name,
@@ -204,12 +204,12 @@ def linear_draws(name, length, args, names):
     import numpy as np
 
     import jaxcable as jc
-    from jaxcable._calibration import calibrate as _calibrate
+    from jaxcable._calibration import problem as _problem
 
     truth = np.log(np.array([TRUTH[n] for n in names]))
     records, _ = records_for(name, length, args.sample_interval, args.segments, seed=100)
-    problem, _ = _calibrate._problem(records, names, jc.calibration.calibration_solver())
-    _, _, (jacobian, _, _) = _calibrate._evaluate(truth, problem)
+    problem, _ = _problem.fitting_problem(records, names, jc.calibration.calibration_solver())
+    _, _, (jacobian, _, _) = _problem.evaluate(truth, problem)
     jacobian = np.asarray(jacobian)
     inner = np.linalg.inv(jacobian.T @ jacobian)
     blocks = problem.groups[0].times.shape[1]  # samples per series: every record is equally long here
@@ -217,7 +217,7 @@ def linear_draws(name, length, args, names):
     errors, sigmas = [], []
     for draw in range(args.linear_draws):
         records, _ = records_for(name, length, args.sample_interval, args.segments, seed=100 + 10 * draw)
-        problem, _ = _calibrate._problem(records, names, jc.calibration.calibration_solver())
+        problem, _ = _problem.fitting_problem(records, names, jc.calibration.calibration_solver())
         r = np.asarray(residuals_at(problem))
         noise = np.repeat(np.sqrt(np.mean(r.reshape(-1, blocks) ** 2, axis=1)), blocks)
         noisy = jacobian * noise[:, None]

@@ -38,8 +38,8 @@ if TYPE_CHECKING:
     from . import plot as plot
     from ._advice import Advice as Advice
     from ._advice import advise as advise
-    from ._calibration.calibrate import CalibrationResult as CalibrationResult
     from ._calibration.calibrate import calibrate as calibrate
+    from ._calibration.report import CalibrationResult as CalibrationResult
     from ._checks import Float64Error as Float64Error
     from ._derivative_check import DerivativeCheck as DerivativeCheck
     from ._derivative_check import DerivativeWarning as DerivativeWarning

@@ -668,7 +668,8 @@ def _optimizer(name: str, learning_rate: float):
 
 
 def _calibrate(args) -> int:
-    from ._calibration.calibrate import calibrate, calibration_solver, discretisation_check
+    from ._calibration.calibrate import calibrate, calibration_solver
+    from ._calibration.discretisation import discretisation_check
     from ._calibration.towing import rig_from_conditions
     from .io import SceneError, read_records
 

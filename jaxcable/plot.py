@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from ._calibration.calibrate import CalibrationResult
+    from ._calibration.report import CalibrationResult
     from .io._run import SceneRun
 
 

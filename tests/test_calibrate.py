@@ -155,7 +155,7 @@ def test_loose_tolerance_derivatives_are_checked_and_the_tolerance_tightened(ver
     assert k0_fit.tolerances == (1e-6, 1e-6) and max(k0_fit.tangent_error.values()) < 0.05
     assert "derivatives within" in k0_fit.summary()
     loose = jc.calibration.calibration_solver(rtol=1e-4, atol=1e-4)
-    problem, _ = jc._calibration.calibrate._problem(vertical_records, ("specific_drag",), loose)
+    problem, _ = jc._calibration.problem.fitting_problem(vertical_records, ("specific_drag",), loose)
     start = np.log(np.array([START["specific_drag"]]))
     assert jc._calibration.calibrate._tangent_error(problem, start)[0] > 0.3
     result = jc.calibrate(vertical_records, {"specific_drag": START["specific_drag"]}, solver=loose, progress=False)
@@ -172,7 +172,7 @@ def test_derivatives_that_never_agree_are_warned_of(vertical_records, monkeypatc
     tried = []
 
     def far_off(problem, log_values):
-        tolerances = jc._calibration.calibrate._tolerances(problem)
+        tolerances = jc._calibration.problem.solver_tolerances(problem)
         assert tolerances is not None
         rtol = tolerances[0]
         tried.append(rtol)
@@ -201,7 +201,7 @@ def test_progress_bar_times_iterations_after_the_compiling_one(vertical_records,
     """The first iteration compiles the simulations; the bar starts its clock (and so its
     estimate of the time left) only after it, and says it is compiling until then."""
     bars, first_done = [], []
-    make_bar, evaluate = jc._calibration.calibrate._bar, jc._calibration.calibrate._evaluate
+    make_bar, evaluate = jc._calibration.calibrate._bar, jc._calibration.problem.evaluate
 
     def recorded_bar(total, progress):
         bars.append(make_bar(total, progress))
@@ -214,7 +214,7 @@ def test_progress_bar_times_iterations_after_the_compiling_one(vertical_records,
         return out
 
     monkeypatch.setattr(jc._calibration.calibrate, "_bar", recorded_bar)
-    monkeypatch.setattr(jc._calibration.calibrate, "_evaluate", timed_evaluate)
+    monkeypatch.setattr(jc._calibration.calibrate, "evaluate", timed_evaluate)
     jc.calibrate(vertical_records, {"specific_drag": 1.0}, optimizer=optax.adam(0.05), max_steps=3, progress=True)
     (bar,) = bars
     assert "compiling" not in bar.desc and bar.n == 3 and bar.total == 3
@@ -227,7 +227,7 @@ def test_gradient_matches_central_differences():
     # tolerances, so that the finite differences see the same discretisation.
     import equinox as eqx
 
-    from jaxcable._calibration import calibrate as _calibrate
+    from jaxcable._calibration import problem as _problem
 
     times = np.linspace(0.0, 10.0, 41)
     speed = np.interp(times, [0.0, 4.0, 6.0, 10.0], [1.0, 1.0, 2.0, 2.0])
@@ -236,7 +236,7 @@ def test_gradient_matches_central_differences():
         synthetic_record(VerticalTow(leader_lift=200.0), times, seed=1, name="v"),
     ]
     names = ("normal_drag", "tangential_drag", "specific_drag")
-    problem, _ = _calibrate._problem(records, names, jc.calibration.rig_solver(rtol=1e-10, atol=1e-10))
+    problem, _ = _problem.fitting_problem(records, names, jc.calibration.rig_solver(rtol=1e-10, atol=1e-10))
     log_values = np.log(np.array([1.5, 0.015, 0.7]))
     loss = eqx.filter_jit(problem.loss)
     step = 1e-4
@@ -245,7 +245,7 @@ def test_gradient_matches_central_differences():
     for adjoint in (diffrax.ForwardMode(), diffrax.RecursiveCheckpointAdjoint()):
         mode = eqx.tree_at(lambda p: p.solver.adjoint, problem, adjoint)
         assert mode.gradient == ("forward" if isinstance(adjoint, diffrax.ForwardMode) else "reverse")
-        _, grad, _ = _calibrate._evaluate(log_values, mode)
+        _, grad, _ = _problem.evaluate(log_values, mode)
         np.testing.assert_allclose(
             np.asarray(grad), central, rtol=1e-4, atol=1e-4 * np.max(np.abs(central)), err_msg=mode.gradient
         )
@@ -375,7 +375,7 @@ def test_command_line_calibrate_errors(tmp_path, capsys):
 
 
 def test_a_tension_column_on_a_horizontal_tow_is_flagged_as_not_a_load_cell():
-    from jaxcable._calibration.calibrate import _caveats
+    from jaxcable._calibration.report import _caveats
 
     columns = {"speed": [1.0, 1.0], "tension": [1.0, 2.0]}
     pairs = [
