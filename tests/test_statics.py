@@ -32,7 +32,8 @@ import pytest
 from helpers import Irvine, chain_nodes, hand_forces, rigid_top_tension
 
 import jaxcable as jc
-from jaxcable._statics.solve import _check_geometry, _start_shape, _water_loads
+from jaxcable._statics.solve import _check_geometry, _water_loads
+from jaxcable._statics.start import start_shape
 
 RHO, G = 1025.0, 9.81
 solve = eqx.filter_jit(jc.solve_statics)
@@ -207,7 +208,7 @@ def test_buoyant_line_starts_arched_up_and_rests_there(irvine):
     height_over_chord = lambda p: (p - ANCHOR)[:, 2] - (p - ANCHOR) @ HEADING * HEIGHT / SPAN  # noqa: E731
     given = np.asarray(model.node_positions)
     water = _water_loads(model, RHO_ENV, 0.0, model.node_positions)
-    start = np.asarray(_start_shape(model, RHO_ENV, model.node_positions, water))
+    start = np.asarray(start_shape(model, RHO_ENV, model.node_positions, water))
     assert np.max(height_over_chord(given)[2:]) < 0 < np.min(height_over_chord(start)[2:])
     ends = np.asarray(model.segment_nodes)
     chords = np.linalg.norm(start[ends[:, 1]] - start[ends[:, 0]], axis=1) / np.asarray(model.segment_length)
@@ -231,7 +232,7 @@ def test_buoyant_line_hanging_from_a_point_starts_standing_up():
     )
     env = jc.Environment(water_density=RHO, gravity=G)
     start = np.asarray(
-        _start_shape(model, env, model.node_positions, _water_loads(model, env, 0.0, model.node_positions))
+        start_shape(model, env, model.node_positions, _water_loads(model, env, 0.0, model.node_positions))
     )
     ends = np.asarray(model.segment_nodes)
     given = np.asarray(model.node_positions)

@@ -11,33 +11,32 @@ keeps the linear systems regular where slack segments have no stiffness; each is
 solved along the network's graph by [`jaxcable.NetworkJacobian`][], O(N). Stiff
 networks are first solved softened, then stiffened stage by stage (see
 `_equilibrium`), from a start whose chains sag or hang along their loads (a buoyant
-line arched upward; `_start_shape`). Levenberg–Marquardt on the forces, which this replaced, failed on
-46 % of a user's random legal scenes (issue 23; `benchmarks/statics_fuzz.py`).
+line arched upward; `_statics/start.py`). The root finder is `_statics/pseudo_transient.py`;
+`benchmarks/statics_fuzz.py` runs it on random legal scenes.
 """
 
 import dataclasses
 import functools
 import typing
-from typing import NamedTuple
 
 import equinox as eqx
 import jax
 import jax.numpy as jnp
-import lineax as lx
 import numpy as np
 import optimistix as optx
-from jaxtyping import Array, Float, Int
 
 from .. import _checks as checks
 from .._equations import lagrangian as lag
-from .._model.network import _GUESS_STRETCH, CableNetwork, Topology, check_held, network_conditions
+from .._model.network import CableNetwork, check_held, network_conditions
 from .._model.state import State
 from .._programs import RUN_ONCE, program
 from .._sea.environment import Environment
 from .._solver.jacobian import NetworkJacobian
 from .._typing import RealScalarLike
 from .catenary import applies, catenary_statics
+from .pseudo_transient import PseudoTransient
 from .solution import FORCE_TOLERANCE, MAX_REQUIRED_STRAIN, MAX_STEPS, StaticSolution, still_water
+from .start import start_shape
 
 # Stiffness continuation (see `_equilibrium`): the softest network's typical strain,
 # the stages from it to the network itself, and the force tolerance of those stages,
@@ -312,7 +311,7 @@ def nearby_equilibrium(model, env, start: State, t, max_steps, force_tolerance) 
 @functools.partial(program, compiler_options=RUN_ONCE)
 def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still, nearby) -> StaticSolution:
     """The whole solve, compiled once per topology and option set; from `start`
-    improved by `_start_shape` if `shaped`, a caller's `initial` as given otherwise;
+    improved by `start_shape` if `shaped`, a caller's `initial` as given otherwise;
     without the water's loads where `still` (`still_water`); the network itself
     alone, without the softer stages, where `nearby` (`nearby_equilibrium`)."""
     free = model.free_nodes
@@ -324,7 +323,7 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still
         """A root find that carries no derivative (its inputs carry none)."""
         return optx.root_find(
             lambda x, _: _forces(model, env, t, x, tolerance, still),
-            _PseudoTransient(graph=graph),
+            PseudoTransient(graph=graph),
             start,
             has_aux=True,
             options={
@@ -366,7 +365,7 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still
         found = solve(soft, fixed[1], fixed[2], x, tolerance)
         return (found.value, found.result), found.stats["num_steps"]
 
-    start = _start_shape(fixed[0], fixed[1], placed, water) if shaped else fixed[3]
+    start = start_shape(fixed[0], fixed[1], placed, water) if shaped else fixed[3]
     if free.size:
         (value, found), stage_steps = jax.lax.scan(
             stage, (start[free], optx.RESULTS.successful), jnp.arange(STAGES if nearby else 0, STAGES + 1)
@@ -531,168 +530,6 @@ def _load_sum(model, env, water):
     )
 
 
-class _Chains(NamedTuple):
-    """The network's chains (see `_chains`), as static index arrays."""
-
-    ends: np.ndarray  # (chains, 2): each chain's first and last node
-    tail: np.ndarray  # (chains,): whether its last node is a free node that joins nothing else
-    moving: np.ndarray  # the nodes a start shape places: inner nodes, and a tail's last
-    owner: np.ndarray  # each moving node's chain
-    segments: np.ndarray  # every chain's segments, chain by chain, each from its first node
-    before: np.ndarray  # each moving node's place in `segments`: the segment that ends at it
-    first: np.ndarray  # (chains,): where each chain starts in `segments`
-
-
-@functools.lru_cache(maxsize=32)
-def _chains(topology: Topology) -> _Chains:
-    """The network's chains: runs of segments through nodes that join exactly two (not
-    constrained, not a line's end). A tail is a chain whose last node is a free node
-    that joins nothing else (a hanging line's end, a riser's buoy). A chain that
-    places nothing (one segment between two junctions, a loop) is left out."""
-    neighbours = [[] for _ in range(topology.n_nodes)]
-    for s, (i, j) in enumerate(topology.segment_nodes):
-        neighbours[i].append((j, s))
-        neighbours[j].append((i, s))
-    junction = np.zeros(topology.n_nodes, dtype=bool)
-    junction[topology.line_ends] = True
-    constrained = np.zeros(topology.n_nodes, dtype=bool)
-    constrained[topology.constrained_nodes] = True
-    seen, ends, tail, moving, owner, segments, before, first = set(), [], [], [], [], [], [], []
-    for start in topology.line_ends:
-        for node, segment in neighbours[start]:
-            if segment in seen:
-                continue
-            path, run = [int(start)], [segment]
-            seen.add(segment)
-            while not junction[node]:
-                path.append(int(node))
-                node, segment = next((n, s) for n, s in neighbours[node] if s != segment)
-                run.append(segment)
-                seen.add(segment)
-            path.append(int(node))
-            tip = [len(neighbours[k]) == 1 and not constrained[k] for k in (path[0], path[-1])]
-            if tip[0] and tip[1]:
-                continue  # a loose piece: `check_held` refuses it
-            if tip[0]:
-                path.reverse()
-                run.reverse()
-            placed = path[1:] if tip[0] or tip[1] else path[1:-1]
-            if not placed or path[0] == path[-1]:
-                continue
-            ends.append((path[0], path[-1]))
-            tail.append(tip[0] or tip[1])
-            owner += [len(ends) - 1] * len(placed)
-            moving += placed
-            before += [len(segments) + k for k in range(len(placed))]
-            first.append(len(segments))
-            segments += run
-    arrays = (ends, tail, moving, owner, segments, before, first)
-    return _Chains(*(np.asarray(x, dtype=np.int64) for x in arrays))
-
-
-def _start_shape(model, env, positions, water):
-    """`positions` (m, shape `(nodes, 3)`), with each chain (see `_chains`) put on its
-    own analytic shape under its load, where that lowers the load's potential. The
-    load is the chain's wet weight, bodies' weight, buoyancy and constant force, and
-    the drag on it at rest, summed into one direction ĝ. A chain between two nodes
-    goes on the inextensible catenary of its length (stretched by the 0.1 % that
-    `CableNetwork.from_branches` stretches it) hanging along ĝ in the plane of its
-    chord and ĝ: its nodes at their arc lengths, where that catenary's nodes have less
-    potential `−Σ F · x` under the nodes' loads F than the given ones. A tail is turned
-    about its first node until its chord points along ĝ, where it points against it.
-    So a buoyant line that `from_branches` hung on a downward catenary starts arched
-    upward, and a buoyant line hanging from a point starts standing up from it, rather
-    than floating up through slack (issue 23's fuzz, seeds 75, 105, 208, 220); a line in
-    a current starts in the plane its drag tilts it into; and a start nearer the
-    equilibrium than the catenary (a solved shape, whose stretch lowers it further) is
-    kept."""
-    chains = _chains(model.topology)
-    if not chains.moving.size:
-        return positions
-    ends, tail, moving, owner = chains.ends, chains.tail, chains.moving, chains.owner
-    line, body = model.line, model.body
-    g, rho = env.gravity, env.water_density
-    up = jnp.array([0.0, 0.0, 1.0])
-    wet = jnp.broadcast_to((rho * line.area - line.mass_per_length) * g * model.segment_length, (model.n_segments,))
-    nodes = model.segment_nodes
-    lift = jnp.zeros(model.n_nodes).at[nodes[:, 0]].add(0.5 * wet).at[nodes[:, 1]].add(0.5 * wet)
-    lift = lift + (rho * body.volume - body.mass) * g
-    load = (lift[:, None] * up + body.force + water)[moving]
-    count = ends.shape[0]
-    down = _unit(jax.ops.segment_sum(load, owner, count))
-    pivot, far = positions[ends[:, 0]], positions[ends[:, 1]]
-    chord = far - pivot
-
-    # A chain between two nodes, in the frame of its catenary: `rise` along −ĝ,
-    # `across` the rest of the chord, and arc lengths along its segments.
-    rise = -jnp.sum(chord * down, axis=-1)
-    across = chord + rise[:, None] * down
-    h = jnp.linalg.norm(across, axis=-1)
-    length = jnp.broadcast_to(model.segment_length, (model.n_segments,))[chains.segments]
-    of_segment = np.repeat(np.arange(count), np.diff([*chains.first, length.size]))
-    run = jnp.cumsum(length)
-    fraction = (run[chains.before] - (run - length)[chains.first][owner]) / jax.ops.segment_sum(
-        length, of_segment, count
-    )[owner]
-    target = (1 + _GUESS_STRETCH) * length
-    slack = (h > 0) & (jnp.sum(target) > 0) & ~tail
-    slack = slack & (jax.ops.segment_sum(target, of_segment, count) > jnp.linalg.norm(chord, axis=-1))
-    h = jnp.where(slack, h, 1.0)
-
-    def catenary(total):
-        """The chains' moving nodes on catenaries of arc lengths `total` (m)."""
-        reach = jnp.sqrt(jnp.where(slack, jnp.maximum(total**2 - rise**2, 0.0), 1.0))
-
-        def bisect(_, bounds):  # 2a sinh(h/2a) falls from ∞ to h as a grows
-            low, high = bounds
-            a = jnp.sqrt(low * high)
-            longer = 2 * a * jnp.sinh(jnp.minimum(h / (2 * a), 700.0)) > reach
-            return jnp.where(longer, a, low), jnp.where(longer, high, a)
-
-        a = jnp.sqrt(jnp.prod(jnp.stack(jax.lax.fori_loop(0, 100, bisect, (1e-6 * h, 1e6 * h))), axis=0))
-        x0 = h / 2 - a * jnp.arctanh(jnp.clip(rise / total, -1 + 1e-15, 1 - 1e-15))
-        a, x0, arc = a[owner], x0[owner], fraction * total[owner]
-        x = x0 + a * jnp.arcsinh(arc / a + jnp.sinh(-x0 / a))
-        z = a * (jnp.cosh((x - x0) / a) - jnp.cosh(x0 / a))
-        return pivot[owner] + x[:, None] * (across / h[:, None])[owner] - z[:, None] * down[owner]
-
-    # Sampled at arc lengths, the chords across a tight bend are shorter than their
-    # arcs, so those segments start slack. `from_branches` lengthens the arc until no
-    # chord is; here that stretched the segments away from a coarse chain's bend by up
-    # to 96 % (issue 23's fuzz, seed 4), and a slack segment only slows the solve.
-    shape = catenary(jax.ops.segment_sum(target, of_segment, count))
-    given = positions[moving]
-    lower = jax.ops.segment_sum(jnp.sum(load * (given - shape), axis=-1), owner, count) < 0
-    # (A catenary that overflowed is not finite, so not lower.)
-    use = (slack & lower)[owner, None]
-
-    # A tail, turned about its first node from its chord towards ĝ, where they are
-    # more than 90° apart (about any axis across the chord where exactly opposite).
-    turned = _unit(chord)
-    normal = jnp.cross(turned, down)
-    across_x = jnp.cross(turned, jnp.array([1.0, 0.0, 0.0]))
-    fallback = _unit(
-        jnp.where(jnp.linalg.norm(across_x, axis=-1, keepdims=True) > 0.1, across_x, jnp.cross(turned, up))
-    )
-    axis = jnp.where(jnp.linalg.norm(normal, axis=-1, keepdims=True) > 1e-9, _unit(normal), fallback)
-    cos = jnp.sum(turned * down, axis=-1)
-    against = tail & (cos < 0)
-    cos, sin = jnp.where(against, cos, 1.0), jnp.where(against, jnp.linalg.norm(normal, axis=-1), 0.0)
-    # Rodrigues: v cos θ + (k × v) sin θ + k (k · v)(1 − cos θ).
-    k, c, s_ = axis[owner], cos[owner, None], sin[owner, None]
-    offset = given - pivot[owner]
-    rotated = (
-        pivot[owner] + offset * c + jnp.cross(k, offset) * s_ + k * jnp.sum(k * offset, -1, keepdims=True) * (1 - c)
-    )
-    return positions.at[moving].set(jnp.where(use, shape, rotated))
-
-
-def _unit(vectors):
-    """`vectors` (shape `(n, 3)`) over their lengths; zero where a length is zero."""
-    length = jnp.linalg.norm(vectors, axis=-1, keepdims=True)
-    return vectors / jnp.where(length > 0, length, 1.0)
-
-
 def _rounding(model):
     """The force (N) that rounding alone leaves on a node: a tension EA ε is known to
     about EA times float64's ε, and a node sums a few of them."""
@@ -702,7 +539,7 @@ def _rounding(model):
 def _taut_strain(model):
     """The strain (–) from which each segment counts as taut, shape `(segments,)`: the
     top of its slack switch's band, or 1e-9 for a sharp switch, so that a step truncated
-    there (see `_PseudoTransient`) still moves."""
+    there (see `PseudoTransient`) still moves."""
     width = jnp.broadcast_to(model.line.tension_law.slack_width, (model.n_segments,))
     return jnp.maximum(width, 1e-9)
 
@@ -716,146 +553,3 @@ def _pseudo_mass(model, env):
     ends = model.segment_nodes
     nodes = jnp.zeros(model.n_nodes).at[ends[:, 0]].add(segments).at[ends[:, 1]].add(segments)
     return nodes + body.mass + env.water_density * body.volume
-
-
-class _PseudoTransientState(eqx.Module):
-    force: Float[Array, "free 3"]
-    tolerance: Float[Array, ""]
-    strain: Float[Array, " segments"]
-    size: Float[Array, ""]
-    step_size: Float[Array, ""]
-    rejected: Int[Array, ""]
-    previous: Float[Array, ""]
-
-
-class _PseudoTransient(optx.AbstractRootFinder):
-    """Pseudo-transient continuation as an optimistix root finder for the free nodes'
-    forces `fn(x) = Q_f(x)` (N), whose auxiliary output is the force tolerance (N) at
-    `x`; `options["mass"]` holds the free nodes' pseudo-masses D (kg) and
-    `options["shortest"]` the shortest segment (m).
-
-    A step solves `(D/Δτ − J) δ = Q_f`, J = ∂Q_f/∂x, makes up to `corrections` of
-    Newton's corrections towards implicit Euler's end point x' (each linearised at its
-    iterate; they stop once the residual `Q_f(x') − D (x' − x)/Δτ` is below `resolved`
-    times the force before the step), and tries x'. Δτ is steered as a trust region
-    is, by how well the step's model predicted the force there, `Q_f(x') = D (x' −
-    x)/Δτ`: its error, relative to the force before the step, below `good` lets Δτ
-    grow by `grow`; above `poor` shrinks it by `shrink`; above `bad` (or a force that
-    is not finite) refuses the step, unless the force still halved.
-    A model error, not the force's change, is the test because the force need not
-    fall along the way (a slack line falls freely at its weight), and because where a
-    segment switches between slack and taut, Newton-like steps can cycle between the
-    two states with the force rising and falling in turn (seen on a light, stiff
-    riser in a current): the model's error there is large and Δτ shrinks until the
-    steps follow the damped motion across the switch. The first Δτ moves the fastest
-    node a tenth of the shortest segment. `give_up` steps refused in a row end the
-    solve as stalled.
-    """
-
-    graph: NetworkJacobian
-    rtol: float = 0.0  # unused: convergence is the force tolerance
-    atol: float = 0.0
-    norm: object = optx.max_norm
-    good: float = 0.25
-    poor: float = 0.5
-    bad: float = 1.0
-    grow: float = 4.0
-    shrink: float = 0.25
-    give_up: int = 40
-    corrections: int = 10
-    resolved: float = 0.01
-
-    def init(self, fn, y, args, options, f_struct, aux_struct, tags):
-        force, (tolerance, strain) = fn(y, args)
-        mass = options["mass"][:, None]
-        speed = jnp.max(jnp.abs(force) / mass)
-        step_size = jnp.where(speed > 0, 0.1 * options["shortest"] / jnp.where(speed > 0, speed, 1.0), 1.0)
-        return _PseudoTransientState(
-            force, tolerance, strain, jnp.max(jnp.abs(force)), step_size, jnp.array(0), jnp.array(jnp.inf)
-        )
-
-    def step(self, fn, y, args, options, state, tags):
-        mass = options["mass"][:, None]
-
-        def newton(carry):
-            k, x, residual = carry
-            operator = lx.FunctionLinearOperator(
-                lambda v: mass * v / state.step_size - jax.jvp(lambda z: fn(z, args)[0], (x,), (v,))[1],
-                jax.eval_shape(lambda: y),
-            )
-            x = x + lx.linear_solve(operator, residual, self.graph, throw=False).value
-            # Implicit Euler's residual `Q_f(x) − D (x − y)/Δτ`, zero at the step's end.
-            return k + 1, x, fn(x, args)[0] - mass * (x - y) / state.step_size
-
-        def unresolved(carry):
-            k, _, residual = carry
-            return (k <= self.corrections) & (jnp.max(jnp.abs(residual)) > self.resolved * state.size)
-
-        # The linear step, then Newton's corrections towards implicit Euler's end
-        # point, each linearised afresh, until its residual is a small part of the
-        # force. A stiff segment turned by δ stretches by δ²/2L, which the linear
-        # step cannot see; and a stiff line at rest inside its slack switch's band
-        # (strains of 1e-7 to 1e-5, where the law is cubic) is stiffer at every
-        # iterate than at the last. Corrections with the first step's factors (a
-        # chord method) diverged there: every other step was refused and 17 of the
-        # fuzz's stiff lines stalled at 1e-4 of their force scale. Linearised afresh,
-        # they end in tens of steps, not thousands (issue 23). The residual is carried
-        # from one correction to the next (at y it is the force there), so that each
-        # evaluates the forces once besides their JVPs: the loop's condition and a
-        # `jax.linearize` evaluated them again, and tracing those took 0.6 s of the
-        # Low & Langley file's 1.7 s.
-        step = jax.lax.while_loop(unresolved, newton, (0, y, state.force))[1] - y
-        # Truncated where a segment would switch between slack and taut: the linear
-        # model holds on one side of the switch only. A slack segment (ε ≤ 0) that the
-        # step would stretch past the top of its switch's band stops there, a taut one
-        # (above the band) that it would slacken stops at zero strain; one inside the
-        # band moves freely (stiff lines rest there). All by the shortest such fraction α
-        # of the step (the strain taken as linear along it). Without this, a slack
-        # stretch of line drifting under its buoyancy or a current (a buoyant line
-        # floating up, a light line on the bed in a current) moved only as far as the
-        # step's model stayed good across its many switches: a few centimetres a step,
-        # and thousands of steps (issue 23's fuzz, seeds 9, 220, 510).
-        _, (_, ahead) = fn(y + step, args)
-        taut, before = options["taut"], state.strain
-        tightens = (before <= 0) & (ahead > taut)
-        slackens = (before >= taut) & (ahead < 0)
-        change = jnp.where(tightens | slackens, ahead - before, 1.0)
-        fraction = jnp.where(tightens, (taut - before) / change, jnp.where(slackens, -before / change, 1.0))
-        alpha = jnp.clip(jnp.min(fraction, initial=1.0), 0.0, 1.0)
-        candidate = y + alpha * step
-        force, (tolerance, strain) = fn(candidate, args)
-        size = jnp.max(jnp.abs(force))
-        # The linear model's force at the truncated point: `(1 − α) Q_f + α D δ/Δτ`.
-        predicted = (1 - alpha) * state.force + alpha * mass * step / state.step_size
-        error = jnp.max(jnp.abs(force - predicted)) / state.size
-        finite = jnp.isfinite(size) & jnp.isfinite(error)
-        taken = finite & ((error <= self.bad) | (size <= 0.5 * state.size))
-        # A truncated step took a fraction α of what Δτ allowed: Δτ follows it down,
-        # so that the next step ends near the next switch, not far past it.
-        factor = jnp.where(error <= self.good, self.grow, jnp.where(error <= self.poor, 1.0, self.shrink))
-        factor = factor * jnp.maximum(alpha, self.shrink**2)
-        new = _PseudoTransientState(
-            force=jnp.where(taken, force, state.force),
-            tolerance=jnp.where(taken, tolerance, state.tolerance),
-            strain=jnp.where(taken, strain, state.strain),
-            size=jnp.where(taken, size, state.size),
-            step_size=state.step_size * jnp.where(finite, factor, self.shrink),
-            rejected=jnp.where(taken, 0, state.rejected + 1),
-            previous=jnp.where(taken, state.size, state.previous),
-        )
-        return jnp.where(taken, candidate, y), new, (tolerance, strain)
-
-    def terminate(self, fn, y, args, options, state, tags):
-        # Within the tolerance the steps go on while they still halve the force: near
-        # the equilibrium they are Newton's, so a few take it from the tolerance down
-        # to rounding (the supports then carry the weight to 1e-8 and better, where the
-        # tolerance allowed 1e-6 of the tension). A step that no longer halves it, or
-        # one refused (rounding's noise), ends the solve.
-        within = state.size <= state.tolerance
-        done = within & ((state.size > 0.5 * state.previous) | (state.rejected >= 1))
-        stalled = state.rejected >= self.give_up
-        failed = stalled & ~done
-        return done | stalled, optx.RESULTS.where(failed, optx.RESULTS.nonlinear_divergence, optx.RESULTS.successful)
-
-    def postprocess(self, fn, y, aux, args, options, state, tags, result):
-        return y, aux, {}
