@@ -52,9 +52,8 @@ def command() -> None:
 
     A command that succeeded ends at once (`os._exit`), once its output is flushed and
     every program compiling in the background is written: the interpreter's own shutdown
-    spends about 0.3 s releasing JAX's compiled programs and backend, a tenth of a warm
-    `jaxcable run` of the Low & Langley file (`benchmarks/README.md`), for nothing the
-    process still needs. A failure exits the usual way.
+    spends about a tenth of a warm `jaxcable run` of the Low & Langley file releasing
+    JAX's compiled programs and backend, for nothing the process still needs. A failure exits the usual way.
 
     The process collects its oldest generation of objects a hundred times less often
     than Python's default: four such collections, each walking every object that the
@@ -148,14 +147,14 @@ def _one_kernel_thread() -> None:
     independent kernels between those threads. A step of a single run is a few hundred
     kernels of a microsecond or so each, and handing them between threads costs more
     than running them together gains. With one thread (`PJRT_NPROC=1`, read when the
-    backend starts, which is after this: nothing has run yet), on a 2-core x86_64,
-    quiet: the Low & Langley file's 107,000 fixed midpoint steps took 2.17 s instead of
-    2.72–3.90 s, and a Dopri5 step of the anchored-line paper's lumped line 29.2 µs instead of 31.6
-    at N = 20 and 66.5 instead of 77.5 at N = 100, against XLA's in-order scheduler
-    (`--xla_cpu_enable_concurrency_optimized_scheduler=false`), which this replaces.
-    A sweep is the opposite case: its chunks run on threads of their own
-    (`jaxcable.sweep`), and one thread took it from 0.95 to 1.63 s, so this suits the
-    single-scene commands only. A `PJRT_NPROC` the caller set comes first and wins.
+    backend starts, which is after this: nothing has run yet) the Low & Langley file's
+    107,000 fixed midpoint steps take 20–45 % less time than with the default pool, and a
+    Dopri5 step of the anchored-line paper's lumped line 8 % less at N = 20 and 14 % less
+    at N = 100 than with XLA's in-order scheduler
+    (`--xla_cpu_enable_concurrency_optimized_scheduler=false`), which this replaces
+    (`benchmarks/step_cost.py` times the steps). A sweep is the opposite case: its chunks run on threads
+    of their own (`jaxcable.sweep`), and one thread made it 1.7 times slower, so this
+    suits the single-scene commands only. A `PJRT_NPROC` the caller set comes first and wins.
     """
     os.environ.setdefault("PJRT_NPROC", "1")
 

@@ -344,9 +344,9 @@ RUN_ONCE = {"xla_cpu_use_fusion_emitters": False, "xla_backend_optimization_leve
 """XLA's options for a program that runs once or a few times a process, whose compile is
 most of its cost: statics (`jaxcable._statics.solve._equilibrium`), the outputs. XLA's CPU
 fusion emitters (its default) and LLVM's optimisations make kernels that run faster but
-compile slower. For the Low & Langley file's statics: 2.8 s of CPU to compile with
-both, 1.3 s without, and 10.7 against 24.7 ms to run (quiet; `benchmarks/README.md`,
-*The cold process*), a cold `jaxcable run` 0.7 s shorter."""
+compile slower. For the Low & Langley file's statics, without them the compile takes
+under half the CPU time and the run 2.3 times as long, still tens of milliseconds, so a
+cold `jaxcable run` ends sooner."""
 
 
 def persistent_cache_threshold(seconds: float) -> contextlib.AbstractContextManager:

@@ -200,8 +200,8 @@ def evaluate(log_values, problem: FittingProblem):
     """The loss and its gradient at `log_values`, and, in forward mode, what the
     report needs there: the Jacobian, residuals and successes. Each mode runs one
     compiled program, which the report reuses rather than compiling its own (every
-    compiled program maps thousands of memory regions, and a process may hold only
-    about 65,000: measured, 3,500 for a vertical-tow fit)."""
+    compiled program maps thousands of memory regions, about 3,500 for a vertical-tow
+    fit, and a process may hold only about 65,000, Linux's default `vm.max_map_count`)."""
     if problem.gradient == "reverse":
         value, grad = _reverse(log_values, problem)
         return value, grad, None

@@ -9,7 +9,7 @@ forward mode). It is the covariance of the estimator the fit uses, whatever the 
 noise levels; where they are proportional to the series' RMS, as in
 [`jaxcable.calibration.synthetic_record`][], it is also the smallest attainable, `(Jᵀ diag(σ⁻²) J)⁻¹`.
 (Weighting by the optimum's `1/σ²` while fitting with a common scale per observable
-understated the spread of 16 refits on fresh noise 2.4-fold, measured.) A coefficient
+understates the spread, 2.4-fold against 16 refits on fresh noise.) A coefficient
 whose uncertainty is large, or that is strongly correlated with another, is flagged:
 the records do not pin it down.
 
@@ -57,7 +57,7 @@ TIGHTEST_TOLERANCE = 1e-10
 STALL_GAIN = 0.01
 """A fit whose loss settled is called stalled, not converged, when one Gauss–Newton
 step with its own Jacobian would still remove more than this share of the squared
-residuals (`_linear_gain`). Measured on the sample records: 1.5e-6 after a converged
+residuals (`_linear_gain`). On the sample records that share is 1.5e-6 after a converged
 fit, 0.97 at the start, 0.74 where a 40-segment fit's inaccurate gradient stopped it."""
 
 # Flag a coefficient whose one-standard-deviation relative uncertainty exceeds this:

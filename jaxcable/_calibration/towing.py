@@ -296,7 +296,7 @@ class HorizontalTow(AbstractTowingRig):
         drag C_n u² sin²φ per length and the body's drag. Close enough for
         Levenberg–Marquardt from a taut start; a guess from force ratios alone, which
         takes all the cable's drag as normal, left a light cable towed nearly along
-        the flow 936 iterations from equilibrium (measured)."""
+        the flow 936 iterations from equilibrium."""
         rho, g, cable, body = self.water_density, self.gravity, self.cable, self.end_body
         length = self.cable_length
         body_weight = (body.mass - rho * body.volume) * g

@@ -25,7 +25,7 @@ def dot(a: Float[ArrayLike, "3 *#batch"], b: Float[ArrayLike, "3 *#batch"]) -> F
     Vectors here are component-major, shape `(3, ...)`, and the sum is written out: XLA's
     CPU backend vectorises arithmetic along the long last axis, where a short trailing
     axis of 3 (and a reduction or concatenation over it) costs several times the
-    arithmetic (`benchmarks/README.md`, *Where an evaluation's time goes*)."""
+    arithmetic (`benchmarks/profile_evaluation.py`)."""
     a, b = jnp.asarray(a), jnp.asarray(b)
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 

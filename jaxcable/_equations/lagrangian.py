@@ -347,8 +347,8 @@ def _lumped_solve(model: CableNetwork, env: Environment, positions, tangent, rhs
     nodes; the topology is static, so this is known when tracing), each block is
     `a I + b₁ τ₁τ₁ᵀ + b₂ τ₂τ₂ᵀ`, and Woodbury's identity with
     the 2 × 2 capacitance matrix solves it in closed form, about a quarter of the
-    arithmetic of forming the 3 × 3 blocks and Cramer's rule (`benchmarks/README.md`,
-    *Where an evaluation's time goes*):
+    arithmetic of forming the 3 × 3 blocks and Cramer's rule (`benchmarks/profile_evaluation.py`
+    times both):
 
         (a I + U B Uᵀ)⁻¹ r = (r − U B (a I₂ + UᵀU B)⁻¹ Uᵀ r) / a,   U = [τ₁ τ₂],
 
@@ -586,7 +586,7 @@ def _conservative_forces(model: CableNetwork, env: Environment, positions) -> Fl
     The same as `jax.grad` of `_potential_energy` to rounding (tested), which stays the
     definition; written out, the elastic part is the tension law along the tangent the
     drag also uses, and the rest is vertical, so an evaluation skips the reverse pass
-    through the geometry (`benchmarks/README.md`, *Where an evaluation's time goes*).
+    through the geometry (`benchmarks/profile_evaluation.py` times the parts).
     """
     line, body = model.line, model.body
     stretched, tangent, strain = _geometry(model, positions)

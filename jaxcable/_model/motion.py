@@ -128,8 +128,8 @@ OVERSHOOT_FRACTION = 0.1
 """How far (as a fraction of a coordinate's range over the table) a cubic spline may
 stray outside the two samples of an interval before [`jaxcable.Sampled`][] warns. A
 sine sampled at 8 points a period strays by up to 4.2 % of its range between samples
-(by SciPy's natural spline, over the sampling's phase); a step strays further (issue 23
-reports a table stepping 0 → 100 m whose spline ran to −89 and +167 m)."""
+(by SciPy's natural spline, over the sampling's phase); a step strays further (a table
+stepping from 0 to 100 m can give a spline that runs to −89 and +167 m)."""
 
 
 class Sampled(AbstractMotion):

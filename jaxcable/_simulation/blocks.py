@@ -4,17 +4,17 @@ whose programs must stay in JAX's persistent compilation cache.
 [`jaxcable.simulate`][] hands its output times to diffrax (`SaveAt(ts=...)`), which
 checks them with a host callback: diffrax 0.7.2's `diffeqsolve` is itself compiled
 (`eqx.filter_jit`), so its `ts` are always traced and `eqx.error_if` always inserts the
-callback. JAX keeps no program with a callback on disk, so every `jaxcable run` compiled
-its solve again (3.1 s of a 13.4 s warm run of the Low & Langley file, quiet).
+callback. JAX keeps no program with a callback on disk, so every `jaxcable run` would
+compile its solve again (about a quarter of a warm run of the Low & Langley file).
 
 Here each output interval is a `diffeqsolve` of its own that saves only its end
 (`SaveAt(t1=True)`, no callback), and carries diffrax's solver state (Dopri5's last
 derivative), the step-size controller's error history and `made_jump` on to the next, so
 the intervals continue one solve. They differ from one `simulate` call only in that every
 output time ends a step, and each interval starts with diffrax's first-step estimate
-(the controller keeps no step size between solves): on the Low & Langley file 57,417
-steps against 54,992, positions within 4.2e-8 m of `simulate`'s and tensions within
-3.3e-4 of the peak (measured; `benchmarks/README.md`). The intervals run `BLOCK` at a
+(the controller keeps no step size between solves): on the Low & Langley file, with
+adaptive Dopri5, 57,417 steps against 54,992, positions within 4.2e-8 m of `simulate`'s
+and tensions within 3.3e-4 of the peak. The intervals run `BLOCK` at a
 time in one compiled `lax.scan`, so the program depends on the model's structure and not
 on the duration, and Python reports progress between blocks.
 
@@ -271,9 +271,8 @@ def _block(
     return carry, ys, jnp.sum(counts, axis=0), failure
 
 
-# Not in the blocks' programs, which they doubled (Low & Langley file, quiet: the block's
-# program 2.6 s of CPU with the outputs, 1.4 s without), and compiled as a program that
-# runs once a block (`RUN_ONCE`).
+# Not in the blocks' programs, whose compile they nearly doubled (the Low & Langley file's
+# block), and compiled as a program that runs once a block (`RUN_ONCE`).
 @functools.partial(program, compiler_options=RUN_ONCE)
 def _outputs(model, env, ends: Float[ArrayLike, " block"], ys, failure):
     """The outputs `(positions, velocities, strain, tension, reactions)` at a block's

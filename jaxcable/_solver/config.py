@@ -31,7 +31,7 @@ def default_solver() -> diffrax.AbstractSolver:
     3,952) and ran 45× faster, since an implicit step must form and factor the Jacobian.
     Of the explicit methods, Dopri5 took 11–28 % fewer steps than Tsit5 (fewer rejected
     across snap loads) and ran as fast to 1.6× faster at 10–100 segments over 60 s.
-    `benchmarks/anchored_line.py` measures it; `benchmarks/README.md` has the figures.
+    `benchmarks/anchored_line.py` measures these.
     Use [`jaxcable.stiff_solver`][] where stability, not accuracy, limits the step.
     """
     return diffrax.Dopri5()
@@ -224,7 +224,7 @@ factory `SOLVERS[name](**options) -> SolverConfig` taking [`jaxcable.SolverConfi
 keyword arguments (`rtol`, `atol`, ...): explicit Runge–Kutta `dopri5` (the default),
 `tsit5`, `bosh3` (three stages, third order: at a fixed step near its stability limit
 the cheapest per simulated second where an error of about 1 % of the peak will do,
-`benchmarks/README.md`, *The speed table*), `rk4` (the classical four-stage method,
+`benchmarks/speed.py`), `rk4` (the classical four-stage method,
 [`jaxcable.RK4`][], MoorDyn's `RK4`: at a fixed step near its stability limit, which
 is 1.6 times Bosh3's, cheaper still) and `dopri8`; the two-stage `midpoint` and `heun` and the one-stage `euler`,
 for fixed steps as MoorDyn takes them (its `RK2` is the midpoint method) with

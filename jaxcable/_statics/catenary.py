@@ -9,7 +9,7 @@ A line between two supports in still water is a catenary. Two are here:
   MoorDyn's start shape (`jaxcable.io._initial_shape`) and the first guess below.
 - The discrete one, jaxcable's own equilibrium of the polyline (`jaxcable._equations.lagrangian`'s
   static forces, exactly): [`catenary_statics`][], which `jaxcable.solve_statics`
-  takes where it applies (issue 36). Compiling statics' root finder costs seconds; this
+  takes where it applies. Compiling statics' root finder costs seconds; this
   costs milliseconds, and finds the same equilibrium to rounding.
 
 **The discrete catenary.** In still water, with no bodies on the line's inner nodes and

@@ -92,13 +92,13 @@ class PseudoTransient(optx.AbstractRootFinder):
         # step cannot see; and a stiff line at rest inside its slack switch's band
         # (strains of 1e-7 to 1e-5, where the law is cubic) is stiffer at every
         # iterate than at the last. Corrections with the first step's factors (a
-        # chord method) diverged there: every other step was refused and 17 of the
-        # fuzz's stiff lines stalled at 1e-4 of their force scale. Linearised afresh,
-        # they end in tens of steps, not thousands (issue 23). The residual is carried
+        # chord method) diverged there: every other step was refused and stiff lines of
+        # `benchmarks/statics_fuzz.py` stalled at 1e-4 of their force scale. Linearised
+        # afresh, they end in tens of steps, not thousands. The residual is carried
         # from one correction to the next (at y it is the force there), so that each
         # evaluates the forces once besides their JVPs: the loop's condition and a
-        # `jax.linearize` evaluated them again, and tracing those took 0.6 s of the
-        # Low & Langley file's 1.7 s.
+        # `jax.linearize` evaluated them again, and tracing those was a third of the
+        # tracing of the Low & Langley file's statics.
         step = jax.lax.while_loop(unresolved, newton, (0, y, state.force))[1] - y
         # Truncated where a segment would switch between slack and taut: the linear
         # model holds on one side of the switch only. A slack segment (ε ≤ 0) that the
@@ -109,7 +109,7 @@ class PseudoTransient(optx.AbstractRootFinder):
         # stretch of line drifting under its buoyancy or a current (a buoyant line
         # floating up, a light line on the bed in a current) moved only as far as the
         # step's model stayed good across its many switches: a few centimetres a step,
-        # and thousands of steps (issue 23's fuzz, seeds 9, 220, 510).
+        # and thousands of steps (as on random scenes of `benchmarks/statics_fuzz.py`).
         _, (_, ahead) = fn(y + step, args)
         taut, before = options["taut"], state.strain
         tightens = (before <= 0) & (ahead > taut)

@@ -343,12 +343,12 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still
     # current, which must swing tens of metres from its vertical guess, crept 0.1 m a
     # step and ran out of 1,000 steps; softened, it swings in a few.
     # One `scan` over all the stages, the last one the network itself at the caller's
-    # tolerance, so that the root find is traced once: tracing it took 2.7 s of a warm
-    # `jaxcable run` of the Low & Langley file, and twice it took 4.2 s to trace and
-    # 12.6 s to compile against 2.4 s and 10.7 s once (loaded machine, same steps).
+    # tolerance, so that the root find is traced and compiled once: tracing it takes
+    # seconds of a warm `jaxcable run`, and a second copy for the last stage nearly
+    # doubled the tracing and lengthened the compile by a fifth, for the same steps.
     # No stage carries a derivative (`_implicit` gives the equilibrium its own), nor
     # does the start: the equilibrium's derivative does not depend on it, and the loads
-    # measured there (a norm of a zero drag) have none that is finite.
+    # evaluated there (a norm of a zero drag) have none that is finite.
     fixed = jax.lax.stop_gradient((model, env, t, start))
     # The water's loads at the start, evaluated once for the softening and the start shape.
     placed = lag.full_state(fixed[0], t, fixed[3][free], zeros_free)[0]
@@ -443,7 +443,7 @@ def _implicit(model, env, t, value, graph: NetworkJacobian):
     of `benchmarks/stiffness.py`'s line on the bed at N = 128: 15 such segments,
     smallest singular value 0), and the implicit derivative of every stage, which the
     `scan` computed when each root find had its own adjoint, failed in lineax there
-    although the final Jacobian is regular (condition number 1e8; issue 23)."""
+    although the final Jacobian is regular (condition number 1e8)."""
     adjoint = optx.ImplicitAdjoint(linear_solver=graph)
     return adjoint.apply(_settled, _balance, (jax.lax.stop_gradient(value), model, env, t), frozenset())[0]
 

@@ -83,10 +83,10 @@ def start_shape(model, env, positions, water):
     about its first node until its chord points along ĝ, where it points against it.
     So a buoyant line that `from_branches` hung on a downward catenary starts arched
     upward, and a buoyant line hanging from a point starts standing up from it, rather
-    than floating up through slack (issue 23's fuzz, seeds 75, 105, 208, 220); a line in
-    a current starts in the plane its drag tilts it into; and a start nearer the
-    equilibrium than the catenary (a solved shape, whose stretch lowers it further) is
-    kept."""
+    than floating up through slack, which the root finder crosses only in many short
+    steps (as on random scenes of `benchmarks/statics_fuzz.py`); a line in a current
+    starts in the plane its drag tilts it into; and a start nearer the equilibrium than
+    the catenary (a solved shape, whose stretch lowers it further) is kept."""
     chains = _chains(model.topology)
     if not chains.moving.size:
         return positions
@@ -139,8 +139,8 @@ def start_shape(model, env, positions, water):
 
     # Sampled at arc lengths, the chords across a tight bend are shorter than their
     # arcs, so those segments start slack. `from_branches` lengthens the arc until no
-    # chord is; here that stretched the segments away from a coarse chain's bend by up
-    # to 96 % (issue 23's fuzz, seed 4), and a slack segment only slows the solve.
+    # chord is; here that would stretch the segments away from a coarse chain's bend,
+    # by as much as 96 %, where a slack segment only slows the solve.
     shape = catenary(jax.ops.segment_sum(target, of_segment, count))
     given = positions[moving]
     lower = jax.ops.segment_sum(jnp.sum(load * (given - shape), axis=-1), owner, count) < 0

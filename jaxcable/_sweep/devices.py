@@ -41,10 +41,9 @@ def check_chunks(chunks, devices, n_cases: int) -> int:
         cores = max(1, available_cores() // len(devices))
         # Two chunks a core finish sooner than one: a thread held up (by the Python
         # thread, or another process) leaves its core's second chunk to the other core.
-        # Measured on 2 cores, Bosh3 fixed steps on the anchored line: 256 cases at N = 20
-        # 1.14 s in 4 chunks against 1.20 s in 2; 64 cases at N = 100 0.55 s against
-        # 0.59 s. Not below 16 cases a chunk, where padding to a multiple of the chunks
-        # would cost more.
+        # For Bosh3 fixed steps on the anchored line that is 5–7 % sooner, and more
+        # chunks gain no more (`benchmarks/sweep_throughput.py --chunks`). Not below 16
+        # cases a chunk, where padding to a multiple of the chunks would cost more.
         return 2 * cores if n_cases >= 2 * cores * len(devices) * _CASES_PER_CHUNK else cores
     if not (isinstance(chunks, int) and not isinstance(chunks, bool) and chunks >= 1):
         raise ValueError(f"sweep: chunks must be a positive integer, got {chunks!r}")

@@ -112,7 +112,7 @@ def sweep(
     60 s at 100 Hz) that is 5 ms steps, 12,000 a case, where the adaptive Dopri5 of
     `simulate` took 17,100–58,700, and the peak tension over the first snap lies
     within 0.5 % of a converged run's (MoorDyn's midpoint steps of 1 ms: 0.2–0.4 %;
-    `benchmarks/README.md`, *What a user meets*). Pass `solver=SolverConfig()` for
+    `benchmarks/default_stepping.py`). Pass `solver=SolverConfig()` for
     `simulate`'s adaptive steps.
 
     Every case's model and water are checked as their constructors check concrete
@@ -204,8 +204,8 @@ def sweep(
         least as finely as alone but with different steps (its results agree with its
         single run to the tolerance, not to rounding), and `stats` counts the shared
         steps. Faster on a CPU, where the per-case loop's masking of every carried
-        array at every step costs more than the evaluations (`benchmarks/README.md`,
-        *Sweeps*). One case that fails (too many steps, a collapsing step) fails the
+        array at every step costs more than the evaluations
+        (`benchmarks/sweep_throughput.py`). One case that fails (too many steps, a collapsing step) fails the
         others of its chunk; explicit solvers only. With `chunks`, each chunk has its
         own shared step.
     - `chunks`: how many groups of consecutive cases to run, on threads through the
@@ -369,10 +369,10 @@ def sweep(
             simulation, statics, success = done(_run(parts[0], shared, mode, steps, mesh, in_turn), n_cases)
         else:
             # Compiled ahead of the threads: called first through `jit`, the chunks of a
-            # first call ran one after the other (a 128-case run: 5.0 s against 2.4 s warm).
+            # first call ran one after the other, taking twice as long as warm.
             compiled = _run.lower(parts[0], shared, mode, steps, mesh, in_turn).compile()
-            # Chunks run in turn take a core each; batched chunks each take a thread, as
-            # measured where their default was chosen (`check_chunks`).
+            # Chunks run in turn take a core each; batched chunks each take a thread, two
+            # a core by default (`check_chunks` says why).
             threads = min(chunks, available_cores()) if in_turn else chunks
 
             def run(part):

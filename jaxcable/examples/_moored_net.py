@@ -78,7 +78,7 @@ here and in the constants below:
     120 s of waves took 916,000 steps at these segments, 2.19 million at (3, 6, 5, 4),
     and more than a million before 64 s at (3, 5, 4, 3) or before 120 s at
     (4, 8, 6, 4). Between the first two, the buoys' heave amplitudes agree to 0.3 %,
-    their drifts to 2 cm, the mean tensions on buoy 2's branch to 1 % (measured).
+    their drifts to 2 cm, the mean tensions on buoy 2's branch to 1 %.
 """
 
 import numpy as np

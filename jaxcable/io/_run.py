@@ -38,19 +38,19 @@ DEFAULT_DT_OUT = 0.1  # s
 # steady: the ripple of rounding and of a fixed-step solver on a held line, not a peak.
 STEADY = 1e-6
 
-# What a run costs, for the estimate that `check_size` gives before any work. An
-# explicit Dopri5 step is six force evaluations of 144 ns per node and 13.5 µs of
-# diffrax's bookkeeping (`benchmarks/README.md`, a single run on a 2-core x86_64).
+# What a run costs on one CPU core, for the estimate that `check_size` gives before any
+# work. An explicit Dopri5 step is six force evaluations of 144 ns per node and 13.5 µs
+# of diffrax's bookkeeping, for a single run (`benchmarks/step_cost.py` measures both).
 STEP_SECONDS, EVALUATION_SECONDS_PER_NODE, EVALUATIONS_PER_STEP = 13.5e-6, 144e-9, 6
 # Statics (pseudo-transient continuation on the network's block-tridiagonal Jacobian)
 # costs O(F) a step for F free nodes, after a compilation whose time does not grow with
 # F. The anchored line cut into 100, 1,000 and 10,000 segments (`python
-# benchmarks/statics_cost.py --sizes`, a fresh process each, a shared 2-core x86_64):
-# first calls of 32, 30 and 37 s, warm calls of 0.11, 2.4 and 2.5 s over 110, 357 and
-# 16 steps (1.0 ms, 6.8 ms and 157 ms a step: about 16 µs per free node at 10,000), and
-# peak memory 350, 456 and 554 MiB above the built scene's, 350 MiB and about 20 kB per
-# free node more. The estimate takes the compilation, 400 steps (the 1,000-segment
-# line's order; the fuzz of random scenes has a median of about 100 and at most
+# benchmarks/statics_cost.py --sizes`, a fresh process each): first calls of 32, 30
+# and 37 s, warm calls of 0.11, 2.4 and 2.5 s over 110, 357 and 16 steps (1.0 ms,
+# 6.8 ms and 157 ms a step: about 16 µs per free node at 10,000), and peak memory 350,
+# 456 and 554 MiB above the built scene's, 350 MiB and about 20 kB per free node more.
+# The estimate takes the compilation, 400 steps (the 1,000-segment line's order;
+# `benchmarks/statics_fuzz.py`'s random scenes take a median of about 100 and at most
 # 7 × 1,000) at 16 µs per free node, and that memory.
 STATICS_BASE_BYTES = 350 * 2**20
 STATICS_BYTES_PER_FREE_NODE = 20e3
@@ -280,10 +280,10 @@ def run_scene(
         blocks = solver.dt0 is None or isinstance(solver.stepsize_controller, diffrax.ConstantStepSize)
     # Where programs are kept (the command line), the run's programs and then statics'
     # are traced here and compile in the background while the next is traced. The run's
-    # first: they trace in 0.4 s and compile in 1.5 s of CPU, on the core that statics'
-    # trace (1.2 s of Python) leaves idle, so that statics' compile, which the run
-    # waits for, has both cores to itself. Statics first, the two compiles shared the
-    # cores and statics' took 3.1 s instead of 1.8 (Low & Langley file, quiet).
+    # first: they trace quickly and compile on a core that statics' trace (Python, one
+    # thread) leaves idle, so that statics' compile, which the run waits for, has the
+    # cores to itself. Statics first, the two compiles shared the cores and statics'
+    # took 1.7 times as long (Low & Langley file).
     start_notes: tuple[str, ...] = ()
     with _compile_meter() as prepare_meter:
         start = time.perf_counter()
@@ -480,8 +480,8 @@ def check_size(built: BuiltScene, duration: float, dt_out: float, solver: Solver
     explicit solver the dynamics, at the stable step Δt = 1.7/|λ| of the stiffest
     axial mode ([`jaxcable.advise`][]'s), each step costing
     `STEP_SECONDS + EVALUATIONS_PER_STEP × EVALUATION_SECONDS_PER_NODE × nodes`. The
-    figures are measured on a 2-core CPU (see the constants): a guide to the order of
-    magnitude, not a promise.
+    figures are one CPU core's (see the constants): a guide to the order of magnitude,
+    not a promise.
 
     **Returns:**
 
