@@ -28,7 +28,7 @@ one compiled program. Each case starts from its own static equilibrium in still 
 middle one and the bottom one: the paper's polyline has one tension per segment, and
 Fig. 5 names a top and a middle point. Peaks are the largest sample of the resolved
 solution in the window: at `sample_rate` = 1 kHz (Dopri5's steps average 0.5–2 ms), the
-sampled peak is within 0.01 % of the 4 kHz one (`benchmarks/anchored_line_reproduction.py`
+sampled peak is within 0.01 % of the 4 kHz one (`validation/anchored_line_reproduction.py`
 records the check).
 """
 
@@ -74,7 +74,7 @@ FULL = {
     "sample_rate": 1000.0,
     "batch": 12,
 }
-"""The configuration `benchmarks/anchored_line_reproduction.py` runs: 20 segments (within 3 %
+"""The configuration `validation/anchored_line_reproduction.py` runs: 20 segments (within 3 %
 of 40 in the earlier check), Dopri5 at rtol = atol = 1e-8, sampled at 1 kHz, batches of
 12 cases."""
 SMALL = {
@@ -508,7 +508,7 @@ def run_cases(
     with the same configuration reuse.
 
     A snapping line's peak moves by a few per cent with the tolerance (a snap a little
-    early or late over a run of several periods); `benchmarks/anchored_line_reproduction.py`
+    early or late over a run of several periods); `validation/anchored_line_reproduction.py`
     records how far.
 
     **Arguments:**

@@ -102,7 +102,7 @@ FULL = {
     "harmonics": 32,
     "truncations": (1, 2, 3, 4, 6, 8, 12, 16, 24, 32),
 }
-"""The configuration `benchmarks/cnoidal_loads_reproduction.py` runs: 3 × (49 + 5) cases per
+"""The configuration `validation/cnoidal_loads_reproduction.py` runs: 3 × (49 + 5) cases per
 theory, loads sampled every 25 ms."""
 SMALL = {
     "heights": (3.5, 7.0, 14.0),

@@ -3,7 +3,7 @@ impulses, and the map of where its tether goes slack; the thesis's two integrato
 by side (Simpson's rule against the trapezoid rule at a fifth of its step); and eq. 7's
 similarity in α, ξ, ρ.
 
-Used by `notebooks/growing_elements.ipynb`, `benchmarks/growing_elements_reproduction.py`
+Used by `notebooks/growing_elements.ipynb`, `validation/growing_elements_reproduction.py`
 and the tests. Each study is one [`jaxcable.sweep`][]: over k₀ for the free element, over
 the weight characteristic ρ for the tethered one. See `jaxcable/examples/growing_elements.py` for the scenes and
 the definitions of u₀ and ρ.

@@ -21,7 +21,7 @@ discrete sum Σ |H_T(ω_i)|² a_i²/2 with no sampling scatter, which differs fr
 integral by the band's truncation and the midpoint rule's O(Δω²) error. The start's
 transient decays as e^(−ζω_n t), e^(−5.8) by `START`.
 
-Used by `tests/test_irregular_response.py` and `benchmarks/irregular_response.py`.
+Used by `tests/test_irregular_response.py` and `validation/irregular_response.py`.
 """
 
 import numpy as np

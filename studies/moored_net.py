@@ -1,7 +1,7 @@
 """The moored net as a study: the buoys' heave and drift, and the tension along
 the vertical branch under buoy 2 (the paper's Figs. 4–5).
 
-Used by `benchmarks/branched_systems_reproduction.py` and the tests. One run of
+Used by `validation/branched_systems_reproduction.py` and the tests. One run of
 [`jaxcable.simulate`][] from the still-water equilibrium, the 6.4 s waves ramping in
 over the first two periods (`jaxcable.examples._moored_net.moored_net`, which states the scene and the
 choices the paper leaves open). Everything is measured over the run's last whole wave

@@ -1,7 +1,7 @@
 """The towed trawl as a study: the speed steps, their tensions, the buoy's depth,
 the diverters' paths, and the snap loads.
 
-Used by `notebooks/branched_systems.ipynb`, `benchmarks/branched_systems_reproduction.py`
+Used by `notebooks/branched_systems.ipynb`, `validation/branched_systems_reproduction.py`
 and the tests. Each case is one run of [`jaxcable.simulate`][] from the steady tow at the
 first speed (`jaxcable.examples._towed_trawl.steady_tow`), stepping to the second at t = 300 s. See
 `jaxcable/examples/towed_trawl.py` for the scene and the choices the paper leaves open.

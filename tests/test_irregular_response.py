@@ -12,7 +12,7 @@ The sea is small (H_s = 0.5 m) so that the motions stay small against the waves'
 lengths (k x ≪ 1). Over the 8 seeds the variance was 0.996 to 1.003 of the integral and
 the record within 0.7 to 1.1 % of σ of the closed form's, point by point (RMS); at
 H_s = 2 m, where the buoy heaves by ±1.8 m, 0.95 to 1.02 and 9 to 14 %
-(`benchmarks/irregular_response.py`, *Irregular seas* in `benchmarks/README.md`).
+(`validation/irregular_response.py`, *Irregular seas* in `benchmarks/README.md`).
 """
 
 import jax.numpy as jnp

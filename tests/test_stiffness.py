@@ -385,7 +385,7 @@ def test_stiffness_is_differentiable_and_vmaps_over_designs():
 
 
 def on_the_bed(segments: int):
-    """`benchmarks/stiffness.py`'s chain on a frictionless bed: 500 m from an anchor on
+    """`validation/stiffness.py`'s chain on a frictionless bed: 500 m from an anchor on
     the bed 150 m down to a fairlead 400 m along at −5 m, about 330 m lying."""
     model = jc.CableNetwork.from_branches(
         junctions=np.array([[400.0, 0.0, -5.0], [0.0, 0.0, -150.0]]),

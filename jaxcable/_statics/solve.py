@@ -440,7 +440,7 @@ def _implicit(model, env, t, value, graph: NetworkJacobian):
     network's graph; nothing where no derivative is taken). Only the network's own
     equilibrium is differentiated: a softened stage of the continuation can rest with
     compressed segments on the seabed, whose Jacobian is singular (the softest stage
-    of `benchmarks/stiffness.py`'s line on the bed at N = 128: 15 such segments,
+    of `validation/stiffness.py`'s line on the bed at N = 128: 15 such segments,
     smallest singular value 0), and the implicit derivative of every stage, which the
     `scan` computed when each root find had its own adjoint, failed in lineax there
     although the final Jacobian is regular (condition number 1e8)."""

@@ -353,7 +353,7 @@ def _across_touchdown(model, env, t, solution: StaticSolution, touching, exact, 
     last node on the bed: for an infinitesimal motion that node stays on the penalty
     bed, where the continuous line lifts off (or lays down) along it. Pinned, the
     stiffness converges to the wrong limit (4.5 % low in K_zz at 32 to 128 segments on
-    `benchmarks/stiffness.py`'s line with 330 m on the bed, and far off where the
+    `validation/stiffness.py`'s line with 330 m on the bed, and far off where the
     touchdown node is nearly free: 46 % at 48). As the support moves, the node at the
     touchdown is pressed into the bed less (or more) until it lifts off and the next
     takes its place: the reactions follow the continuous line's plus a sawtooth whose

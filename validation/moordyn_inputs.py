@@ -11,7 +11,7 @@ seabed contact (jaxcable with MoorDyn's kBot and cBot); MoorDyn models bending w
 file asks for it and jaxcable does not: rows where jaxcable notes bending are marked, and
 differences there are expected.
 
-    python benchmarks/moordyn_inputs.py DIR [DIR ...] [--max-segments 300] [--out results/moordyn_inputs.json]
+    python -m validation.moordyn_inputs DIR [DIR ...] [--max-segments 300] [--out results/moordyn_inputs.json]
 """
 
 import argparse

@@ -39,9 +39,9 @@ tension's RMS and largest difference over the run, relative to the top tension's
 range in MoorDyn; and the nodes' largest and RMS position difference over the run
 against how far they move.
 
-    python benchmarks/moordyn_water.py [--duration 20] [--cases taut slack] [--modes 7 2 3]
+    python -m validation.moordyn_water [--duration 20] [--cases taut slack] [--modes 7 2 3]
 
-Results are appended to benchmarks/results/moordyn_water.json.
+Results are appended to validation/results/moordyn_water.json.
 """
 
 import argparse
@@ -52,7 +52,8 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _results import append_session
+
+from benchmarks._results import append_session
 
 DT = 0.002
 SEGMENTS = 20

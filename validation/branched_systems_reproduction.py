@@ -13,18 +13,17 @@ The studies of `studies.towed_trawl` and `studies.moored_net` at the `FULL` size
    trawl's 3 → 1 m/s fall with and without C_E1; its steady tow in waves with and without
    the viscous term.
 
-    python benchmarks/branched_systems_reproduction.py                # trawl and net, about 25 min on 2 cores
-    python benchmarks/branched_systems_reproduction.py --part trawl   # or net, or snap: one study
-    python benchmarks/branched_systems_reproduction.py --part snap --small   # the snap study at its small size
-    python benchmarks/branched_systems_reproduction.py --report       # reprint the last verdicts
+    python -m validation.branched_systems_reproduction                # trawl and net, about 25 min on 2 cores
+    python -m validation.branched_systems_reproduction --part trawl   # or net, or snap: one study
+    python -m validation.branched_systems_reproduction --part snap --small   # the snap study at its small size
+    python -m validation.branched_systems_reproduction --report       # reprint the last verdicts
 
-Results are appended to benchmarks/results/branched_systems_reproduction.json; figures go to
-benchmarks/results/branched_systems_reproduction_*.png. Each run's time includes its compile.
+Results are appended to validation/results/branched_systems_reproduction.json; figures go to
+validation/results/branched_systems_reproduction_*.png. Each run's time includes its compile.
 """
 
 import argparse
 import json
-import sys
 import time
 from pathlib import Path
 
@@ -34,10 +33,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-# The paper studies live in the repository's `studies/` folder, not in the package.
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from _results import append_session  # noqa: E402
-
+from benchmarks._results import append_session  # noqa: E402
 from studies import moored_net as s2n  # noqa: E402
 from studies import snap_loads as s2s  # noqa: E402
 from studies import towed_trawl as s2  # noqa: E402

@@ -15,19 +15,18 @@ The studies of `studies.cnoidal_loads` at the `FULL` size, in d = 35 m (the pape
 4. the load integrated to the moving surface instead of the still-water level;
 5. the claims table.
 
-    python benchmarks/cnoidal_loads_reproduction.py             # about 5 min on 2 cores
-    python benchmarks/cnoidal_loads_reproduction.py --report    # reprint the last record
-    python benchmarks/cnoidal_loads_reproduction.py --notebook  # run the notebook in full instead
+    python -m validation.cnoidal_loads_reproduction             # about 5 min on 2 cores
+    python -m validation.cnoidal_loads_reproduction --report    # reprint the last record
+    python -m validation.cnoidal_loads_reproduction --notebook  # run the notebook in full instead
 
-Results are appended to benchmarks/results/cnoidal_loads_reproduction.json; figures go to
-benchmarks/results/cnoidal_loads_reproduction_*.png. Compile time is reported apart from run
+Results are appended to validation/results/cnoidal_loads_reproduction.json; figures go to
+validation/results/cnoidal_loads_reproduction_*.png. Compile time is reported apart from run
 time.
 """
 
 import argparse
 import json
 import os
-import sys
 import time
 from pathlib import Path
 
@@ -38,10 +37,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-# The paper studies live in the repository's `studies/` folder, not in the package.
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from _results import append_session  # noqa: E402
-
+from benchmarks._results import append_session  # noqa: E402
 from studies import cnoidal_loads as s4  # noqa: E402
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us

@@ -16,16 +16,15 @@ The studies of `studies.growing_elements` at the `FULL` size (60 wave periods of
 4. eq. 7's similarity: the tethered element (ρ = 0.2) at Froude scale 4 and in
    arbitrary units, with α doubled, and with St ten times smaller at the same α, ξ, ρ.
 
-    python benchmarks/growing_elements_reproduction.py            # about 4 min on 2 cores
-    python benchmarks/growing_elements_reproduction.py --report   # reprint the last record
+    python -m validation.growing_elements_reproduction            # about 4 min on 2 cores
+    python -m validation.growing_elements_reproduction --report   # reprint the last record
 
-Results are appended to benchmarks/results/growing_elements_reproduction.json; figures go to
-benchmarks/results/growing_elements_reproduction_*.png. Each study's time includes its compile.
+Results are appended to validation/results/growing_elements_reproduction.json; figures go to
+validation/results/growing_elements_reproduction_*.png. Each study's time includes its compile.
 """
 
 import argparse
 import json
-import sys
 import time
 from pathlib import Path
 
@@ -36,10 +35,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-# The paper studies live in the repository's `studies/` folder, not in the package.
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from _results import append_session  # noqa: E402
-
+from benchmarks._results import append_session  # noqa: E402
 from jaxcable.examples._growing_element import SPECIFIC_DRAG  # noqa: E402
 from studies import growing_elements as s1  # noqa: E402
 

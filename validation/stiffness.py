@@ -20,10 +20,10 @@ Irvine's elastic catenary and MoorPy, on the same lines.
 MoorPy is no dependency of jaxcable, not even for its tests: install it apart,
 
     python -m venv /tmp/moorpy && /tmp/moorpy/bin/pip install moorpy
-    OPENBLAS_NUM_THREADS=1 python benchmarks/stiffness.py --moorpy /tmp/moorpy/bin/python
-    OPENBLAS_NUM_THREADS=1 python benchmarks/stiffness.py --no-convergence --touchdown
+    OPENBLAS_NUM_THREADS=1 python -m validation.stiffness --moorpy /tmp/moorpy/bin/python
+    OPENBLAS_NUM_THREADS=1 python -m validation.stiffness --no-convergence --touchdown
 
-Results go to `benchmarks/results/stiffness.json`.
+Results go to `validation/results/stiffness.json`.
 """
 
 import argparse
@@ -36,7 +36,7 @@ import timeit
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-RESULTS = ROOT / "benchmarks" / "results" / "stiffness.json"
+RESULTS = Path(__file__).resolve().parent / "results" / "stiffness.json"
 
 LINE = {"mass_per_length": 80.0, "diameter": 0.1, "axial_stiffness": 5e8}
 WATER = {"density": 1025.0, "gravity": 9.81}
@@ -113,8 +113,9 @@ def convergence(repeats: int) -> list[dict]:
     import jaxcable as jc
 
     sys.path.insert(0, str(ROOT / "tests"))
-    from _timing import timed  # pyright: ignore[reportMissingImports]
     from helpers import Irvine  # pyright: ignore[reportMissingImports]
+
+    from benchmarks._timing import timed  # pyright: ignore[reportMissingImports]
 
     case = CASES["suspended"]
     ((fairlead, anchor, length),) = case["lines"]
@@ -147,9 +148,9 @@ def convergence(repeats: int) -> list[dict]:
 def jaxcable_side(repeats: int) -> dict:
     """jaxcable's stiffness of each case at each of `SIDE_BY_SIDE`'s segment counts."""
     import numpy as np
-    from _timing import timed  # pyright: ignore[reportMissingImports]
 
     import jaxcable as jc
+    from benchmarks._timing import timed  # pyright: ignore[reportMissingImports]
 
     out = {}
     for name, case in CASES.items():
@@ -345,7 +346,6 @@ def main():
     import jax
 
     jax.config.update("jax_enable_x64", True)
-    sys.path.insert(0, str(Path(__file__).parent))
     results: dict = {"load_average_before": os.getloadavg()[0]}
     if not args.no_convergence:
         results["convergence"] = convergence(args.repeats)
@@ -363,7 +363,7 @@ def main():
         results["differences"] = compare(results["jaxcable"], results["moorpy"])
         print(json.dumps(results["differences"], indent=1))
     results["load_average_after"] = os.getloadavg()[0]
-    from _results import append_session
+    from benchmarks._results import append_session
 
     append_session(RESULTS, label=args.label, **results)
 

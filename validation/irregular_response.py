@@ -11,27 +11,24 @@ the short-term (Rayleigh) MPM against Rice's σ √(2 ln ν₀ D), and the buoy'
 heave and sway. Wall times include
 compilation; the machine's load average is recorded with them.
 
-    python benchmarks/irregular_response.py [--heights 0.5 2.0] [--seeds 8]
+    python -m validation.irregular_response [--heights 0.5 2.0] [--seeds 8]
 
-Results are appended to benchmarks/results/irregular_response.json.
+Results are appended to validation/results/irregular_response.json.
 """
 
 import argparse
 import os
-import sys
 import time
 from pathlib import Path
 
 import jax
 import numpy as np
-from _results import append_session
 
 import jaxcable as jc
+from benchmarks._results import append_session
 
 jax.config.update("jax_enable_x64", True)  # jaxcable computes in float64 and leaves the switch to us
 
-# The studies live in the repository's `studies/` folder, not in the package.
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from studies import linear_buoy as lb  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results" / "irregular_response.json"

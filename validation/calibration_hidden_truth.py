@@ -13,7 +13,7 @@ discretisation check say about them.
 Prints each coefficient's error, reported 1σ and its widening, each series' residual
 check, the discretisation check and the times (records, fit, check), compile included.
 
-    JAX_ENABLE_X64=1 python benchmarks/calibration_hidden_truth.py horizontal --noise 0.02 --refit
+    JAX_ENABLE_X64=1 python -m validation.calibration_hidden_truth horizontal --noise 0.02 --refit
 """
 
 import argparse

@@ -17,13 +17,13 @@ the paper's Airy wave acting on the line and moving its top, read over t = 30–
 4. Convergence of the peaks: output rate (200 Hz to 4 kHz), tolerance (rtol = 1e-7,
    1e-8, 1e-9) and segments (N = 10, 20, 40).
 
-    python benchmarks/anchored_line_reproduction.py --cache /tmp/anchored_line   # everything (~1.5 h on 2 loaded cores)
-    python benchmarks/anchored_line_reproduction.py --report     # reprint the last record
-    python benchmarks/anchored_line_reproduction.py --small --out /tmp/s.json   # a dry run in minutes
-    python benchmarks/anchored_line_reproduction.py --notebook   # run the notebook in full instead
+    python -m validation.anchored_line_reproduction --cache /tmp/anchored_line   # everything (~1.5 h on 2 loaded cores)
+    python -m validation.anchored_line_reproduction --report     # reprint the last record
+    python -m validation.anchored_line_reproduction --small --out /tmp/s.json   # a dry run in minutes
+    python -m validation.anchored_line_reproduction --notebook   # run the notebook in full instead
 
-Results are appended to benchmarks/results/anchored_line_reproduction.json; figures go to
-benchmarks/results/anchored_line_reproduction_*.png.
+Results are appended to validation/results/anchored_line_reproduction.json; figures go to
+validation/results/anchored_line_reproduction_*.png.
 """
 
 import argparse
@@ -31,7 +31,6 @@ import json
 import os
 import pickle
 import platform
-import sys
 import time
 from pathlib import Path
 
@@ -43,8 +42,6 @@ import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-# The paper studies live in the repository's `studies/` folder, not in the package.
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 import jaxcable as jc  # noqa: E402
 from studies.anchored_line import (  # noqa: E402
     ANGLES,
