@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from ._names import AUTO, DROPPED_KINDS, INTERPOLATIONS, SMALLEST_RTOL, SOLVER_NAMES
+from ._names import AUTO, DROPPED_KINDS, INTERPOLATIONS, LARGEST_RTOL, SMALLEST_RTOL, SOLVER_NAMES
 from .examples import record_names, record_path, scene_names, scene_path, scene_title
 
 if TYPE_CHECKING:
@@ -97,6 +97,7 @@ def main(argv: list[str] | None = None) -> int:
     # or missing scene file or motion table.
     try:
         _check_numbers(args)
+        _check_no_overwrite(args)
         given = _read_input(args) if args.command in ("run", "info") else None
     except SceneError as error:
         print(f"jaxcable: error: {error}", file=sys.stderr)
@@ -412,6 +413,39 @@ def _check_numbers(args) -> None:
             f"--rtol must be at least {SMALLEST_RTOL:g}, below which float64 rounding (ε = 2.2e-16) exceeds the "
             f"error the step controller allows and the step shrinks without end, got {rtol:g}"
         )
+    if rtol is not None and rtol > LARGEST_RTOL:
+        raise SceneError(
+            f"--rtol must be at most {LARGEST_RTOL:g}: a looser step's error is as large as the solution, got {rtol:g}"
+        )
+
+
+def _check_no_overwrite(args) -> None:
+    """Refuse an output (`--out`, `--plot`) that is one of the command's inputs (the
+    scene or MoorDyn file, `--motion`'s table, a towing record) or the other output:
+    a run would overwrite what the user gave it."""
+    from .io import SceneError
+
+    given = []
+    if getattr(args, "input", None) is not None:
+        given.append(("the input file", Path(args.input)))
+    if getattr(args, "motion", None) is not None:
+        given.append(("--motion", Path(args.motion)))
+    given += [("a towing record", Path(record)) for record in getattr(args, "records", None) or ()]
+    written = [
+        (flag, Path(path)) for flag in ("--out", "--plot") if (path := getattr(args, flag[2:], None)) is not None
+    ]
+    for k, (flag, path) in enumerate(written):
+        for what, other in given + written[:k]:
+            if _same_file(path, other):
+                raise SceneError(f"{flag} {path} is {what} ({other}): the run would overwrite it; write elsewhere")
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """Whether paths `a` and `b` name one file (the same link target, or the same path
+    where neither exists yet)."""
+    if a.exists() and b.exists():
+        return os.path.samefile(a, b)
+    return a.resolve() == b.resolve()
 
 
 def _check_output_files(args) -> None:

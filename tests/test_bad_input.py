@@ -155,6 +155,16 @@ CLI_CASES = [
     (["run", "anchored_line", "--adaptive", "--rtol", "1e-300"], r"--rtol must be at least 1e-13, .* got 1e-300$"),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--rtol", "1e-300"], r"--rtol must be at least 1e-13"),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--atol", "nan"], r"--atol must be a positive number, got nan"),
+    # A tolerance so loose that the steps' error is the solution's size.
+    (["run", "anchored_line", "--adaptive", "--rtol", "5"], r"--rtol must be at most 0.1: .* got 5$"),
+    # An output onto an input or onto the other output: the run would overwrite it.
+    (
+        ["run", "line.txt", "--out", "line.txt"],
+        r"--out line.txt is the input file \(line.txt\): the run would overwrite",
+    ),
+    (["run", "anchored_line", "--motion", "t.csv", "--out", "t.csv"], r"--out t.csv is --motion \(t.csv\)"),
+    (["run", "anchored_line", "--out", "x.png", "--plot", "x.png"], r"--plot x.png is --out \(x.png\)"),
+    (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--out", "r.csv"], r"--out r.csv is a towing record"),
 ]
 
 
@@ -543,6 +553,7 @@ API_CASES = {
         r"constrained node 0 is at z = -60 m, below the seabed at z = -30 m \(Environment.depth = 30 m\)",
     ),
     "rtol below rounding": (lambda: jc.SolverConfig(rtol=1e-300), r"SolverConfig.rtol must be at least 1e-13"),
+    "rtol above a tenth": (lambda: jc.SolverConfig(rtol=5.0), r"SolverConfig.rtol must be at most 0.1"),
     "line with both ends at one point": (
         lambda: jc.solve_statics(*line_between([0.0, 0.0, -30.0], [0.0, 0.0, -30.0], 43.0)),
         r"segment 0 joins nodes 0 and 2, which start at the same point \[0.0, 0.0, -30.0\] m",

@@ -317,13 +317,32 @@ def test_point_channels_name_the_points_state_and_net_force(hanging_run):
 
 
 def test_channel_spellings_moordyn_accepts(tmp_path):
-    """MoorDyn reads `P`/`Point` and `L`/`Line` in any case; not `Con`, which v2 no
-    longer accepts; and it refuses a point that does not exist."""
+    """MoorDyn-C's and MoorDyn-F's spellings, in any case: `P`/`Point` and OpenFAST's
+    `Con`/`C`/`Connect` for points, `L`/`Line` with `N<i>`, `NA` or `NB` for nodes, `T`
+    or `Ten`; a name jaxcable does not write is an `UnknownChannel`, and a point that
+    does not exist is refused, as MoorDyn refuses it."""
     scene = jc.read_moordyn(_write(tmp_path, HANGING.format(title="names")))
     parse = _channels.parse_channel
-    for name in ("Point2PZ", "point2pz", "P2PZ", "p2fz", "Line1N3VX", "l1n20t"):
-        assert parse(name, scene)[0] in ("Point2PZ", "Point2FZ", "L1N3VX", "L1N20T")
-    for name, message in (("Con2PZ", "unknown output channel"), ("Point6PZ", "point 6 does not exist")):
+    spellings = {
+        "Point2PZ": "Point2PZ",
+        "point2pz": "Point2PZ",
+        "P2PZ": "Point2PZ",
+        "p2fz": "Point2FZ",
+        "Con4Fx": "Point4FX",
+        "CON1FX": "Point1FX",
+        "C2pz": "Point2PZ",
+        "Connect2vx": "Point2VX",
+        "Line1N3VX": "L1N3VX",
+        "l1n20t": "L1N20T",
+        "L1N3Ten": "L1N3T",
+        "Line1NBPZ": "L1N20PZ",
+        "LINE3NAPZ": "L3N0PZ",
+    }
+    assert {name: parse(name, scene)[0] for name in spellings} == spellings
+    for name in ("Con2AX", "Rod1PX", "Body1PX", "L1N3TA", "Nope", "L1PX", "FairTen1X"):
+        with pytest.raises(_channels.UnknownChannel, match="unknown output channel"):
+            parse(name, scene)
+    for name, message in (("Point6PZ", "point 6 does not exist"), ("Line1N21PZ", "line 1 has nodes 0 to 20")):
         with pytest.raises(jc.io.SceneError, match=message):
             parse(name, scene)
     units = _channels.channel_units
@@ -331,6 +350,26 @@ def test_channel_spellings_moordyn_accepts(tmp_path):
     describe = _channels.describe_channel
     assert describe("FairTen1", scene) == "line 1 fairlead tension (end B, at point 2)"
     assert describe("p2fz", scene) == "point 2 net force z"
+
+
+def test_a_file_from_openfast_runs_its_channels_and_skips_the_others(tmp_path):
+    """An OUTPUTS section written for OpenFAST's MoorDyn (`Con4Fx`, `Line1NBPZ`) runs
+    and writes those channels; what jaxcable does not write (an acceleration, a rod) is
+    skipped with one note naming it, not the whole file refused; a line that does not
+    exist is refused, naming the channel."""
+    text = HANGING.format(title="openfast").replace(
+        "FairTen1 AnchTen1 Point2FX Point2FZ Point1PX", "FairTen1 Con4Fx Line1NBPZ CON2AX Rod1PX"
+    )
+    scene = jc.read_moordyn(_write(tmp_path, text))
+    assert scene.channels == ("FairTen1", "Con4Fx", "Line1NBPZ")
+    (note,) = [note for note in scene.notes if "OUTPUTS" in note]
+    assert "CON2AX, Rod1PX skipped" in note
+    run = jc.run_scene(scene, duration=0.01, dt_out=0.005)
+    values = run.channels()
+    assert list(values) == ["Time", "FairTen1", "Point4FX", "L1N20PZ"]
+    np.testing.assert_array_equal(values["L1N20PZ"], 0.0)  # the vessel's point, held at z = 0
+    with pytest.raises(jc.io.SceneError, match="FairTen9.*line 9 does not exist"):
+        jc.read_moordyn(_write(tmp_path, text.replace("FairTen1 Con4Fx", "FairTen9 Con4Fx")))
 
 
 def test_statics_switch_in_files(tmp_path):

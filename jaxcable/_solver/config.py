@@ -16,6 +16,7 @@ import optimistix as optx
 from jaxtyping import Array, ArrayLike, Float
 
 from .. import _checks as checks
+from .._names import LARGEST_RTOL as LARGEST_RTOL
 from .._names import SMALLEST_RTOL as SMALLEST_RTOL
 from .picard import PicardTrapezoid
 from .rk4 import RK4
@@ -95,7 +96,8 @@ class SolverConfig(eqx.Module):
 
     `ValueError` naming the field and the value for a solver, controller or adjoint
     that is not diffrax's, a non-positive or non-finite `rtol`, `atol` or `dt0`, an
-    `rtol` below `SMALLEST_RTOL` (1e-13, which float64 cannot meet), a
+    `rtol` below `SMALLEST_RTOL` (1e-13, which float64 cannot meet) or above
+    `LARGEST_RTOL` (0.1, a tenth of the state per step), a
     `max_steps` that is not a positive integer, or tolerances given together with a
     `stepsize_controller`.
     """
@@ -129,7 +131,13 @@ class SolverConfig(eqx.Module):
                         rtol,
                         f"must be at least {SMALLEST_RTOL:g}, below which float64 rounding (ε = 2.2e-16) "
                         "exceeds the error the controller allows and the step shrinks without end",
-                    )
+                    ),
+                    checks.Condition(
+                        "SolverConfig.rtol",
+                        checks.on_host(rtol) > LARGEST_RTOL,
+                        rtol,
+                        f"must be at most {LARGEST_RTOL:g}: a looser step's error is as large as the solution",
+                    ),
                 ]
             )
             self.stepsize_controller = diffrax.PIDController(

@@ -7,11 +7,12 @@ Channels (names are case-insensitive on input, written as below):
 - `FairTen<k>`, `AnchTen<k>` (N): the tension in the segment at end B and at end A of
     line k, as MoorDyn defines them (the end segment's tension, damping included).
 - `L<k>N<i>PX`, `PY`, `PZ` (m), `VX`, `VY`, `VZ` (m/s): the position and velocity of
-    node i of line k, i = 0 at end A (MoorDyn's `Line<k>N<i>...` too).
-- `L<k>N<i>T` (N): the tension at node i, the mean of the adjacent segments' (the end
-    segment's at an end), as MoorDyn's.
-- `P<k>PX`, ... `P<k>VZ` (MoorDyn's `Point<k>PX`, ...): the position (m) and velocity
-    (m/s) of point k.
+    node i of line k, i = 0 at end A; MoorDyn's spellings `Line<k>N<i>...`,
+    `L<k>NA...` (node 0) and `L<k>NB...` (the last node) too.
+- `L<k>N<i>T` (or `TEN`, N): the tension at node i, the mean of the adjacent segments'
+    (the end segment's at an end), as MoorDyn's.
+- `P<k>PX`, ... `P<k>VZ` (MoorDyn's `Point<k>PX`, and MoorDyn-F's and v1's `Con<k>`,
+    `C<k>` and `Connect<k>`): the position (m) and velocity (m/s) of point k.
 - `P<k>FX`, `FY`, `FZ` (N): the net force on point k as MoorDyn's `Point::doRHS` sums
     it: every force on the point and the line ends on it (tensions, weight and
     buoyancy, drag, seabed contact, a body's constant force) but not the inertial
@@ -19,6 +20,11 @@ Channels (names are case-insensitive on input, written as below):
     the negative of the support's reaction on a fixed one. `P<k>T` is its magnitude.
     (MoorDyn computes this force only for free and coupled points; it writes zeros
     for a fixed one.)
+
+Names are split as MoorDyn splits them (letters, number, letters, number, the rest).
+A name MoorDyn reads but jaxcable does not write (accelerations, rods, bodies, `TA`/`TB`,
+`SUB`) or does not know is an [`UnknownChannel`][]: a MoorDyn file's `OUTPUTS` skips it
+with a note, as MoorDyn skips a name it cannot read; `--channels` refuses it.
 
 A run ([`jaxcable.io.SceneRun`][]) reads its channels from here, and the writers in
 `_output` write them: neither imports the other.
@@ -31,10 +37,20 @@ import numpy as np
 
 from ._scene import BuiltScene, Scene, SceneError
 
-_END_TENSION = re.compile(r"(?i)(fairten|anchten)(\d+)")
-_NODE = re.compile(r"(?i)l(?:ine)?(\d+)n(\d+)(px|py|pz|vx|vy|vz|t)")
-_POINT = re.compile(r"(?i)p(?:oint)?(\d+)(px|py|pz|vx|vy|vz|fx|fy|fz|t)")
-_UNITS = {"P": "m", "V": "m/s", "F": "N", "T": "N"}
+# MoorDyn's split of a channel name (`str::decomposeString`): letters, a number, letters,
+# a number, and whatever follows.
+_PARTS = re.compile(r"([A-Z]+)(\d+)([A-Z]*)(\d*)(.*)")
+_LINES = ("L", "LINE")
+_POINTS = ("P", "POINT", "C", "CON", "CONNECT")
+# The quantities jaxcable writes, by MoorDyn's name, and their units.
+_QUANTITIES = {"PX": "m", "PY": "m", "PZ": "m", "VX": "m/s", "VY": "m/s", "VZ": "m/s", "T": "N", "TEN": "N"}
+_POINT_ONLY = {"FX": "N", "FY": "N", "FZ": "N"}
+
+
+class UnknownChannel(SceneError):
+    """An output channel that jaxcable does not write: a name MoorDyn reads for what
+    jaxcable does not model (an acceleration, a rod, a body, `TA`, `SUB`), or no name
+    MoorDyn reads at all."""
 
 
 def default_channels(scene: "Scene") -> tuple[str, ...]:
@@ -58,8 +74,9 @@ def channel_units(name: str) -> str:
     """The unit of channel `name`: `s`, `N`, `m` or `m/s`."""
     if name == "Time":
         return "s"
-    match = _NODE.fullmatch(name) or _POINT.fullmatch(name)
-    return _UNITS[match.group(match.lastindex or 0)[0].upper()] if match else "N"
+    parts = _PARTS.fullmatch(name.upper())
+    quantity = (parts.group(5) or parts.group(3)) if parts else ""
+    return {**_QUANTITIES, **_POINT_ONLY}.get(quantity, "N")
 
 
 def describe_channel(name: str, scene: "Scene") -> str:
@@ -88,28 +105,47 @@ def parse_channel(name: str, scene: "Scene") -> tuple[str, str, int, int]:
 
     **Raises:**
 
-    [`jaxcable.io.SceneError`][] naming a channel that is unknown or refers to a line,
-    node or point that does not exist.
+    [`UnknownChannel`][] (a [`jaxcable.io.SceneError`][]) for a name jaxcable does not
+    write, and `SceneError` naming a channel that refers to a line, node or point that
+    does not exist (MoorDyn refuses those too).
     """
-    count = len(scene.lines)
-    if match := _END_TENSION.fullmatch(name):
-        kind = "FairTen" if match.group(1).lower() == "fairten" else "AnchTen"
-        k = _index(name, "line", int(match.group(2)), count)
-        return f"{kind}{k + 1}", kind, k, -1
-    if match := _NODE.fullmatch(name):
-        k = _index(name, "line", int(match.group(1)), count)
-        i, quantity = int(match.group(2)), match.group(3).upper()
+    parts = _PARTS.fullmatch(name.upper())
+    if parts is None:
+        raise _unknown(name)
+    kind, number, letters, node, rest = parts.groups()
+    if kind in ("FAIRTEN", "ANCHTEN") and not (letters or node or rest):
+        label = "FairTen" if kind == "FAIRTEN" else "AnchTen"
+        k = _index(name, "line", int(number), len(scene.lines))
+        return f"{label}{k + 1}", label, k, -1
+    if kind in _LINES:
+        k = _index(name, "line", int(number), len(scene.lines))
         last = scene.lines[k].segments
-        if i > last:
-            raise SceneError(f"output channel {name!r}: line {k + 1} has nodes 0 to {last}")
+        if node:  # L<k>N<i><quantity>
+            i, quantity = int(node), rest
+            if i > last:
+                raise SceneError(f"output channel {name!r}: line {k + 1} has nodes 0 to {last}")
+        elif letters[:2] in ("NA", "NB"):  # L<k>NA<quantity>, L<k>NB<quantity>
+            i, quantity = (0 if letters[:2] == "NA" else last), letters[2:]
+        else:
+            raise _unknown(name)
+        if quantity not in _QUANTITIES:
+            raise _unknown(name)
+        quantity = "T" if quantity == "TEN" else quantity
         return f"L{k + 1}N{i}{quantity}", quantity, k, i
-    if match := _POINT.fullmatch(name):
-        k = _index(name, "point", int(match.group(1)), len(scene.points))
-        quantity = match.group(2).upper()
+    if kind in _POINTS and not node:
+        quantity = "T" if letters == "TEN" else letters
+        if quantity not in _QUANTITIES and quantity not in _POINT_ONLY:
+            raise _unknown(name)
+        k = _index(name, "point", int(number), len(scene.points))
         return f"Point{k + 1}{quantity}", quantity, k, -1
-    raise SceneError(
+    raise _unknown(name)
+
+
+def _unknown(name: str) -> UnknownChannel:
+    return UnknownChannel(
         f"unknown output channel {name!r}; jaxcable writes FairTen<k>, AnchTen<k>, L<k>N<i>PX / PY / PZ / VX / VY / "
-        "VZ / T, and Point<k>PX / PY / PZ / VX / VY / VZ / FX / FY / FZ / T"
+        "VZ / T (Line<k>, NA and NB too), and Point<k>PX / PY / PZ / VX / VY / VZ / FX / FY / FZ / T (P<k>, Con<k>, "
+        "C<k> too)"
     )
 
 

@@ -39,6 +39,7 @@ JAX, and the points' bodies are made when the scene is finished
 """
 
 import contextlib
+import dataclasses
 import functools
 import math
 import re
@@ -47,6 +48,7 @@ from pathlib import Path
 
 from .._names import DROPPED_KINDS as DROPPED_KINDS
 from . import _moordyn_water as moordyn_water
+from ._channels import UnknownChannel, parse_channel
 from ._parse import is_number, read_text, unique_names
 from ._scene import (
     EnginePart,
@@ -230,10 +232,8 @@ def parse_moordyn(path: str | Path) -> ParsedScene:
         **_stepping(options, notes),
     )
     notes = [note for _, note in dropped] + notes
-    scene = Scene(
-        points, line_types, mdlines, water, run, channels, tuple(notes), source, _title(lines), tuple(dropped)
-    )
-    return ParsedScene(scene, bodies)
+    scene = Scene(points, line_types, mdlines, water, run, (), tuple(notes), source, _title(lines), tuple(dropped))
+    return ParsedScene(_with_outputs(scene, channels), bodies)
 
 
 def _find_sections(lines: list[str]) -> dict[str, int]:
@@ -573,6 +573,28 @@ def _seabed(source, options, points, notes, dropped) -> tuple[float | None, Seab
     # `_options` checked the values as the engine's Seabed does; it is made with the scene.
     seabed = SeabedSpec(stiffness, damping, friction, SeabedSpec().friction_speed, where, friction_damping=fricdamp)
     return depth, seabed
+
+
+def _with_outputs(scene: Scene, names: tuple[str, ...]) -> Scene:
+    """`scene` with the channels of its `OUTPUTS` that jaxcable writes; each other name
+    skipped with one note, as MoorDyn skips a name it cannot read (an OpenFAST file's
+    `Con4Fx` and `Line1NBPZ` are read). A channel naming a line, node or point that does
+    not exist is refused, as MoorDyn refuses it."""
+    kept, skipped = [], []
+    for name in names:
+        try:
+            parse_channel(name, scene)
+        except UnknownChannel:
+            skipped.append(name)
+        else:
+            kept.append(name)
+    notes = scene.notes
+    if skipped:
+        notes += (
+            f"{scene.source}: OUTPUTS {', '.join(skipped)} skipped: jaxcable does not write "
+            f"{'it' if len(skipped) == 1 else 'them'} (accelerations, rods, bodies and TA/TB/SUB are not modelled)",
+        )
+    return dataclasses.replace(scene, channels=tuple(kept), notes=notes)
 
 
 def _outputs(lines: list[str], sections: dict[str, int]):
