@@ -600,6 +600,13 @@ class CableNetwork(eqx.Module):
             raise ValueError(f"junctions must have shape (junctions, 3), got {junctions.shape}")
         if not branches:
             raise ValueError("branches must not be empty")
+        for field, keyed in (("constraints", constraints), ("bodies", bodies or {})):
+            for key in keyed:
+                if not (isinstance(key, (int, np.integer)) and 0 <= key < junctions.shape[0]):
+                    raise ValueError(
+                        f"CableNetwork.from_branches {field}: key {key!r} is not a junction; they are indexed by "
+                        f"junction, 0 to {junctions.shape[0] - 1} here (interior nodes are numbered after them)"
+                    )
         # Lengths and junctions are data, not topology: traced (under `jax.grad` of a
         # function that builds the model, say), they are kept in JAX, and each branch's
         # nodes start on its chord, since the catenary guess is solved in numpy. Statics
