@@ -202,6 +202,9 @@ def _parser() -> argparse.ArgumentParser:
         help="between the motion table's rows: natural cubic spline (default; may overshoot a step), "
         "pchip (monotone) or linear",
     )
+    run.add_argument(
+        "--ramp", type=float, help="switch --motion's table on smoothly over this time (s), from rest at t = 0"
+    )
     run.add_argument("--out", type=Path, help="output file: .csv, .out (MoorDyn layout), .npz or .nc")
     run.add_argument("--dt-out", type=float, help="output interval (s); default: the file's dtOut, or 0.1 s")
     run.add_argument("--plot", type=Path, help="save tension histories and line shapes to this image")
@@ -336,6 +339,8 @@ def _read_input(args) -> _Input:
         return _Input(parsed, None, duration, scene.run)
     _refuse_dropped(scene, _allowed(args))
     motion = None
+    if args.ramp is not None and args.motion is None:
+        raise SceneError("--ramp switches a --motion table on smoothly: give the table with --motion")
     if args.motion is not None:
         from .io import read_motion_file
 
@@ -394,7 +399,11 @@ def _check_numbers(args) -> None:
     imported)."""
     from .io import SceneError
 
-    for flag, value, allow_zero in (("--duration", "duration", True), ("--dt-out", "dt_out", False)):
+    for flag, value, allow_zero in (
+        ("--duration", "duration", True),
+        ("--dt-out", "dt_out", False),
+        ("--ramp", "ramp", True),
+    ):
         number = getattr(args, value, None)
         if number is not None and not (np.isfinite(number) and (number >= 0 if allow_zero else number > 0)):
             kind = "non-negative" if allow_zero else "positive"
@@ -475,9 +484,13 @@ def _run(args, given: _Input) -> int:
         times, positions = given.motion
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", UserWarning)
-            scene = scene.with_motion_table(times, positions, f"--motion {args.motion}", args.motion_interpolation)
-        for warning in caught:  # a spline that overshoots the table
-            print(f"warning: --motion {args.motion}: {warning.message}", file=sys.stderr)
+            scene = scene.with_motion_table(
+                times, positions, f"--motion {args.motion}", args.motion_interpolation, args.ramp or 0.0
+            )
+        for warning in caught:  # a spline that overshoots the table, a table that starts moving
+            message = str(warning.message)
+            prefix = f"--motion {args.motion}"
+            print(f"warning: {message if message.startswith(prefix) else f'{prefix}: {message}'}", file=sys.stderr)
     for note in scene.notes:
         print(f"note: {note}", file=sys.stderr)
     held = [scene.points[k].name for k in scene.coupled_points if scene.points[k].motion is None]
@@ -500,7 +513,9 @@ def _run(args, given: _Input) -> int:
         statics=settings.statics,
     )
     static = run.static
-    start = run.tension[0]
+    # The equilibrium's own tensions: the first output's would carry the damping of a
+    # table that starts moving at t = 0.
+    start = np.asarray(run.tension[0] if static is None else static.tension)
     if static is None:
         source = "--no-statics" if args.no_statics else "the file's TmaxIC = 0"
         print(f"statics skipped ({source}): the run starts from the file's geometry at rest; ", end="")

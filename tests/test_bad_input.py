@@ -155,6 +155,9 @@ CLI_CASES = [
     (["run", "anchored_line", "--adaptive", "--rtol", "1e-300"], r"--rtol must be at least 1e-13, .* got 1e-300$"),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--rtol", "1e-300"], r"--rtol must be at least 1e-13"),
     (["calibrate", "r.csv", "--fit", "normal_drag=1.2", "--atol", "nan"], r"--atol must be a positive number, got nan"),
+    # A ramp: a non-negative time, and only for a motion table.
+    (["run", "anchored_line", "--ramp", "-1"], r"--ramp must be a non-negative number of seconds, got -1$"),
+    (["run", "anchored_line", "--ramp", "5"], r"--ramp switches a --motion table on smoothly: give the table"),
     # A tolerance so loose that the steps' error is the solution's size.
     (["run", "anchored_line", "--adaptive", "--rtol", "5"], r"--rtol must be at most 0.1: .* got 5$"),
     # An output onto an input or onto the other output: the run would overwrite it.
@@ -312,9 +315,30 @@ def test_motion_table_that_makes_the_spline_overshoot_is_warned_of(cli):
         ["run", "anchored_line", "--motion", "step.txt", "--channels", "Nope"], {"step.txt": STEP_TABLE}
     )
     assert status == 2 and "unknown output channel 'Nope'" in error_line(err)
-    (warning,) = [line for line in err.splitlines() if line.startswith("warning:")]
+    (warning,) = [line for line in err.splitlines() if line.startswith("warning:") and "strays" in line]
     assert re.search(r"warning: --motion step.txt: .*strays from .* m in x between t = 1 and 2 s", warning)
     assert "interpolation='pchip'" in warning
+
+
+MOVING_TABLE = "time x y z\n" + "".join(
+    f"{t:g} {346.4101615137755 + 2.0 * np.sin(2 * np.pi * t / 5.6):.9g} 0 0\n" for t in np.arange(0.0, 10.01, 0.1)
+)
+
+
+@pytest.mark.parametrize("ramp", [None, "3"])
+def test_motion_table_that_starts_moving_is_warned_of_unless_ramped(cli, ramp):
+    """A table that starts at 2.2 m/s would jolt the line at t = 0: a warning says so
+    and offers --ramp; with --ramp there is none."""
+    args = ["run", "anchored_line", "--motion", "moving.txt", "--channels", "Nope"]
+    status, _, err = cli(args + (["--ramp", ramp] if ramp else []), {"moving.txt": MOVING_TABLE})
+    assert status == 2 and "unknown output channel 'Nope'" in error_line(err)
+    warned = [line for line in err.splitlines() if "starts moving" in line]
+    if ramp:
+        assert warned == []
+    else:
+        (line,) = warned
+        assert re.search(r"^warning: --motion moving.txt, point float: the table starts moving at 2.2\d m/s", line)
+        assert "--ramp S" in line
 
 
 @pytest.mark.parametrize("interpolation", ["pchip", "linear"])
@@ -571,6 +595,7 @@ API_CASES = {
     ),
     "rtol below rounding": (lambda: jc.SolverConfig(rtol=1e-300), r"SolverConfig.rtol must be at least 1e-13"),
     "rtol above a tenth": (lambda: jc.SolverConfig(rtol=5.0), r"SolverConfig.rtol must be at most 0.1"),
+    "negative ramp of a table": (lambda: jc.Sampled([0.0, 1.0], np.zeros((2, 3)), ramp=-1.0), r"Sampled.ramp must be"),
     "line with both ends at one point": (
         lambda: jc.solve_statics(*line_between([0.0, 0.0, -30.0], [0.0, 0.0, -30.0], 43.0)),
         r"segment 0 joins nodes 0 and 2, which start at the same point \[0.0, 0.0, -30.0\] m",

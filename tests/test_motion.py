@@ -180,20 +180,38 @@ def test_linear_is_straight_between_samples():
         np.testing.assert_allclose((r, v, a), (position, speed, 0.0), atol=1e-12)
 
 
+@pytest.mark.parametrize("ramp", [0.0, 2.5])
 @pytest.mark.parametrize("interpolation", ["cubic", "pchip", "linear"])
-def test_sampled_closed_form_kinematics_equal_forward_mode_derivatives(interpolation):
-    # `Sampled.kinematics` writes the pieces' derivatives out; the generic path takes
-    # them by forward-mode differentiation of the displacement. At random times, at
-    # every sample, and outside the table (held: zero velocity and acceleration).
+def test_sampled_closed_form_kinematics_equal_forward_mode_derivatives(interpolation, ramp):
+    # `Sampled.kinematics` writes the pieces' derivatives out (with the ramp's product
+    # rule); the generic path takes them by forward-mode differentiation of the
+    # displacement. At random times, at every sample, and outside the table (held: zero
+    # velocity and acceleration once the ramp is over).
     rng = np.random.default_rng(3)
     ts = np.cumsum(rng.uniform(0.05, 0.3, 40))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the random table's spline overshoots
-        motion = jc.Sampled(ts, rng.normal(size=(40, 3)), interpolation)
+        motion = jc.Sampled(ts, rng.normal(size=(40, 3)), interpolation, ramp=ramp)
     times = np.concatenate([np.linspace(ts[0] - 1, ts[-1] + 1, 301), ts])
     closed = jax.vmap(motion.kinematics)(times)
     generic = jax.vmap(lambda t: AbstractMotion.kinematics(motion, t))(times)
     for c, g in zip(closed, generic):
         np.testing.assert_allclose(c, g, rtol=0, atol=1e-13 * float(np.max(np.abs(g)) + 1))
-    outside = (times < ts[0]) | (times > ts[-1])
+    outside = ((times < ts[0]) | (times > ts[-1])) & (times >= ramp)  # held, the ramp over
     assert np.all(np.asarray(closed[1])[outside] == 0) and np.all(np.asarray(closed[2])[outside] == 0)
+
+
+def test_a_ramp_starts_a_moving_table_from_rest():
+    """With a ramp the support starts where the table's scene put it, at rest and
+    without acceleration, and follows the table once the ramp is over; `start_velocity`
+    is the table's own speed at its first time."""
+    ts = np.linspace(0.0, 20.0, 401)
+    table = np.stack([2.0 * np.sin(2 * np.pi * ts / 5.6), 0 * ts, 0 * ts], axis=1)
+    plain, ramped = (jc.Sampled(ts, table, ramp=ramp) for ramp in (0.0, 5.0))
+    np.testing.assert_allclose(plain.start_velocity(), [2.0 * 2 * np.pi / 5.6, 0, 0], rtol=2e-3)
+    np.testing.assert_array_equal(ramped.start_velocity(), plain.start_velocity())
+    r, v, a = ramped.kinematics(0.0)
+    assert np.all(np.asarray(r) == 0) and np.all(np.asarray(v) == 0) and np.all(np.asarray(a) == 0)
+    for t in (5.0, 7.3, 12.0):
+        for got, want in zip(ramped.kinematics(t), plain.kinematics(t)):
+            np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)

@@ -147,13 +147,18 @@ class Sampled(AbstractMotion):
     - `"linear"`: straight lines between samples; the velocity jumps at each sample
         and the acceleration is zero between them.
 
-    Outside the sampled interval the end values are held.
+    Outside the sampled interval the end values are held. With a `ramp`, the
+    displacement is scaled by the smoothstep of [`jaxcable.Harmonic`][]'s ramp, rising
+    from 0 at t = 0 to 1 at `ramp`: a table that starts moving (a vessel's record taken
+    mid-motion) then starts the support from rest instead of jolting the line.
 
     **Arguments:**
 
     - `times`: sample times (s), shape `(samples,)`, strictly increasing.
     - `displacements`: displacements (m), shape `(samples, 3)`.
     - `interpolation`: `"cubic"`, `"pchip"` or `"linear"`.
+    - `ramp`: the time (s) over which the motion is switched on; 0 (the default) for
+        none.
 
     **Raises:**
 
@@ -165,10 +170,13 @@ class Sampled(AbstractMotion):
     times: Float[Array, " samples"]
     displacements: Float[Array, "samples 3"]
     slopes: Float[Array, "samples 3"]
+    ramp: Float[Array, ""]
     interpolation: str = eqx.field(static=True)
 
-    def __init__(self, times: RealLike, displacements: RealLike, interpolation: str = "cubic"):
+    def __init__(self, times: RealLike, displacements: RealLike, interpolation: str = "cubic", ramp: RealLike = 0.0):
         self.interpolation = checks.option("Sampled.interpolation", interpolation, INTERPOLATIONS)
+        self.ramp = checks.float_array("Sampled.ramp", ramp, ())
+        checks.positive("Sampled.ramp", self.ramp, allow_zero=True)
         times = checks.float_array("Sampled.times", times)
         displacements = checks.float_array("Sampled.displacements", displacements)
         if times.ndim != 1 or times.shape[0] < 2:
@@ -195,10 +203,17 @@ class Sampled(AbstractMotion):
             checks.finite("Sampled.times", self.times),
             checks.increasing("Sampled.times", self.times),
             checks.finite("Sampled.displacements", self.displacements),
+            checks.finite("Sampled.ramp", self.ramp),
+            checks.sign("Sampled.ramp", self.ramp, allow_zero=True),
         ]
 
     def displacement(self, t):
-        return self._interpolate(t, derivatives=False)[0]
+        return ramp_factor(t, self.ramp) * self._interpolate(t, derivatives=False)[0]
+
+    def start_velocity(self) -> np.ndarray:
+        """The velocity (m/s) at which the table starts, at its first time, before any
+        ramp: shape `(3,)`."""
+        return np.asarray(self._interpolate(jnp.asarray(self.times[0], dtype=float), derivatives=True)[1])
 
     def excursion(self, duration=None):
         # Over the whole table, each piece's exact extremes (the end values hold outside
@@ -214,8 +229,15 @@ class Sampled(AbstractMotion):
         # derivatives of `displacement` traced the lookup (a loop) and its
         # polynomial three times over, 25 ms a call, and a Low & Langley run traces the
         # kinematics 11 times. Equal to `AbstractMotion.kinematics` to rounding (tested).
-        r, v, a = self._interpolate(jnp.asarray(t, dtype=float), derivatives=True)
-        return r, v, a
+        t = jnp.asarray(t, dtype=float)
+        r, v, a = self._interpolate(t, derivatives=True)
+
+        # The ramp's product rule, with the smoothstep's own derivatives (scalars).
+        def rate(s):
+            return jax.jvp(lambda u: ramp_factor(u, self.ramp), (s,), (jnp.ones_like(s),))[1]
+
+        f, (df, d2f) = ramp_factor(t, self.ramp), jax.jvp(rate, (t,), (jnp.ones_like(t),))
+        return f * r, df * r + f * v, d2f * r + 2 * df * v + f * a
 
     def _interpolate(self, t, derivatives: bool) -> tuple[Array, ...]:
         """The displacement (m) at time `t` (s) and, if `derivatives`, its velocity (m/s)

@@ -192,9 +192,7 @@ class SceneRun:
             if not self.cache_misses:
                 # Loaded, not compiled; but each was traced first to find it, which is
                 # what the compile time above still counts.
-                cache = (
-                    f"; all {self.cache_hits} programs loaded from the compilation cache, compile time being tracing"
-                )
+                cache = f"; all {self.cache_hits} programs loaded from the compilation cache (compile: tracing)"
         return f"wall time {total:.1f} s: " + ", ".join(parts) + cache
 
 
