@@ -545,22 +545,22 @@ def with_quadratic(c_e1):
 
 
 API_CASES = {
-    "constraint on a junction that does not exist": (
+    "constraint on a node that does not exist": (
         lambda: jc.CableNetwork.from_branches(
             [[0.0, 0.0, -100.0], [100.0, 0.0, 0.0]],
             [jc.Branch(0, 1, jc.LineType(3.0, 0.02, jc.LinearElastic(1e8)), 150.0, 10)],
-            constraints={0: jc.Fixed(), 7: jc.Fixed()},
+            constraints={0: jc.Fixed(), 11: jc.Fixed()},
         ),
-        r"from_branches constraints: key 7 is not a junction; .* 0 to 1 here",
+        r"from_branches constraints: key 11 is not a node; junction k is node k \(0 to 1 here\) .* to 10",
     ),
-    "body on a junction that does not exist": (
+    "body on a node that does not exist": (
         lambda: jc.CableNetwork.from_branches(
             [[0.0, 0.0, -100.0], [100.0, 0.0, 0.0]],
             [jc.Branch(0, 1, jc.LineType(3.0, 0.02, jc.LinearElastic(1e8)), 150.0, 10)],
             constraints={0: jc.Fixed(), 1: jc.Fixed()},
-            bodies={2: jc.Body(mass=10.0)},
+            bodies={-1: jc.Body(mass=10.0)},
         ),
-        r"from_branches bodies: key 2 is not a junction",
+        r"from_branches bodies: key -1 is not a node",
     ),
     "breaking Airy wave (Miche)": (
         lambda: jc.Airy(60.0, 5.6, 100.0),

@@ -593,20 +593,15 @@ class CableNetwork(eqx.Module):
         - `branches`: the edges, as [`jaxcable.Branch`][]. All must use the same class
             of tension law; use [`jaxcable.KelvinVoigt`][] with zero coefficients to mix.
         - `constraints`, `bodies`, `**options`: as for [`jaxcable.CableNetwork`][],
-            indexed by junction.
+            keyed by node: junction k is node k, and the branches' interior nodes
+            follow, branch by branch from its start (a buoyancy module, or a second
+            prescribed node that clamps a line, sits on one of them).
         """
         junctions = checks.float_array("CableNetwork.from_branches junctions", junctions)
         if junctions.ndim != 2 or junctions.shape[1] != 3:
             raise ValueError(f"junctions must have shape (junctions, 3), got {junctions.shape}")
         if not branches:
             raise ValueError("branches must not be empty")
-        for field, keyed in (("constraints", constraints), ("bodies", bodies or {})):
-            for key in keyed:
-                if not (isinstance(key, (int, np.integer)) and 0 <= key < junctions.shape[0]):
-                    raise ValueError(
-                        f"CableNetwork.from_branches {field}: key {key!r} is not a junction; they are indexed by "
-                        f"junction, 0 to {junctions.shape[0] - 1} here (interior nodes are numbered after them)"
-                    )
         # Lengths and junctions are data, not topology: traced (under `jax.grad` of a
         # function that builds the model, say), they are kept in JAX, and each branch's
         # nodes start on its chord, since the catenary guess is solved in numpy. Statics
@@ -635,6 +630,14 @@ class CableNetwork(eqx.Module):
             next_node += n - 1
             edges += list(zip(chain[:-1], chain[1:]))
             lengths.append(xp.full(n, length / n))
+        for field, keyed in (("constraints", constraints), ("bodies", bodies or {})):
+            for key in keyed:
+                if not (isinstance(key, (int, np.integer)) and 0 <= key < next_node):
+                    raise ValueError(
+                        f"CableNetwork.from_branches {field}: key {key!r} is not a node; junction k is node k "
+                        f"(0 to {junctions.shape[0] - 1} here) and the branches' interior nodes follow, to "
+                        f"{next_node - 1}"
+                    )
         line_ends = [*range(junctions.shape[0]), *options.pop("line_ends", ())]
         return cls(
             node_positions=xp.concatenate(positions),
