@@ -415,12 +415,13 @@ def test_moordyn_lying_chain_presses_into_the_bed_as_moordyn_says(tmp_path):
 
 
 def test_moordyn_file_with_nothing_left_out_reads_without_warnings(tmp_path):
-    options = (*OPTIONS, "0.001  dtM", "1.0  dtIC", "0  WaveKin", "1  disableOutTime")
+    options = (*OPTIONS, "0.001  dtM", "1.0  dtIC", "60  TmaxIC", "0.001  threshIC", "0  WaveKin", "1  disableOutTime")
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         scene = jc.read_moordyn(write_moordyn(tmp_path, options=options))
-    # The initial-condition options are noted as not needed, without a warning.
-    assert any("dtIC" in n and "not needed" in n for n in scene.notes)
+    # The initial-condition options are noted as not needed, without a warning, in one note.
+    (note,) = [n for n in scene.notes if "not needed" in n]
+    assert re.search(r"options dtIC = 1.0 \(line \d+\), TmaxIC = 60 \(line \d+\), threshIC = 0.001 \(line", note)
     assert not any("WaveKin" in n or "disableOutTime" in n for n in scene.notes)
 
 

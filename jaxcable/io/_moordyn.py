@@ -412,6 +412,7 @@ def _options(
     by the same name prefixed with `@`); the rest become notes, or `dropped` where they
     ask for physics jaxcable leaves out."""
     options = {}
+    unneeded = {"jaxcable solves statics directly": [], "it sets MoorDyn's wave and current input": []}
     for line, fields in _rows(lines, sections, "OPTIONS"):
         if len(fields) < 2:
             continue
@@ -465,7 +466,7 @@ def _options(
                 options[key] = _number(source, line, name, value)
                 options["@" + key] = where
             else:
-                notes.append(f"{where}: option {name} = {value} not needed (it sets MoorDyn's wave and current input)")
+                unneeded["it sets MoorDyn's wave and current input"].append(f"{name} = {value} (line {line})")
         elif key in _TMAXIC and is_number(value) and float(value) == 0:
             options["tmaxic"] = 0.0
             notes.append(
@@ -473,9 +474,13 @@ def _options(
                 "lines on MoorDyn's initial catenary (or straight), as MoorDyn's does"
             )
         elif key in _NOT_APPLICABLE or key in _TMAXIC:
-            notes.append(f"{where}: option {name} = {value} not needed (jaxcable solves statics directly)")
+            unneeded["jaxcable solves statics directly"].append(f"{name} = {value} (line {line})")
         elif key not in _COSMETIC:
             notes.append(f"{where}: unknown option {name} = {value} ignored")
+    # One note for each reason, however many options it covers.
+    for why, found in unneeded.items():
+        if found:
+            notes.append(f"{source}: option{'s' if len(found) > 1 else ''} {', '.join(found)} not needed ({why})")
     return options
 
 
