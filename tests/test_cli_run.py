@@ -347,6 +347,7 @@ def test_channel_spellings_moordyn_accepts(tmp_path):
             parse(name, scene)
     units = _channels.channel_units
     assert [units(n) for n in ("Point2PZ", "Point2VX", "Point2FZ", "L1N3VZ", "L1N3T")] == ["m", "m/s", "N", "m/s", "N"]
+    assert [units(n) for n in ("Line1NBPZ", "Con2Fx", "C2vx", "L1N3Ten", "FairTen1")] == ["m", "N", "m/s", "N", "N"]
     describe = _channels.describe_channel
     assert describe("FairTen1", scene) == "line 1 fairlead tension (end B, at point 2)"
     assert describe("p2fz", scene) == "point 2 net force z"

@@ -74,9 +74,21 @@ def channel_units(name: str) -> str:
     """The unit of channel `name`: `s`, `N`, `m` or `m/s`."""
     if name == "Time":
         return "s"
+    return {**_QUANTITIES, **_POINT_ONLY}.get(_quantity(name), "N")
+
+
+def _quantity(name: str) -> str:
+    """The quantity part of channel `name` in any of its spellings, upper case (`PX`,
+    `TEN`, ...); empty for the end tensions or a name with none."""
     parts = _PARTS.fullmatch(name.upper())
-    quantity = (parts.group(5) or parts.group(3)) if parts else ""
-    return {**_QUANTITIES, **_POINT_ONLY}.get(quantity, "N")
+    if parts is None:
+        return ""
+    kind, _, letters, node, rest = parts.groups()
+    if node:  # L<k>N<i><quantity>
+        return rest
+    if kind in _LINES and letters[:2] in ("NA", "NB"):  # L<k>NA<quantity>
+        return letters[2:]
+    return letters
 
 
 def describe_channel(name: str, scene: "Scene") -> str:
@@ -117,24 +129,24 @@ def parse_channel(name: str, scene: "Scene") -> tuple[str, str, int, int]:
         label = "FairTen" if kind == "FAIRTEN" else "AnchTen"
         k = _index(name, "line", int(number), len(scene.lines))
         return f"{label}{k + 1}", label, k, -1
+    spelled = _quantity(name)
+    quantity = "T" if spelled == "TEN" else spelled
     if kind in _LINES:
         k = _index(name, "line", int(number), len(scene.lines))
         last = scene.lines[k].segments
         if node:  # L<k>N<i><quantity>
-            i, quantity = int(node), rest
+            i = int(node)
             if i > last:
                 raise SceneError(f"output channel {name!r}: line {k + 1} has nodes 0 to {last}")
         elif letters[:2] in ("NA", "NB"):  # L<k>NA<quantity>, L<k>NB<quantity>
-            i, quantity = (0 if letters[:2] == "NA" else last), letters[2:]
+            i = 0 if letters[:2] == "NA" else last
         else:
             raise _unknown(name)
-        if quantity not in _QUANTITIES:
+        if spelled not in _QUANTITIES:
             raise _unknown(name)
-        quantity = "T" if quantity == "TEN" else quantity
         return f"L{k + 1}N{i}{quantity}", quantity, k, i
     if kind in _POINTS and not node:
-        quantity = "T" if letters == "TEN" else letters
-        if quantity not in _QUANTITIES and quantity not in _POINT_ONLY:
+        if spelled not in _QUANTITIES and spelled not in _POINT_ONLY:
             raise _unknown(name)
         k = _index(name, "point", int(number), len(scene.points))
         return f"Point{k + 1}{quantity}", quantity, k, -1
