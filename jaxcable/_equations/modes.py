@@ -82,10 +82,17 @@ def fastest_eigenvalues(
     return np.concatenate([axial, contact, -friction[friction > 0].astype(complex)])
 
 
-def _axial_modes(model: CableNetwork, env: Environment, stiffness_factor=1.0, damping_factor=1.0):
+def _axial_modes(
+    model: CableNetwork,
+    env: Environment,
+    stiffness_factor: float | np.ndarray = 1.0,
+    damping_factor: float | np.ndarray = 1.0,
+):
     """Each segment's highest axial mode: ω_n (rad/s) and the eigenvalue λ (1/s,
-    complex) of larger magnitude, roots of `m_n λ² + 4 c λ + 4 k = 0`; with the
-    segments' stiffness and damping scaled by the factors given (`_slack_band_modes`)."""
+    complex) of larger magnitude, roots of `m_n λ² + 4 c λ + 4 k = 0`, shape
+    `(segments,)`; with the segments' stiffness and damping scaled by the factors given
+    (`_slack_band_modes`), whose leading axes lead the results' (`(points, 1)` gives
+    `(points, segments)`)."""
     line = model.line
     length = np.asarray(model.segment_length)
     rho = float(env.water_density)
@@ -93,8 +100,9 @@ def _axial_modes(model: CableNetwork, env: Environment, stiffness_factor=1.0, da
     node_mass = mass * length / (3.0 if model.mass_matrix == "consistent" else 1.0)
     stiffness = stiffness_factor * np.asarray(line.tension_law.axial_stiffness) / length
     damping = damping_factor * np.asarray(line.tension_law.damping()) / length
-    omega = np.broadcast_to(2 * np.sqrt(stiffness / node_mass), (model.n_segments,))
-    half_trace = np.broadcast_to(2 * damping / node_mass, (model.n_segments,))
+    shape = np.broadcast_shapes(np.shape(stiffness_factor), np.shape(damping_factor), (model.n_segments,))
+    omega = np.broadcast_to(2 * np.sqrt(stiffness / node_mass), shape)
+    half_trace = np.broadcast_to(2 * damping / node_mass, shape)
     return omega, -half_trace - np.sqrt((half_trace**2 - omega**2).astype(complex))
 
 
@@ -125,9 +133,8 @@ def _slack_band_modes(model: CableNetwork, env: Environment) -> np.ndarray:
     smooth = width > 0
     if not smooth.any():
         return np.zeros(0, complex)
-    s = _BAND_POINTS
-    modes = [_axial_modes(model, env, 9 * p**2 - 8 * p**3, p**2 * (3 - 2 * p))[1][smooth] for p in s]
-    return np.concatenate(modes)
+    p = _BAND_POINTS[:, None]
+    return _axial_modes(model, env, 9 * p**2 - 8 * p**3, p**2 * (3 - 2 * p))[1][:, smooth].ravel()
 
 
 def bending_modes(model: CableNetwork, env: Environment) -> np.ndarray:

@@ -121,7 +121,13 @@ def stable_step(solver: diffrax.AbstractSolver, model, env=None, duration: float
     where a mode grows at any step (an undamped mode under a two-stage method, whose
     |R(iy)| exceeds 1 for every y > 0). `None` where the solver has no explicit tableau
     (`stability_function`)."""
-    eigenvalues = np.unique(fastest_eigenvalues(model, env, bending=True, duration=duration, slack_band=True))
+    eigenvalues = fastest_eigenvalues(model, env, bending=True, duration=duration, slack_band=True)
+    return _stable_step_at(solver, eigenvalues)
+
+
+def _stable_step_at(solver: diffrax.AbstractSolver, eigenvalues: np.ndarray) -> float | None:
+    """[`stable_step`][] at the given eigenvalues (rad/s, complex, any shape)."""
+    eigenvalues = np.unique(eigenvalues)
     eigenvalues = eigenvalues[np.abs(eigenvalues) > 0]
     if eigenvalues.size == 0:
         return None if stability_function(solver, np.zeros(1)) is None else float("inf")
@@ -131,21 +137,17 @@ def stable_step(solver: diffrax.AbstractSolver, model, env=None, duration: float
     if growth is None:
         return None
     unstable = np.abs(growth) > STABLE_GROWTH
-    # The first unstable point of each ray, and the last stable one before it.
-    first = np.where(unstable.any(axis=1), np.argmax(unstable, axis=1), reach.size)
-    edges = []
-    for direction, k in zip(directions, first):
-        if k == reach.size:
-            edges.append(_SCAN_LIMIT)
-            continue
-        low, high = (0.0 if k == 0 else reach[k - 1]), reach[k]
-        for _ in range(40):  # bisection to the edge, to 1e-12 of the scan's spacing
-            middle = 0.5 * (low + high)
-            at = stability_function(solver, np.array([direction * middle]))
-            assert at is not None
-            low, high = (middle, high) if abs(at[0]) <= STABLE_GROWTH else (low, middle)
-        edges.append(low)
-    return float(np.min(np.asarray(edges) / np.abs(eigenvalues)))
+    # The first unstable point of each ray, and the last stable one before it; then
+    # bisection to the edge on every ray at once, to 1e-12 of the scan's spacing.
+    crossed = unstable.any(axis=1)
+    first = np.where(crossed, np.argmax(unstable, axis=1), 0)
+    low, high = np.where(first == 0, 0.0, reach[first - 1]), reach[first]
+    for _ in range(40):
+        middle = 0.5 * (low + high)
+        stable = np.abs(stability_function(solver, directions * middle)) <= STABLE_GROWTH
+        low, high = np.where(stable, middle, low), np.where(stable, high, middle)
+    edges = np.where(crossed, low, _SCAN_LIMIT)
+    return float(np.min(edges / np.abs(eigenvalues)))
 
 
 def fixed_steps(
@@ -176,11 +178,11 @@ def fixed_steps(
     `SolverConfig(RK4(), dt0=Δt, stepsize_controller=diffrax.ConstantStepSize())`.
     Where no scene has a fast mode (no line), Δt is `NO_MODE_STEP`.
     """
-    steps = []
-    for model, env in systems:
-        step = stable_step(RK4(), model, env, duration)
-        assert step is not None  # RK4 has a tableau
-        steps.append(step)
-    step = min(steps, default=float("inf"))
+    # The least of the scenes' stable steps: the step at the union of their modes.
+    eigenvalues = [
+        fastest_eigenvalues(model, env, bending=True, duration=duration, slack_band=True) for model, env in systems
+    ]
+    step = _stable_step_at(RK4(), np.concatenate([np.ravel(e) for e in eigenvalues] or [np.zeros(0)]))
+    assert step is not None  # RK4 has a tableau
     dt = NO_MODE_STEP if not np.isfinite(step) else STEP_FRACTION * step
     return SolverConfig(RK4(), dt0=dt, stepsize_controller=diffrax.ConstantStepSize(), max_steps=max_steps)
