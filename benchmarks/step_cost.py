@@ -7,7 +7,11 @@ On the anchored line (lumped mass, from statics), per segment count N:
 - *Euler step*: a fixed-step `diffrax.Euler` run (one evaluation a step), per step:
   the field plus diffrax's loop;
 - *Dopri5 step*: the default solver at rtol = atol = 1e-6 (six evaluations a
-  step, FSAL), per step, with 1 output time and with 20 Hz output.
+  step, FSAL), per step, with 1 output time and with 20 Hz output;
+- *RK4 step*: one fixed step of `jaxcable.RK4` (four evaluations) on the state layout
+  the simulation integrates, timed as 200 steps inside one compiled `fori_loop`,
+  through diffrax's general stage loop (`diffrax.AbstractRungeKutta.step`) and with the
+  stages written out as jaxcable steps (`jaxcable._solver.explicit.explicit_step`).
 
 The differences say what diffrax's bookkeeping costs against the physics. Times are
 medians of warm repeats.
@@ -36,6 +40,8 @@ from _results import append_session
 from _timing import timed
 
 import jaxcable as jc
+from jaxcable._simulation.simulate import component_major_field
+from jaxcable._solver.explicit import explicit_step
 from jaxcable.equations import vector_field
 from jaxcable.examples import anchored_line
 
@@ -75,6 +81,31 @@ def field_seconds(build, parameter, y, repeats, evaluations=EVALUATIONS, batched
     return run / evaluations, compile_time
 
 
+def rk4_step_seconds(build, parameter, y, repeats, batched=False):
+    """Seconds for one RK4 step of `dt` = 1 ms on `build(parameter)`, through diffrax's
+    stage loop and written out: `(loop, written_out)`, each timed as `EVALUATIONS` steps
+    inside one compiled `fori_loop`, median of `repeats` warm calls. `y` is the free
+    nodes' `(positions, velocities)`, each `(free, 3)` (with a leading case axis if
+    `batched`)."""
+    solver, term, dt = jc.RK4(), diffrax.ODETerm(component_major_field), 1e-3
+    y = jax.tree.map(lambda a: np.swapaxes(a, -1, -2), y)  # the component-major layout
+
+    def seconds(step):
+        def one(y, parameter, i):
+            y1, *_ = step(solver, term, i * dt, (i + 1) * dt, y, build(parameter), None, False)
+            return y1
+
+        advance = jax.vmap(one, in_axes=(0, 0, None)) if batched else one
+
+        @jax.jit
+        def steps(y, parameter):
+            return jax.lax.fori_loop(0, EVALUATIONS, lambda i, y: advance(y, parameter, i), y)
+
+        return timed(lambda: steps(y, parameter), repeats)[2] / EVALUATIONS
+
+    return seconds(diffrax.AbstractRungeKutta.step), seconds(explicit_step)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--segments", type=int, nargs="+", default=[20, 100])
@@ -101,6 +132,7 @@ def main():
 
             batch_y = tuple(np.broadcast_to(a, (args.batch, *a.shape)) for a in y)
             field, _ = field_seconds(build, scales, batch_y, args.repeats, batched=True)
+            rk4_loop, rk4_written = rk4_step_seconds(build, scales, batch_y, args.repeats, batched=True)
 
             def run(solver, t1, ts, **options):
                 config = jc.SolverConfig(solver, **options)
@@ -112,6 +144,7 @@ def main():
                 return lambda: batch().simulation
         else:
             field, _ = field_seconds(lambda _: (model, env), 0.0, y, args.repeats)
+            rk4_loop, rk4_written = rk4_step_seconds(lambda _: (model, env), 0.0, y, args.repeats)
 
             def run(solver, t1, ts, **options):
                 config = jc.SolverConfig(solver, **options)
@@ -133,6 +166,8 @@ def main():
             "dopri5_step_us_1_output": 1e6 * one_time / int(np.max(one.stats["num_steps"])),
             "dopri5_step_us_20hz": 1e6 * many_time / int(np.max(many.stats["num_steps"])),
             "dopri5_steps": int(np.max(one.stats["num_steps"])),
+            "rk4_step_us_stage_loop": 1e6 * rk4_loop,
+            "rk4_step_us_written_out": 1e6 * rk4_written,
         }
         print(json.dumps(row), flush=True)
         rows.append(row)
@@ -145,17 +180,23 @@ def report(path: Path):
     sessions = json.loads(path.read_text())
     print(
         "| N | batch | field (µs) | Euler step (µs) | Euler step − field | Dopri5 step, 1 output (µs) | Dopri5 step, "
-        "20 Hz (µs) | Dopri5 step − 6 fields | session |"
+        "20 Hz (µs) | Dopri5 step − 6 fields | RK4 step, stage loop / written out (µs) | session |"
     )
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for session in sessions:
         for r in session["rows"]:
             print(
                 f"| {r['segments']} | {r.get('batch') or 1} | {r['field_us']:.1f} | {r['euler_step_us']:.1f} | "
                 f"{r['euler_step_us'] - r['field_us']:.1f} | "
                 f"{r['dopri5_step_us_1_output']:.1f} | {r['dopri5_step_us_20hz']:.1f} | "
-                f"{r['dopri5_step_us_1_output'] - 6 * r['field_us']:.1f} | {session['time'][:16]} |"
+                f"{r['dopri5_step_us_1_output'] - 6 * r['field_us']:.1f} | {_rk4(r)} | {session['time'][:16]} |"
             )
+
+
+def _rk4(row: dict) -> str:
+    if "rk4_step_us_stage_loop" not in row:  # entries from before the RK4 columns
+        return "–"
+    return f"{row['rk4_step_us_stage_loop']:.1f} / {row['rk4_step_us_written_out']:.1f}"
 
 
 if __name__ == "__main__":

@@ -3,11 +3,13 @@
 import diffrax
 import equinox as eqx
 import jax
+import jax.numpy as jnp
 import numpy as np
 import pytest
 from helpers import compilations
 
 import jaxcable as jc
+from jaxcable._solver.explicit import explicit_step, unrolls
 from jaxcable._solver.stability import stability_function
 from jaxcable.examples import anchored_line
 
@@ -252,6 +254,42 @@ def test_rk4_is_the_classical_method(driven_line):
     scale = np.max(np.abs(reference))
     adaptive = top_tension(jc.SOLVERS["rk4"](rtol=1e-8, atol=1e-8))
     assert np.max(np.abs(adaptive - reference)) < 1e-6 * scale
+
+
+@pytest.mark.parametrize(
+    "solver", [diffrax.Midpoint(), diffrax.Heun(), diffrax.Ralston(), jc.RK4(), diffrax.Bosh3()], ids=type
+)
+def test_written_out_explicit_steps_are_diffrax_steps(solver):
+    """`explicit_step` writes out the stages of an explicit tableau that is not
+    first-same-as-last (midpoint, Heun, Ralston, RK4) and leaves the others (Bosh3) to
+    their own `step`: its step, error estimate, dense output and both derivatives equal
+    those of diffrax's general Runge–Kutta step to rounding, on a nonlinear,
+    time-dependent system."""
+
+    def field(t, y, k):
+        x, v = y
+        return v, -k * jnp.sin(x) * (1 + 0.1 * t) - 0.05 * v * jnp.abs(v)
+
+    term = diffrax.ODETerm(field)
+    y0 = (jnp.array([0.3, -1.2, 2.0]), jnp.array([0.5, 0.1, -0.4]))
+    state = solver.init(term, 0.1, 0.15, y0, 2.0)
+    assert unrolls(solver) == (not solver.tableau.fsal)
+
+    def written(k):
+        return explicit_step(solver, term, 0.1, 0.15, y0, k, state, False)[:3]
+
+    def general(k):
+        return diffrax.AbstractRungeKutta.step(solver, term, 0.1, 0.15, y0, k, state, False)[:3]
+
+    for a, b in zip(jax.tree.leaves(written(2.0)), jax.tree.leaves(general(2.0)), strict=True):
+        np.testing.assert_allclose(a, b, rtol=1e-14, atol=1e-15)
+    # diffrax's stage loop is reverse-mode only (a checkpointed loop); written-out
+    # stages take both modes.
+    reference = jax.jacrev(lambda k: general(k)[0])(2.0)
+    for derivative in (jax.jacfwd, jax.jacrev) if unrolls(solver) else (jax.jacrev,):
+        found = derivative(lambda k: written(k)[0])(2.0)
+        for x, y in zip(jax.tree.leaves(found), jax.tree.leaves(reference), strict=True):
+            np.testing.assert_allclose(x, y, rtol=1e-13, atol=1e-15)
 
 
 def test_bosh3_fixed_steps_converge_at_third_order(driven_line):

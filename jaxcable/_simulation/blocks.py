@@ -43,6 +43,7 @@ from .._model.state import State
 from .._programs import RUN_ONCE, Program, program
 from .._sea.environment import Environment
 from .._solver.config import SolverConfig
+from .._solver.explicit import explicit_step
 from .simulate import (
     SimulationResult,
     as_config,
@@ -329,7 +330,7 @@ def _fixed_block_body(
             (y, solver_state, made_jump), failure = inner
             a = t0 + k * dt
             b = jnp.where(k == substeps - 1, t1, a + dt)
-            y, _, _, solver_state, result = solver.step(terms, a, b, y, args, solver_state, made_jump)
+            y, _, _, solver_state, result = explicit_step(solver, terms, a, b, y, args, solver_state, made_jump)
             failure = diffrax.RESULTS.where(failure == diffrax.RESULTS.successful, result, failure)
             return ((y, solver_state, jnp.asarray(False)), failure), None
 
