@@ -518,6 +518,7 @@ def advise(
     absolute_tolerance: float | None = None,
     labels: Labels | None = None,
     stiffness: bool = False,
+    statics: bool = True,
 ) -> Advice:
     """Advice on a model before running it (module docstring): wave theory, drag
     against fluid inertia, segment counts, slack, the explicit step, and where asked
@@ -538,6 +539,10 @@ def advise(
     - `stiffness`: also the stiffness of each coupled point (the scene's; without
         labels, each moving support) at the mean equilibrium. The statics are then
         solved by [`jaxcable.stiffness`][]'s program, which compiles for longer.
+    - `statics`: whether to solve the mean equilibrium (default). Without it the
+        advice is what the model alone gives (the modes, the step, the waves, drag
+        against inertia), as where statics find no equilibrium: a quick answer where
+        statics take long.
 
     **Returns:**
 
@@ -550,17 +555,19 @@ def advise(
     still = env.without_waves()
     held = _held(model)
     supports = _coupled(model, labels)
-    if stiffness and supports:
+    static = matrix = None
+    if statics and stiffness and supports:
         # One solve for the equilibrium and its stiffness together.
         matrix, static, _ = stiffness_and_statics(held, still, 0.0, None, MAX_STEPS, FORCE_TOLERANCE)
-    else:
+    elif statics:
         static = solve_statics(held, still, throw=False)
     statics_error = None
-    if static.result != optx.RESULTS.successful:
+    if static is None:
+        statics_error = "statics were not solved"
+    elif static.result != optx.RESULTS.successful:
         statics_error = f"the largest force left on a free node is {float(static.residual):.3g} N"
-        positions = np.asarray(model.node_positions)
-    else:
-        positions = np.asarray(static.state.positions)
+    solved = static if statics_error is None else None  # the mean equilibrium, where found
+    positions = np.asarray(model.node_positions if solved is None else solved.state.positions)
 
     bed, limit = seabed_mode(model, env, seabed_reach(model, env, duration))
     step = STABLE_STEP / max(magnitude, bed, float(bending_modes(model, env).max()))
@@ -570,7 +577,7 @@ def advise(
     inertia = _inertia(model, env, labels, chains, positions)
     discretisation, slack, stiffnesses = (), (), ()
     rest_min = rest_max = None
-    if statics_error is None:
+    if solved is not None:
         if stiffness and supports:
             rows = np.searchsorted(np.asarray(model.constrained_nodes), supports)
             blocks = np.asarray(matrix)[rows, :, rows, :]
@@ -582,12 +589,12 @@ def advise(
             _discretisation(name, nodes, segments, model, positions, tolerance, absolute_tolerance)
             for name, nodes, segments in chains
         )
-        tension = np.asarray(static.tension)
+        tension = np.asarray(solved.tension)
         rest_min, rest_max = float(tension.min()), float(tension.max())
-        slack = _slack(model, held, still, labels, chains, static, rest_max)
-    bending = _bending_check(model, env, np.asarray(static.tension) if statics_error is None else None)
+        slack = _slack(model, held, still, labels, chains, solved, rest_max)
+    bending = _bending_check(model, env, None if solved is None else np.asarray(solved.tension))
     # The modes matter only to waves, and cost a Jacobian's compile: not without them.
-    periods = natural_periods(held, still, positions) if env.waves and statics_error is None else np.zeros(0)
+    periods = natural_periods(held, still, positions) if env.waves and solved is not None else np.zeros(0)
     return Advice(
         omega,
         magnitude,

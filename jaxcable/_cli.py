@@ -29,7 +29,9 @@ import json
 import math
 import os
 import sys
+import threading
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -63,7 +65,7 @@ def command() -> None:
     young, middle, _ = gc.get_threshold()
     gc.set_threshold(young, middle, 1000)
     try:
-        code = main()
+        code = _interruptible(main)
     except BrokenPipeError:  # `jaxcable examples | head`: stop quietly, as `main` does for the others
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         sys.exit(1)
@@ -79,6 +81,41 @@ def command() -> None:
     except BrokenPipeError:  # output piped into `head` and the like
         os._exit(1)
     os._exit(0)
+
+
+INTERRUPTED = 130
+"""The exit status after Ctrl-C: 128 + SIGINT, as a shell reports it."""
+
+
+def _interruptible(work: Callable[[], int]) -> int:
+    """`work()` on a thread of its own while this, the main thread, waits for it, so
+    that Ctrl-C ends the command at once.
+
+    Python raises `KeyboardInterrupt` in the main thread only, between bytecodes: while
+    the main thread is inside a compiled program or XLA's compiler (a statics solve, a
+    long compile), Ctrl-C would wait for it to end, minutes on a hard scene. The
+    waiting thread wakes five times a second; on Ctrl-C it says so and ends the
+    process (a running program cannot be stopped, only left), exit status 130.
+    Exceptions of `work` are raised here."""
+    outcome: dict[str, object] = {}
+
+    def run() -> None:
+        try:
+            outcome["code"] = work()
+        except BaseException as error:  # raised again in the main thread
+            outcome["error"] = error
+
+    worker = threading.Thread(target=run, name="jaxcable command", daemon=True)
+    worker.start()
+    try:
+        while worker.is_alive():
+            worker.join(0.2)
+    except KeyboardInterrupt:
+        print("\njaxcable: interrupted", file=sys.stderr, flush=True)
+        os._exit(INTERRUPTED)
+    if "error" in outcome:
+        raise outcome["error"]  # pyright: ignore[reportGeneralTypeIssues]
+    return outcome["code"]  # pyright: ignore[reportReturnType]
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -246,6 +283,14 @@ def _parser() -> argparse.ArgumentParser:
         action="store_true",
         help="also report the coupled points' stiffness at rest (jaxcable.stiffness; compiles a program of its own)",
     )
+    info.add_argument(
+        "--advice-time",
+        type=float,
+        default=ADVICE_TIME,
+        metavar="S",
+        help=f"seconds to wait for the statics the advice checks segments, slack and stiffness at (default "
+        f"{ADVICE_TIME:g}); past them, or with 0, the advice is what the model alone gives",
+    )
     info.set_defaults(handler=_info)
 
     calibrate = commands.add_parser("calibrate", help="fit drag coefficients to towing records")
@@ -403,6 +448,7 @@ def _check_numbers(args) -> None:
         ("--duration", "duration", True),
         ("--dt-out", "dt_out", False),
         ("--ramp", "ramp", True),
+        ("--advice-time", "advice_time", True),
     ):
         number = getattr(args, value, None)
         if number is not None and not (np.isfinite(number) and (number >= 0 if allow_zero else number > 0)):
@@ -576,7 +622,6 @@ def _run_settings(scene: "Scene", args) -> "RunSettings":
 
 
 def _info(args, given: _Input) -> int:
-    from ._advice import advise
     from ._solver.config import describe_stepping
     from ._solver.stability import STABLE_GROWTH, STEP_FRACTION, fixed_step_growth
     from .io import advice_lines
@@ -683,10 +728,48 @@ def _info(args, given: _Input) -> int:
     print("ignored or assumed:" if scene.notes else "ignored or assumed: nothing")
     for note in scene.notes:
         print(f"  {note}")
-    print("advice:")
-    for line in advice_lines(advise(built, duration=duration, stiffness=args.stiffness)):
+    advice, late = _advice_within(built, duration, args.stiffness, args.advice_time)
+    print("advice:" if late is None else f"advice ({late}):")
+    for line in advice_lines(advice):
         print(f"  {line}")
     return 0
+
+
+ADVICE_TIME = 20.0
+"""Seconds `jaxcable info` waits for its advice's statics by default."""
+
+
+def _advice_within(built, duration: float, stiffness: bool, seconds: float):
+    """`info`'s advice, and why it leaves out what needs the mean equilibrium (or
+    `None`): the statics solve on a thread of its own for at most `seconds` (s), after
+    which the advice is what the model alone gives.
+
+    A hard scene's statics (MoorDyn's tripod: 82 short segments with EI, which
+    diverge after 80 s) would otherwise hold `info` for minutes after everything else
+    was printed. The solve cannot be stopped: it is left to run while the command ends
+    (the process ends with it)."""
+    from ._advice import advise
+
+    if seconds > 0:
+        outcome = {}
+
+        def solve() -> None:
+            try:
+                outcome["advice"] = advise(built, duration=duration, stiffness=stiffness)
+            except BaseException as error:  # raised again in the calling thread
+                outcome["error"] = error
+
+        worker = threading.Thread(target=solve, name="jaxcable advice", daemon=True)
+        worker.start()
+        worker.join(seconds)
+        if "error" in outcome:
+            raise outcome["error"]  # pyright: ignore[reportGeneralTypeIssues]
+        if "advice" in outcome:
+            return outcome["advice"], None
+        late = f"statics did not finish within {seconds:g} s; --advice-time S waits longer"
+    else:
+        late = "statics left out by --advice-time 0"
+    return advise(built, duration=duration, statics=False), late
 
 
 def _describe_motion(motion) -> str:

@@ -6,8 +6,10 @@ where it is installed."""
 
 import contextlib
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -465,6 +467,38 @@ def test_the_command_ends_its_process_with_everything_written(tmp_path):
     assert not list(cache.rglob("*.partial")) and len(list(cache.rglob("*.program"))) == 1
     failed = subprocess.run([*argv, "--dt-out", "0"], capture_output=True, text=True, env=env)
     assert failed.returncode == 2 and "--dt-out must be a positive number" in failed.stderr
+
+
+def test_ctrl_c_ends_the_command_at_once(tmp_path):
+    """Ctrl-C (SIGINT) during a long run ends `jaxcable` within a second, exit status 130,
+    saying so, although the main thread would otherwise sit inside a compiled program
+    until it ends; the input is untouched and nothing half-written is left."""
+    root = Path(jc.__file__).parent.parent
+    env = {**os.environ, "PYTHONPATH": str(root), "JAXCABLE_CACHE_DIR": str(tmp_path / "cache")}
+    out = tmp_path / "run.csv"
+    argv = [sys.executable, "-m", "jaxcable", "run", "anchored_line", "--duration", "3600", "--out", str(out)]
+    process = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    time.sleep(8.0)  # past JAX's import, into the compile or the run
+    assert process.poll() is None, process.communicate()
+    process.send_signal(signal.SIGINT)
+    start = time.monotonic()
+    _, err = process.communicate(timeout=30)
+    assert time.monotonic() - start < 2.0
+    assert process.returncode == 130 and err.rstrip().endswith("jaxcable: interrupted")
+    assert not out.exists()
+
+
+def test_info_answers_without_waiting_for_statics(capsys):
+    """`jaxcable info --advice-time 0` gives the advice the model alone gives, saying
+    that what needs statics is left out; with the default wait it checks them."""
+    assert cli_main(["info", "anchored_line", "--advice-time", "0"]) == 0
+    out = capsys.readouterr().out
+    assert "advice (statics left out by --advice-time 0):" in out
+    assert "no mean equilibrium, so no check of the segments or of slack: statics were not solved" in out
+    assert "stiffest axial mode" in out
+    assert cli_main(["info", "anchored_line"]) == 0
+    out = capsys.readouterr().out
+    assert "advice:" in out and "statics were not solved" not in out
 
 
 def test_lazy_names_are_the_modules_own():
