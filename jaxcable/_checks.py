@@ -21,6 +21,7 @@ import jax
 import jax.core
 import jax.numpy as jnp
 import numpy as np
+from jax.interpreters.ad import JVPTracer
 from jaxtyping import Array, ArrayLike, Bool, Float
 
 from ._typing import RealLike
@@ -159,6 +160,22 @@ def traced(tree) -> bool:
     """Whether any leaf of `tree` is traced: the caller runs under `jit`, `vmap` or a
     derivative, and errors must be raised from inside the program."""
     return any(isinstance(leaf, jax.core.Tracer) for leaf in jax.tree.leaves(tree))
+
+
+def differentiated(tree) -> bool:
+    """Whether any leaf of `tree` carries a derivative's tracer (`jax.grad`, `jax.jvp`,
+    `jax.jacfwd`, ...), also beneath `vmap`'s tracer or inside the derivative's `jit`.
+    A derivative taken of a function compiled before it (`jax.grad(jax.jit(f))`) is
+    taken of the compiled program, whose tracers are `jit`'s alone: not seen."""
+    for leaf in jax.tree.leaves(tree):
+        while isinstance(leaf, jax.core.Tracer):
+            # `jax.grad` linearises with a tracer that JAX does not export; its name is
+            # checked, so that a JAX without it only sees fewer derivatives.
+            if isinstance(leaf, JVPTracer) or type(leaf).__name__ == "LinearizeTracer":
+                return True
+            # The value beneath: a derivative's primal, or vmap's batched value.
+            leaf = getattr(leaf, "primal", getattr(leaf, "val", None))
+    return False
 
 
 def raise_if(x, failed, message: str):

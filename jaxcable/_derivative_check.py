@@ -19,6 +19,7 @@ from typing import Literal
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 from jaxtyping import ArrayLike
 
 Verdict = Literal["agrees", "disagrees", "ill-conditioned"]
@@ -31,6 +32,46 @@ tolerances) swamps differences below the smallest."""
 
 class DerivativeWarning(UserWarning):
     """A derivative that [`jaxcable.check_derivative`][] could not confirm."""
+
+
+_SLACK_WARNED = [False]  # `warn_of_slack` speaks once a process
+
+
+def warn_of_slack(times, strain) -> None:
+    """Inside a derivative of a run: a [`DerivativeWarning`][] when a segment goes
+    slack in it (its strain, shape `(times, segments)` at `times`, turns from positive
+    to zero or less between two saved times), naming how many did, the first and when.
+
+    Through slack and snap loads a run's sensitivity grows exponentially (the module's
+    notes), so its derivative can be exact and of no use to an optimiser; a run that
+    stays taut gets no warning. Said once a process, from a host callback when the
+    derivative's forward pass runs; slack that begins and ends between saved times is
+    not seen."""
+    slack = strain <= 0
+    starts = slack[1:] & ~slack[:-1]
+    count = jnp.sum(starts)
+    first = jnp.argmax(jnp.any(starts, axis=1))
+    jax.debug.callback(
+        _slack_warning, count, times[first + 1], jnp.argmax(starts[first]), strain.shape[-1], ordered=False
+    )
+
+
+def _slack_warning(count, time, segment, segments) -> None:
+    count = int(np.sum(count))  # summed over a vmap's cases, where the callback sees a batch
+    if count == 0 or _SLACK_WARNED[0]:
+        return
+    _SLACK_WARNED[0] = True
+    time, segment = float(np.ravel(time)[0]), int(np.ravel(segment)[0])
+    warnings.warn(
+        DerivativeWarning(
+            f"simulate is differentiated through {count} slack event{'s' if count > 1 else ''} (a segment's "
+            f"strain reaching zero; the first at t = {time:.4g} s, segment {segment + 1} of {segments}). Through "
+            "slack and snap loads a run's sensitivity grows exponentially, so this derivative may hold only for "
+            "changes too small to matter: check it with jaxcable.check_derivative(f, x) before optimising on it "
+            "(said once a process)"
+        ),
+        stacklevel=1,  # called back from JAX's runtime: no caller of the user's to point at
+    )
 
 
 @dataclasses.dataclass(frozen=True)

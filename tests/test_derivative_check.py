@@ -1,6 +1,9 @@
 """`jc.check_derivative`: each verdict on a function whose derivative is known, and on
 the README's anchored line before and after its first slack."""
 
+import warnings
+
+import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
@@ -8,6 +11,8 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
+from jaxcable import _derivative_check as derivative_check
+from jaxcable._checks import differentiated
 
 
 @jax.custom_jvp
@@ -115,3 +120,54 @@ def test_the_mean_top_tension_of_the_readme_line_before_and_through_its_first_sl
         rough = jc.check_derivative(mean_top_tension(5.0), 0.0, steps=steps)
     assert rough.verdict == "ill-conditioned"
     assert abs(rough.derivative) > 1e6 * abs(smooth.derivative)
+
+
+def test_differentiated_sees_a_derivative_beneath_vmap_and_jit():
+    """`_checks.differentiated`: the tracers of `jax.grad`, `jax.jvp` and `jax.jacfwd`,
+    alone, beneath `vmap`'s or inside `jit`; not `jit`'s or `vmap`'s alone."""
+    seen = []
+
+    def f(x):
+        seen.append(differentiated(x))
+        return jnp.sin(x).sum()
+
+    jax.grad(f)(1.0)
+    jax.jvp(f, (1.0,), (1.0,))
+    jax.jacfwd(f)(1.0)
+    jax.jit(jax.grad(f))(2.0)
+    jax.vmap(jax.grad(f))(jnp.ones(2))
+    jax.grad(lambda x: jax.vmap(f)(x).sum())(jnp.ones(2))
+    assert seen == [True] * 6
+    jax.jit(f)(3.0)
+    jax.vmap(f)(jnp.ones(3))
+    f(1.0)
+    assert seen[6:] == [False] * 3
+
+
+def test_a_derivative_through_slack_is_warned_of(monkeypatch):
+    """`simulate`, differentiated through a segment going slack (the README line's top
+    segment, at 3 s), warns once a process, naming the first event; over a window
+    before it, or not differentiated, it says nothing."""
+    model, env, start = _readme_line()
+    config = jc.SolverConfig(adjoint=diffrax.ForwardMode())
+
+    def mean_top_tension(window):
+        def f(change):
+            lengthened = eqx.tree_at(lambda m: m.segment_length, model, model.segment_length + change)
+            ts = jnp.linspace(0.0, window, 41)
+            return jc.simulate(lengthened, env, window, ts=ts, initial=start, solver=config).tension[:, -1].mean()
+
+        return f
+
+    monkeypatch.setattr(derivative_check, "_SLACK_WARNED", [False])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", jc.DerivativeWarning)
+        jax.jvp(mean_top_tension(2.0), (0.0,), (1.0,))
+        mean_top_tension(4.0)(0.0)
+    with pytest.warns(
+        jc.DerivativeWarning, match=r"through \d+ slack events? .*the first at t = 3(\.\d+)? s, segment 20 of 20"
+    ):
+        jax.jvp(mean_top_tension(4.0), (0.0,), (1.0,))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", jc.DerivativeWarning)
+        jax.jvp(mean_top_tension(4.0), (0.0,), (1.0,))

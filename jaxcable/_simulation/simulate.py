@@ -10,6 +10,7 @@ import optimistix as optx
 from jaxtyping import Array, Float
 
 from .. import _checks as checks
+from .._derivative_check import warn_of_slack
 from .._equations import lagrangian as lag
 from .._model.network import CableNetwork, network_conditions, unheld_nodes
 from .._model.state import State
@@ -194,6 +195,13 @@ def simulate(
     Non-finite states are rejected steps, not output;
     with a fixed step, which cannot reject, a state that goes non-finite fails the
     solve (`diffrax.RESULTS.nonfinite`).
+
+    **Warns:**
+
+    [`jaxcable.DerivativeWarning`][], once a process, where `simulate` is
+    differentiated (`jax.grad`, `jax.jvp`, ... of a function that calls it) and a
+    segment goes slack in the run: through slack and snap loads the derivative can be
+    exact and of no use (see [`jaxcable.check_derivative`][]).
     """
     for name, value, kind in (("model", model, CableNetwork), ("env", env, Environment)):
         if not isinstance(value, kind):
@@ -300,6 +308,8 @@ def simulate(
         )
     if throw and not inside:
         checks.raise_if(None, result.result != diffrax.RESULTS.successful, failure_message(result.result))
+    if checks.differentiated((model, env, start, t0, t1, ts)):
+        warn_of_slack(result.times, result.strain)
     return result
 
 
