@@ -46,7 +46,9 @@ def warn_of_slack(times, strain) -> None:
     notes), so its derivative can be exact and of no use to an optimiser; a run that
     stays taut gets no warning. Said once a process, from a host callback when the
     derivative's forward pass runs; slack that begins and ends between saved times is
-    not seen."""
+    not seen, nor any with a single saved time."""
+    if strain.shape[0] < 2:  # one saved time: no event to see
+        return
     slack = strain <= 0
     starts = slack[1:] & ~slack[:-1]
     count = jnp.sum(starts)
