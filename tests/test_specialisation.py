@@ -4,8 +4,9 @@ The equations specialise on what is known when tracing (`benchmarks/README.md`, 
 an evaluation's time goes*): static indices become slices, a law without damping skips
 the viscous force, the elastic forces use the tension law as the energy's derivative,
 the conservative forces are written out rather than taken by `jax.grad` of the
-potential, the lumped solve uses Woodbury's identity along a line and Cramer's rule at
-junctions, and statics' forces leave out what vanishes at rest. Each is checked here
+potential, a model without bodies leaves the bodies' terms out, the lumped solve uses
+Woodbury's identity along a line and Cramer's rule at junctions, and statics' forces
+leave out what vanishes at rest. Each is checked here
 against the general form it replaces, on scenes that exercise it: the anchored-line paper's chain, the
 moored net (a graph with junctions, buoys that pierce the surface, waves and a damped
 law), a line on a seabed, and a line that pierces the free surface with anisotropic
@@ -23,6 +24,7 @@ import jaxcable as jc
 from jaxcable._equations import lagrangian as lag
 from jaxcable._model import indexing as _indexing
 from jaxcable._model import materials
+from jaxcable._model.network import without_absent_bodies
 from jaxcable.examples import anchored_line, moored_net
 
 
@@ -328,3 +330,37 @@ def test_still_water_is_known_only_before_tracing():
     seen = []
     jax.jit(lambda current: seen.append(_solution.still_water(jc.Environment(current=current))))(jnp.zeros(3))
     assert seen == [False]
+
+
+@pytest.mark.parametrize("name", ["anchored_line chain", "anchored_line consistent", "seabed"])
+def test_a_model_without_bodies_leaves_their_terms_out(name):
+    """[`without_absent_bodies`][]: a bare line's `body` becomes None, and its
+    accelerations, mass matrix, potential and forces are the body-carrying model's to
+    rounding; a model with a body, or with bodies traced, keeps them."""
+    model, env = SCENES[name]()
+    lean = without_absent_bodies(model)
+    assert lean.body is None and model.body is not None
+    x, v = _state(model)
+    _, positions, velocities, accelerations = lag.free_accelerations(model, env, 0.7, x, v)
+    for f in (
+        lambda m: lag.free_accelerations(m, env, 0.7, x, v)[0],
+        lambda m: lag.generalised_forces(m, env, 0.7, positions, velocities),
+        lambda m: lag.inertial_forces(m, env, positions, accelerations),
+        lambda m: lag.potential_energy(m, env, positions),
+    ):
+        np.testing.assert_allclose(f(lean), f(model), rtol=1e-12, atol=1e-9)
+    if model.mass_matrix == "lumped":
+        np.testing.assert_allclose(lag.lumped_blocks(lean, env, positions), lag.lumped_blocks(model, env, positions))
+    buoyed, _ = _surface_line()
+    assert without_absent_bodies(buoyed) is buoyed
+    clumped = eqx.tree_at(lambda m: m.body.mass, model, model.body.mass.at[2].set(100.0))  # a clump added later
+    assert without_absent_bodies(clumped) is clumped
+    seen = []
+
+    def traced(scale):
+        weighed = eqx.tree_at(lambda m: m.body.mass, model, scale * model.body.mass)
+        seen.append(without_absent_bodies(weighed).body)
+        return scale
+
+    jax.grad(traced)(1.0)
+    assert seen[0] is not None

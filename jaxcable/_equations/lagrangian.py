@@ -177,13 +177,14 @@ def _potential_energy(model: CableNetwork, env: Environment, positions) -> Float
         submerged_depth = (b - a) * (z_start + (z_end - z_start) * 0.5 * (a + b))
     else:
         submerged_depth = mid_depth
-    body_buoyancy = env.water_density * body.volume * env.gravity
-    energy = (
-        elastic
-        + jnp.sum(weight * mid_depth - displaced * submerged_depth)
-        + jnp.sum(body.mass * env.gravity * z + body_buoyancy * column_buoyancy_potential(z, body.height))
-        - jnp.sum(_cm(body.force) * positions)
-    )
+    energy = elastic + jnp.sum(weight * mid_depth - displaced * submerged_depth)
+    if body is not None:
+        body_buoyancy = env.water_density * body.volume * env.gravity
+        energy = (
+            energy
+            + jnp.sum(body.mass * env.gravity * z + body_buoyancy * column_buoyancy_potential(z, body.height))
+            - jnp.sum(_cm(body.force) * positions)
+        )
     if env.seabed is not None and env.depth is not None:  # a seabed comes with a depth (Environment checks)
         penetration = jnp.maximum(-env.depth - z, 0.0)
         energy = energy + 0.5 * env.seabed.stiffness * jnp.sum(contact_area(model) * penetration**2)
@@ -273,10 +274,15 @@ def column_buoyancy_potential(z: Array | np.ndarray | float, height: Array | np.
     return jnp.where(height > 0, -jnp.minimum(z, low) - piercing, -z)
 
 
-def _body_mass(model: CableNetwork, env: Environment, positions) -> Float[Array, " nodes"]:
+def _with_body_mass(model: CableNetwork, env: Environment, positions, x, times=1.0):
+    """`x + m_b times` (kg, or kg·m/s² where `times` is an acceleration): each node's
+    body mass with its added mass, `m_b`, shape `(nodes,)`, times `times`; `x` where the
+    model has no bodies (`body` None, [`jaxcable._model.network.without_absent_bodies`][])."""
     body = model.body
+    if body is None:
+        return x
     wet = column_submerged_fraction(positions[2], body.height)
-    return body.mass + body.added_mass * env.water_density * body.volume * wet
+    return x + (body.mass + body.added_mass * env.water_density * body.volume * wet) * times
 
 
 def _inertial_forces(model: CableNetwork, env: Environment, positions, accelerations) -> Float[Array, "3 nodes"]:
@@ -289,12 +295,10 @@ def _inertial_forces(model: CableNetwork, env: Environment, positions, accelerat
     mu = _mass_per_length(model, env, positions, tangent) * model.segment_length
     start, end = _ends(model, accelerations)
     at_start, at_end = matvec(mu, start), matvec(mu, end)
-    return (
-        _scatter(
-            model, weights[0, 0] * at_start + weights[0, 1] * at_end, weights[1, 0] * at_start + weights[1, 1] * at_end
-        )
-        + _body_mass(model, env, positions) * accelerations
+    lines = _scatter(
+        model, weights[0, 0] * at_start + weights[0, 1] * at_end, weights[1, 0] * at_start + weights[1, 1] * at_end
     )
+    return _with_body_mass(model, env, positions, lines, accelerations)
 
 
 def inertial_forces(model: CableNetwork, env: Environment, positions, accelerations) -> Float[Array, "nodes 3"]:
@@ -309,7 +313,7 @@ def _lumped_blocks(model: CableNetwork, env: Environment, positions, tangent) ->
         isotropic, axial, directions, plan = _lumped_terms(model, env, positions, tangent)
         return isotropic * eye + sum_into(axial * directions[:, None] * directions[None, :], plan)
     half = 0.5 * _mass_per_length(model, env, positions, tangent) * model.segment_length
-    return _scatter(model, half, half) + _body_mass(model, env, positions) * eye
+    return _with_body_mass(model, env, positions, _scatter(model, half, half), eye)
 
 
 def _lumped_terms(model: CableNetwork, env: Environment, positions, tangent) -> tuple[Array, Array, Array, np.ndarray]:
@@ -325,7 +329,7 @@ def _lumped_terms(model: CableNetwork, env: Environment, positions, tangent) -> 
     added = _displaced_mass(model, env, positions)
     isotropic = model.segment_length * (line.mass_per_length + added * line.normal_added_mass)
     axial = model.segment_length * added * (line.tangential_added_mass - line.normal_added_mass)
-    isotropic = _scatter(model, 0.5 * isotropic, 0.5 * isotropic) + _body_mass(model, env, positions)
+    isotropic = _with_body_mass(model, env, positions, _scatter(model, 0.5 * isotropic, 0.5 * isotropic))
     if model.hydrodynamics == "nodes":
         return (
             isotropic,
@@ -421,6 +425,10 @@ def _nonconservative_forces(
         drag_start, drag_end = drag_start + pull, drag_end - pull
     forces = forces + _scatter(model, drag_start, drag_end)
 
+    if env.seabed is not None and not at_rest:
+        forces = forces + _seabed_forces(model, env, positions, velocities)
+    if body is None:
+        return forces
     z = positions[2]
     wet = column_submerged_fraction(z, body.height)
     if env.waves:
@@ -437,8 +445,6 @@ def _nonconservative_forces(
     forces = forces + body_drag(_water(env.water_velocity, positions, t) - velocities, coefficient)
     if env.has_fluid_acceleration:
         forces = forces + rho * body.volume * (1 + body.added_mass) * wet * _water(env.water_acceleration, positions, t)
-    if env.seabed is not None and not at_rest:
-        forces = forces + _seabed_forces(model, env, positions, velocities)
     return forces
 
 
@@ -602,14 +608,15 @@ def _conservative_forces(model: CableNetwork, env: Environment, positions) -> Fl
     else:
         buoyant_start = buoyant_end = 0.5
     lift = _scatter(model, displaced * buoyant_start - 0.5 * weight, displaced * buoyant_end - 0.5 * weight)
-    # Φ' = −(the submerged fraction), so a body's buoyancy is ρ g V times that fraction.
-    lift = (
-        lift + (env.water_density * body.volume * column_submerged_fraction(z, body.height) - body.mass) * env.gravity
-    )
+    if body is not None:
+        # Φ' = −(the submerged fraction), so a body's buoyancy is ρ g V times that fraction.
+        submerged = column_submerged_fraction(z, body.height)
+        lift = lift + (env.water_density * body.volume * submerged - body.mass) * env.gravity
     if env.seabed is not None and env.depth is not None:  # as in `_potential_energy`
         lift = lift + env.seabed.stiffness * contact_area(model) * jnp.maximum(-env.depth - z, 0.0)
     elastic = _axial_forces(model, line.tension_law.elastic_tension(strain), stretched, tangent)
-    return elastic + lift * _UP + _cm(body.force)
+    forces = elastic + lift * _UP
+    return forces if body is None else forces + _cm(body.force)
 
 
 def _generalised_forces(model: CableNetwork, env: Environment, t, positions, velocities) -> Float[Array, "3 nodes"]:

@@ -448,7 +448,7 @@ class CableNetwork(eqx.Module):
     node_positions: Float[Array, "nodes 3"]
     segment_length: Float[Array, " segments"]
     line: LineType
-    body: Body
+    body: Body | None
     motions: tuple[AbstractMotion, ...]
     topology: Topology = eqx.field(static=True)
     mass_matrix: str = eqx.field(static=True)
@@ -539,7 +539,7 @@ class CableNetwork(eqx.Module):
             checks.finite("CableNetwork.segment_length", self.segment_length),
             checks.sign("CableNetwork.segment_length", self.segment_length),
             *self.line.conditions(),
-            *self.body.conditions(),
+            *(self.body.conditions() if self.body is not None else []),
             *(c for motion in self.motions for c in motion.conditions()),
         ]
 
@@ -763,6 +763,29 @@ def _scatter_bodies(bodies: Mapping[int, Body], n_nodes: int) -> Body:
         return checks.on_device(out)
 
     return jax.tree.map(scatter, *given)
+
+
+def without_absent_bodies(model: CableNetwork) -> CableNetwork:
+    """`model` with `body` None where it carries no body: every body array concrete and
+    zero (a bare line or net), as the dynamics programs take it.
+
+    The equations leave a None body's terms out (`jaxcable._equations.lagrangian`), so
+    its program computes no drag, buoyancy or submerged fraction on arrays of zeros,
+    which XLA cannot fold at run time since they are the program's arguments: the 40-
+    segment rope of `benchmarks/first_contact.py` (row `line40`) ran its 300,000
+    midpoint steps in 3.1 s without them against 3.6 s with them, and a warm 256-case
+    sweep of the anchored line took 14.8 s against 17.2 s. A model with any body, or
+    whose bodies are traced (differentiated, swept), keeps them; so does one that a
+    user gave bodies with `eqx.tree_at` after building it, since it is decided on the
+    values. A drag law (`specific_drag`) without organism mass, and added mass or a
+    height without volume, act on nothing."""
+    body = model.body
+    if body is None or checks.traced(body):
+        return model
+    acting = (body.mass, body.volume, body.drag_area, body.organism_mass, body.force)
+    if any(np.any(np.asarray(x) != 0) for x in acting):
+        return model
+    return eqx.tree_at(lambda m: m.body, model, None)
 
 
 def below_seabed(heights: Float[ArrayLike, "*points"], depth: Float[ArrayLike, ""]) -> Bool[ArrayLike, "*points"]:

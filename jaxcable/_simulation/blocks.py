@@ -38,7 +38,7 @@ import numpy as np
 from jaxtyping import ArrayLike, Bool, Float
 
 from .. import _checks as checks
-from .._model.network import CableNetwork, network_conditions
+from .._model.network import CableNetwork, network_conditions, without_absent_bodies
 from .._model.state import State
 from .._programs import RUN_ONCE, Program, program
 from .._sea.environment import Environment
@@ -109,6 +109,7 @@ def simulate_in_blocks(
         ]
     )
     start, block, options = _programs_for(config, ts)
+    model = without_absent_bodies(model)  # a bare line's program computes no body terms
     carry = start(model, env, (initial.positions, initial.velocities), ts[0], ts[1], config)
     starts, ends, active = _intervals(ts)
     blocks, steps = [], np.zeros(3, dtype=np.int64)
@@ -142,6 +143,7 @@ def prepare(
     config = for_model(as_config("simulate_in_blocks", solver), model)
     ts = np.asarray(ts, dtype=float)
     start, block, options = _programs_for(config, ts)
+    model = without_absent_bodies(model)  # as `simulate_in_blocks` runs it
     initial = (model.node_positions, checks.on_device(np.zeros(model.node_positions.shape)))
     _prepare_programs((start, block, _outputs), (model, env), initial, ts, config, options)
 

@@ -12,7 +12,7 @@ from jaxtyping import Array, Float
 from .. import _checks as checks
 from .._derivative_check import warn_of_slack
 from .._equations import lagrangian as lag
-from .._model.network import CableNetwork, network_conditions, unheld_nodes
+from .._model.network import CableNetwork, network_conditions, unheld_nodes, without_absent_bodies
 from .._model.state import State
 from .._progress import SimulatedTime
 from .._sea.environment import Environment
@@ -273,7 +273,7 @@ def simulate(
     config = for_model(as_config("simulate", solver), model)
     try:
         result = _simulate(
-            model,
+            without_absent_bodies(model),  # a bare line's program computes no body terms
             env,
             start,
             t0,

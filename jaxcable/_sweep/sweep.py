@@ -46,7 +46,7 @@ import optimistix as optx
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
 from .. import _checks as checks
-from .._model.network import CableNetwork, unheld_nodes
+from .._model.network import CableNetwork, unheld_nodes, without_absent_bodies
 from .._model.state import State
 from .._programs import RUN_ONCE, program
 from .._progress import progress_bar
@@ -570,11 +570,13 @@ def _run_in_blocks(parts, shared, mode: str, done: _Done):
     outputs = [np.empty((offsets[-1], grid.size, *shape)) for shape in shapes]
     codes, steps = np.zeros(offsets[-1], np.int32), np.zeros((offsets[-1], 3), np.int64)
 
+    cases, lean = _without_absent_bodies([part["model"] for part in parts], system)
+
     def run(chunk: int):
-        part, here = parts[chunk], slice(offsets[chunk], offsets[chunk + 1])
+        here = slice(offsets[chunk], offsets[chunk + 1])
         codes[here], steps[here] = integrate_batch_in_blocks(
-            part["model"],
-            system,
+            cases[chunk],
+            lean,
             grid,
             starts[chunk][0],
             config,
@@ -584,7 +586,7 @@ def _run_in_blocks(parts, shared, mode: str, done: _Done):
 
     if ok.any():  # else none is integrated
         # Compiled (or loaded) before the threads start, so that they do not each compile it.
-        prepare_batch(parts[0]["model"], system, grid, starts[0][0], config)
+        prepare_batch(cases[0], lean, grid, starts[0][0], config)
         with ThreadPoolExecutor(len(parts)) as pool:
             list(pool.map(run, range(len(parts))))
     if not np.array_equal(at, np.arange(grid.size)):
@@ -607,6 +609,21 @@ def _run_in_blocks(parts, shared, mode: str, done: _Done):
     if not ok.all():
         return _finish_batch(simulation, statics, valid, ok)
     return simulation, statics, jax.device_put(codes == np.asarray(jax.tree.leaves(diffrax.RESULTS.successful)[0]))
+
+
+def _without_absent_bodies(cases: list, system) -> tuple[list, object]:
+    """The chunks' batched `(model, env)` leaves and the shared ones with the model's
+    `body` None where no case carries a body ([`jaxcable._model.network.without_absent_bodies`][]
+    on the shared leaves, where no body leaf is swept), so that the batch's programs
+    compute no body terms; otherwise as given."""
+    model, env = system
+    swept = any(jax.tree.leaves(case[0].body) for case in cases)
+    if swept or without_absent_bodies(model) is model:
+        return cases, system
+    return [(eqx.tree_at(lambda m: m.body, case[0], None), case[1]) for case in cases], (
+        eqx.tree_at(lambda m: m.body, model, None),
+        env,
+    )
 
 
 def _grid(t0: float, t1: float, ts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
