@@ -649,10 +649,10 @@ def _chains(model: CableNetwork, labels: Labels | None) -> list[tuple[str, np.nd
     for s, (a, b) in enumerate(edges):
         incident[a].append(s)
         incident[b].append(s)
-    volume = np.asarray(model.body.volume)
-    mass = np.asarray(model.body.mass)
+    body = model.body
+    carries = np.zeros(n_nodes, bool) if body is None else (np.asarray(body.volume) != 0) | (np.asarray(body.mass) != 0)
     stops = {int(k) for k in np.asarray(model.constrained_nodes)}
-    stops |= {k for k in range(n_nodes) if len(incident[k]) != 2 or volume[k] or mass[k]}
+    stops |= {k for k in range(n_nodes) if len(incident[k]) != 2 or carries[k]}
     seen, chains = set(), []
     starts = sorted(stops) or [int(edges[0, 0])]  # a closed loop of plain nodes starts anywhere
     for start in starts:

@@ -274,7 +274,7 @@ def column_buoyancy_potential(z: Array | np.ndarray | float, height: Array | np.
     return jnp.where(height > 0, -jnp.minimum(z, low) - piercing, -z)
 
 
-def _with_body_mass(model: CableNetwork, env: Environment, positions, x, times=1.0):
+def _with_body_mass(model: CableNetwork, env: Environment, positions, x, times: ArrayLike = 1.0):
     """`x + m_b times` (kg, or kg·m/s² where `times` is an acceleration): each node's
     body mass with its added mass, `m_b`, shape `(nodes,)`, times `times`; `x` where the
     model has no bodies (`body` None, [`jaxcable._model.network.without_absent_bodies`][])."""

@@ -297,6 +297,7 @@ def applies(model: CableNetwork, env: Environment, t: RealScalarLike = 0.0) -> b
     if type(model.line.tension_law) not in (LinearElastic, NonlinearElastic, KelvinVoigt):
         return False  # another law may define its own elastic tension
     free, body = model.free_nodes, model.body
+    assert body is not None  # statics take a built model, which carries its bodies (zeros where none)
     loaded = [np.asarray(body.mass)[free], np.asarray(body.volume)[free], np.asarray(body.force)[free]]
     return not any(np.any(x != 0) for x in loaded)
 
@@ -529,6 +530,7 @@ def _forces(model: CableNetwork, env: Environment, law: _Law, positions) -> tupl
     submerged, in numpy: the forces (N, shape `(nodes, 3)`) on every node at
     `positions` (m, shape `(nodes, 3)`), and each segment's strain (–) and tension (N)."""
     line, body = model.line, model.body
+    assert body is not None  # statics take a built model, which carries its bodies (zeros where none)
     g, rho = float(env.gravity), float(env.water_density)
     ends, length = model.segment_nodes, np.asarray(model.segment_length)
     chord = positions[ends[:, 1]] - positions[ends[:, 0]]
@@ -656,6 +658,7 @@ def _solution(model: CableNetwork, env: Environment, law: _Law, positions, itera
     # `_statics._force_scale`: the largest tension, wet weight of a segment or a body, or
     # body's force (no drag in still water); and `_statics._rounding`.
     line_type, body = model.line, model.body
+    assert body is not None  # statics take a built model, which carries its bodies (zeros where none)
     g, rho = float(env.gravity), float(env.water_density)
     wet_segment = (np.asarray(line_type.mass_per_length) - rho * np.asarray(line_type.area)) * g
     wet_body = (np.asarray(body.mass) - rho * np.asarray(body.volume)) * g
