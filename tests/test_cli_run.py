@@ -476,16 +476,17 @@ def test_ctrl_c_ends_the_command_at_once(tmp_path):
     root = Path(jc.__file__).parent.parent
     env = {**os.environ, "PYTHONPATH": str(root), "JAXCABLE_CACHE_DIR": str(tmp_path / "cache")}
     out = tmp_path / "run.csv"
-    argv = [sys.executable, "-m", "jaxcable", "run", "anchored_line", "--duration", "3600", "--out", str(out)]
     # A test runner's worker may ignore SIGINT, and a child inherits that (a process
-    # started in the background should): the child here gets the default, as from a shell.
+    # started in the background should): the child takes Python's own handler back, as
+    # a process started from a shell has it, then runs `python -m jaxcable`.
+    script = (
+        "import runpy, signal, sys\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
+        f"sys.argv = ['jaxcable', 'run', 'anchored_line', '--duration', '3600', '--out', {str(out)!r}]\n"
+        "runpy.run_module('jaxcable', run_name='__main__')\n"
+    )
     process = subprocess.Popen(
-        argv,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env=env,
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+        [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
     )
     time.sleep(8.0)  # past JAX's import, into the compile or the run
     assert process.poll() is None, process.communicate()
