@@ -144,6 +144,7 @@ def test_differentiated_sees_a_derivative_beneath_vmap_and_jit():
     assert seen[6:] == [False] * 3
 
 
+@pytest.mark.slow
 def test_a_derivative_through_slack_is_warned_of(monkeypatch):
     """`simulate`, differentiated through a segment going slack (the README line's top
     segment, at 3 s), warns once a process, naming the first event; over a window
