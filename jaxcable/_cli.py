@@ -33,7 +33,7 @@ import threading
 import warnings
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
@@ -97,25 +97,37 @@ def _interruptible(work: Callable[[], int]) -> int:
     waiting thread wakes five times a second; on Ctrl-C it says so and ends the
     process (a running program cannot be stopped, only left), exit status 130.
     Exceptions of `work` are raised here."""
-    outcome: dict[str, object] = {}
-
-    def run() -> None:
-        try:
-            outcome["code"] = work()
-        except BaseException as error:  # raised again in the main thread
-            outcome["error"] = error
-
-    worker = threading.Thread(target=run, name="jaxcable command", daemon=True)
-    worker.start()
+    worker, outcome = _on_thread(work, "jaxcable command")
     try:
         while worker.is_alive():
             worker.join(0.2)
     except KeyboardInterrupt:
         print("\njaxcable: interrupted", file=sys.stderr, flush=True)
         os._exit(INTERRUPTED)
+    return _outcome(outcome)
+
+
+def _on_thread(work: Callable[[], object], name: str) -> tuple[threading.Thread, dict[str, object]]:
+    """`work()` started on a daemon thread, and the dict its result (`"value"`) or
+    exception (`"error"`) lands in; [`_outcome`][] reads it once the thread ends."""
+    outcome: dict[str, object] = {}
+
+    def run() -> None:
+        try:
+            outcome["value"] = work()
+        except BaseException as error:  # raised again by `_outcome`, in the waiting thread
+            outcome["error"] = error
+
+    worker = threading.Thread(target=run, name=name, daemon=True)
+    worker.start()
+    return worker, outcome
+
+
+def _outcome(outcome: dict[str, object]) -> Any:
+    """The result that [`_on_thread`][]'s work returned, or its exception raised here."""
     if "error" in outcome:
         raise outcome["error"]  # pyright: ignore[reportGeneralTypeIssues]
-    return outcome["code"]  # pyright: ignore[reportReturnType]
+    return outcome["value"]
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -751,21 +763,10 @@ def _advice_within(built, duration: float, stiffness: bool, seconds: float):
     from ._advice import advise
 
     if seconds > 0:
-        outcome = {}
-
-        def solve() -> None:
-            try:
-                outcome["advice"] = advise(built, duration=duration, stiffness=stiffness)
-            except BaseException as error:  # raised again in the calling thread
-                outcome["error"] = error
-
-        worker = threading.Thread(target=solve, name="jaxcable advice", daemon=True)
-        worker.start()
+        worker, outcome = _on_thread(lambda: advise(built, duration=duration, stiffness=stiffness), "jaxcable advice")
         worker.join(seconds)
-        if "error" in outcome:
-            raise outcome["error"]  # pyright: ignore[reportGeneralTypeIssues]
-        if "advice" in outcome:
-            return outcome["advice"], None
+        if not worker.is_alive():
+            return _outcome(outcome), None
         late = f"statics did not finish within {seconds:g} s; --advice-time S waits longer"
     else:
         late = "statics left out by --advice-time 0"
