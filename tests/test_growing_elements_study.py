@@ -97,6 +97,7 @@ def tethered():
     return study.tethered_study((0.2, 2.0), **study.SMALL)
 
 
+@pytest.mark.slow
 def test_tethered_light_element_loads_its_tether_on_the_back_slope(tethered):
     assert tethered.success.all()
     slack = tethered.slack_fraction()
@@ -107,6 +108,7 @@ def test_tethered_light_element_loads_its_tether_on_the_back_slope(tethered):
     assert shadow[0].max() == 1.0  # some phase of the wave is always in shadow
 
 
+@pytest.mark.slow
 def test_tethered_heavy_element_never_goes_slack(tethered):
     assert tethered.slack_fraction()[1] == 0.0
     # Taut throughout, it pulls on the tether with at least its weight less the drag the
@@ -116,6 +118,7 @@ def test_tethered_heavy_element_never_goes_slack(tethered):
     assert 0.3 < ratio.min() < 1.0 < ratio.max() < 1.7
 
 
+@pytest.mark.slow
 def test_tethered_light_element_rises_off_its_arc_and_the_heavy_one_does_not(tethered):
     # A taut tether keeps the element on its arc, below it by the stretch, whatever it
     # swings; only a slack one lets the water lift it off. So the light element's rise is

@@ -83,7 +83,15 @@ def _dense(fn, k):
 
 
 # The net with loops takes 40 s of the default suite's 2 cores: slow.
-@pytest.mark.parametrize("name", ["line", "bending", "y_branch", pytest.param("buoy_net", marks=pytest.mark.slow)])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "line",
+        "bending",
+        pytest.param("y_branch", marks=pytest.mark.slow),
+        pytest.param("buoy_net", marks=pytest.mark.slow),
+    ],
+)
 def test_solve_matches_dense_jacobian(models, name):
     """Solves and transposed solves agree with `numpy.linalg.solve` on the `jacfwd`
     Jacobian, on a line, a branched system and a net with loops, at a step long enough
@@ -105,6 +113,7 @@ def test_solve_matches_dense_jacobian(models, name):
     np.testing.assert_allclose(flat(solution_t), expected_t, rtol=1e-9, atol=1e-9 * np.abs(expected_t).max())
 
 
+@pytest.mark.slow
 def test_jacobian_is_as_sparse_as_the_graph(models):
     """The dense Jacobian's nonzero blocks lie on the graph's pairs, the structure the
     colouring relies on: no node's force depends on a node two segments away."""
@@ -188,14 +197,29 @@ def implicit_runs():
     return runs
 
 
+@pytest.mark.slow
 def test_structured_run_matches_dense_run(implicit_runs):
     """Kvaerno5 (VeryChord) with the structured Jacobian follows diffrax's dense one:
-    the same steps to rounding, the same tensions to the root finder's tolerance."""
+    the same steps to rounding, the same tensions to the root finder's tolerance; and
+    with the model traced (an argument of `jit`), the automatic choice's run equals the
+    dense one too."""
     structured, dense = implicit_runs["structured"], implicit_runs["dense"]
     assert bool(structured.success) and bool(dense.success)
     peak = float(jnp.max(dense.tension))
     assert float(jnp.max(jnp.abs(structured.tension - dense.tension))) < 1e-6 * peak
     assert abs(int(structured.stats["num_steps"]) - int(dense.stats["num_steps"])) <= 2
+
+    import equinox as eqx
+
+    line, env = anchored_line(6, mass_matrix="lumped")
+    static = jc.solve_statics(line, env)
+    ts = np.linspace(0.0, 2.0, 21)
+    run = eqx.filter_jit(
+        lambda m: jc.simulate(
+            m, env, 2.0, ts=ts, initial=static.state, solver=jc.SolverConfig(diffrax.Kvaerno5(), rtol=1e-8, atol=1e-8)
+        )
+    )(line)
+    np.testing.assert_allclose(run.tension, dense.tension, rtol=1e-6, atol=1e-6 * peak)
 
 
 def test_auto_applies_only_where_it_holds(models):
@@ -216,10 +240,10 @@ def test_auto_applies_only_where_it_holds(models):
     assert with_network_jacobian(structured, model) is structured
 
 
-def test_auto_is_structured_under_jit(models, implicit_runs):
+def test_auto_is_structured_under_jit(models):
     """With the model traced (an argument of `jit`), the automatic choice still picks the
-    structured solver, with the colouring and order of the eager one, and the run equals diffrax's
-    dense one."""
+    structured solver, with the colouring and order of the eager one (the run with it:
+    `test_structured_run_matches_dense_run`)."""
     import equinox as eqx
 
     from jaxcable._solver.jacobian import with_network_jacobian
@@ -237,17 +261,6 @@ def test_auto_is_structured_under_jit(models, implicit_runs):
     pick(model)
     assert type(chosen[0]) is NetworkJacobian
     assert (chosen[0].colours, chosen[0].order, chosen[0].group) == (eager.colours, eager.order, eager.group)
-
-    line, env = anchored_line(6, mass_matrix="lumped")
-    static = jc.solve_statics(line, env)
-    ts = np.linspace(0.0, 2.0, 21)
-    run = eqx.filter_jit(
-        lambda m: jc.simulate(
-            m, env, 2.0, ts=ts, initial=static.state, solver=jc.SolverConfig(diffrax.Kvaerno5(), rtol=1e-8, atol=1e-8)
-        )
-    )(line)
-    dense = implicit_runs["dense"]
-    np.testing.assert_allclose(run.tension, dense.tension, rtol=1e-6, atol=1e-6 * float(np.max(np.abs(dense.tension))))
 
 
 def test_structured_refuses_what_it_cannot_do(models):

@@ -49,8 +49,8 @@ def test_failure_is_reported_without_throw(driven_line):
 
 def test_the_default_start_is_statics_as_in_a_sweep(driven_line):
     """`simulate` without `initial` starts where `sweep` does: from statics, solved at
-    `t0` (here 1 s, where the top's harmonic motion has moved it), inside a derivative
-    too; `"rest"` is the drop test."""
+    `t0` (here 1 s, where the top's harmonic motion has moved it); `"rest"` is the drop
+    test."""
     model, env, _ = driven_line
     ts = np.linspace(1.0, 1.5, 3)
     default = jc.simulate(model, env, 1.5, t0=1.0, ts=ts)
@@ -66,6 +66,13 @@ def test_the_default_start_is_statics_as_in_a_sweep(driven_line):
     np.testing.assert_allclose(swept.tension[0], default.tension, rtol=1e-9)
     rest = jc.simulate(model, env, 1.5, t0=1.0, ts=ts, initial="rest")
     assert np.abs(np.asarray(rest.tension - default.tension)).max() > 1.0  # N: a different start
+
+
+@pytest.mark.slow
+def test_the_default_start_is_statics_inside_a_derivative(driven_line):
+    """A derivative through `simulate` without `initial` includes the equilibrium's
+    dependence on the parameter, as central differences of whole runs do."""
+    model, env, _ = driven_line
 
     def top_tension(scale):
         scaled = eqx.tree_at(lambda m: m.line.normal_drag, model, scale * model.line.normal_drag)
@@ -225,11 +232,21 @@ def test_bad_values_are_named_eagerly_and_under_jit(driven_line):
         jc.simulate(model, env, 1.0, ts=[0.0, 2.0], initial=static.state)
 
 
+def test_rk4_stability_function_is_the_taylor_polynomial():
+    """RK4's stability function is the fourth-degree Taylor polynomial of exp, so its
+    imaginary-axis interval reaches 2√2."""
+    z = np.array([0.3 + 0.1j, -1.0, 2.0j])
+    taylor = 1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24
+    np.testing.assert_allclose(stability_function(jc.RK4(), z), taylor, rtol=1e-14)
+    edge = stability_function(jc.RK4(), np.array([2.8j, 2.9j]))
+    assert abs(edge[0]) <= 1.0 < abs(edge[1])
+
+
+@pytest.mark.slow
 def test_rk4_is_the_classical_method(driven_line):
     """`SOLVERS["rk4"]` (MoorDyn's `RK4`) at fixed steps: halving the step divides the
-    error by about 2⁴ = 16; its stability function is the fourth-degree Taylor
-    polynomial of exp, so its imaginary-axis interval reaches 2√2; and adaptively its
-    midpoint-rule estimate steers it to a requested tolerance."""
+    error by about 2⁴ = 16; and adaptively its midpoint-rule estimate steers it to a
+    requested tolerance."""
     model, env, static = driven_line
     ts = np.linspace(0.0, 0.5, 11)
 
@@ -244,12 +261,6 @@ def test_rk4_is_the_classical_method(driven_line):
         errors.append(np.max(np.abs(top_tension(fixed) - reference)))
     ratios = np.array(errors[:-1]) / np.array(errors[1:])
     np.testing.assert_allclose(ratios, 16.0, rtol=0.25)
-
-    z = np.array([0.3 + 0.1j, -1.0, 2.0j])
-    taylor = 1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24
-    np.testing.assert_allclose(stability_function(jc.RK4(), z), taylor, rtol=1e-14)
-    edge = stability_function(jc.RK4(), np.array([2.8j, 2.9j]))
-    assert abs(edge[0]) <= 1.0 < abs(edge[1])
 
     scale = np.max(np.abs(reference))
     adaptive = top_tension(jc.SOLVERS["rk4"](rtol=1e-8, atol=1e-8))
@@ -292,6 +303,7 @@ def test_written_out_explicit_steps_are_diffrax_steps(solver):
             np.testing.assert_allclose(x, y, rtol=1e-13, atol=1e-15)
 
 
+@pytest.mark.slow
 def test_bosh3_fixed_steps_converge_at_third_order(driven_line):
     """`SOLVERS["bosh3"]` at a fixed step, as the speed table's sweep runs it: on the
     driven line, halving the step divides the error (against a tight Dopri8 run) by

@@ -107,7 +107,8 @@ def test_placement_inverts_free_then_constrained():
     np.testing.assert_array_equal(order[model.topology.placement], np.arange(model.n_nodes))
 
 
-@pytest.mark.parametrize("scene", list(SCENES))
+# The moored net's general path compiles for 25 s: it joins the slow suite.
+@pytest.mark.parametrize("scene", [pytest.param(s, marks=pytest.mark.slow) if s == "moored net" else s for s in SCENES])
 def test_slices_give_the_gathers_answer(scene, monkeypatch):
     """With every static index compiled as a gather (the general path), the free
     accelerations and the reactions are those of the slices."""

@@ -38,6 +38,7 @@ def test_fuzz_scenes_reach_equilibrium(seed):
     assert np.max(np.abs(start[np.asarray(fuzz.model.free_nodes)])) / scale > 1e3 * verdict["relative_residual"]
 
 
+@pytest.mark.slow
 def test_fuzz_scene_is_the_same_under_jit_and_vmap():
     """One scene eagerly, under `jit` and as a batch of two (itself and the same scene
     with a 10 % stronger current) under `vmap`: the same equilibrium, and the batch's

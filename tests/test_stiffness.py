@@ -397,6 +397,7 @@ def on_the_bed(segments: int):
     return model, env, BedCatenary(400.0, 145.0, 500.0, wet, EA).support_stiffness()
 
 
+@pytest.mark.slow
 def test_a_line_on_the_seabed_has_the_continuous_lines_stiffness():
     """Where the line rests on the bed the fairlead's 3 × 3 is within 1 % of the
     continuous line's closed form (MoorPy's catenary with seabed contact) at 40

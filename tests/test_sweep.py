@@ -688,14 +688,15 @@ def test_the_default_sweep_takes_fixed_rk4_steps_stable_for_every_case():
 
 def test_output_times_after_the_start_are_integrated_to_from_it():
     """Output times that begin after t0 are reached on the same grid of steps as outputs
-    from t0 at their spacing: the two sweeps agree bitwise at the times they share."""
+    from t0 at their spacing: the two sweeps agree to rounding at the times they share
+    (another grid would differ by the steps' error, some 1e-6 of the tension)."""
     later = TS[TS >= 0.5]
     config = jc.SolverConfig(jc.RK4(), dt0=0.01, stepsize_controller=diffrax.ConstantStepSize())
     first = {"stiffness_scale": [1.0, 2.0], "stretch": [1.0, 1.0]}
     whole = sweep(build, first, T1, ts=TS, solver=config)
     part = sweep(build, first, T1, ts=later, solver=config)
     np.testing.assert_array_equal(part.times[0], later)
-    np.testing.assert_array_equal(part.tension, whole.tension[:, TS >= 0.5])
+    np.testing.assert_allclose(part.tension, whole.tension[:, TS >= 0.5], rtol=1e-12)
     grid, at = jc._sweep.sweep._grid(0.0, 1.0, np.array([0.5, 0.75, 0.75, 1.0]))
     np.testing.assert_allclose(grid, [0.0, 0.25, 0.5, 0.75, 1.0])
     np.testing.assert_array_equal(at, [2, 3, 3, 4])

@@ -8,6 +8,7 @@ from jaxcable.examples._anchored_line import ADDED_MASS, AXIAL_STIFFNESS, MASS_P
 from studies import towed_trawl as s2
 
 
+@pytest.mark.slow
 def test_first_stage_is_the_axial_wave():
     # An elastic tow cable whose end speeds up by Δv carries an axial wave of tension
     # Z Δv cos θ, Z = √(C_E (m + m_a)), until it comes back from the branch point. The
