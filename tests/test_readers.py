@@ -567,6 +567,48 @@ def test_moordyn_empty_sections(tmp_path):
         jc.read_moordyn(path)
 
 
+@pytest.mark.parametrize("row, what", [(1, "row of units"), (0, "row of column names")])
+def test_moordyn_missing_heading_row_is_named(tmp_path, row, what):
+    """A table without its row of units (or of column names) would lose its first row
+    of data in MoorDyn, which skips two rows after every header: refused, naming the
+    row and the data it would lose."""
+    text = moordyn_text().replace(_LINE_COLUMNS[row] + "\n", "")
+    path = tmp_path / "system.txt"
+    path.write_text(text)
+    number = text.splitlines().index(LINES[0]) + 1
+    with pytest.raises(jc.io.SceneError) as error:
+        jc.read_moordyn(path)
+    message = str(error.value)
+    assert f"{path}, line {number}: section LINES's {what}" in message, message
+    assert "would skip this row of data, '1 chain 1 2 250.0 10 -'" in message, message
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "utf-8-sig"])
+def test_moordyn_file_with_a_byte_order_mark_is_read(tmp_path, encoding):
+    """Windows editors save UTF-16 or UTF-8 with a byte-order mark: read as the plain
+    file is."""
+    plain_path = write_moordyn(tmp_path, "plain.txt")
+    path = tmp_path / "marked.txt"
+    path.write_bytes(moordyn_text().encode(encoding))
+    plain, marked = jc.read_moordyn(plain_path), jc.read_moordyn(path)
+    # The same points, line types and lines, located in their own file.
+    for got, expected in [
+        (marked.points, plain.points),
+        (marked.line_types, plain.line_types),
+        (marked.lines, plain.lines),
+    ]:
+        assert repr(got).replace(str(path), str(plain_path)) == repr(expected)
+
+
+def test_moordyn_utf16_without_a_byte_order_mark_is_named(tmp_path):
+    path = tmp_path / "system.txt"
+    path.write_bytes(moordyn_text().encode("utf-16-le"))
+    with pytest.raises(
+        jc.io.SceneError, match=r"zero bytes, as UTF-16 text without a byte-order mark does; save it as UTF-8"
+    ):
+        jc.read_moordyn(path)
+
+
 def test_moordyn_unknown_point_type(tmp_path):
     row = "2    Buoy      200.0   0.0    0.0     0       0        0      0"
     path = write_moordyn(tmp_path, points=(POINTS[0], row))

@@ -193,6 +193,8 @@ def parse_moordyn(path: str | Path) -> ParsedScene:
         if required not in sections:
             aliases = " / ".join(dict(_SECTIONS)[required])
             raise SceneError(f"{source}: missing section {required} (a header line with '---' and {aliases})")
+    for name in ("LINE TYPES", "POINTS", "LINES"):
+        _check_heading_rows(source, lines, sections[name], name)
 
     line_types = tuple(_line_type(source, n, row, dropped) for n, row in _rows(lines, sections, "LINE TYPES"))
     unique_names(line_types, "line type", source)
@@ -248,6 +250,38 @@ def _find_sections(lines: list[str]) -> dict[str, int]:
                 found.setdefault(name, i)
                 break
     return found
+
+
+def _check_heading_rows(source: str, lines: list[str], header: int, name: str) -> None:
+    """Refuse a table section whose two rows after its `---` header, which MoorDyn
+    skips as the column names and the units, hold a row of data: MoorDyn would skip
+    that row of data without a word."""
+    heading = [lines[k].split() if k < len(lines) and "---" not in lines[k] else None for k in (header + 1, header + 2)]
+    for offset, fields in enumerate(heading, start=1):
+        if fields is None:
+            return
+        if not _is_data_row(fields):
+            continue
+        if offset == 1:
+            what = "rows of column names and units (such as 'ID  LineType ...' and '(#)  (name) ...') are"
+        elif any(f.startswith(("(", "[")) for f in heading[0] or ()):
+            what = "row of column names (such as 'ID  LineType  AttachA ...') is"
+        else:
+            what = "row of units (such as '(#)  (name)  (#) ...') is"
+        raise SceneError(
+            f"{source}, line {header + offset + 1}: section {name}'s {what} missing: MoorDyn reads the two "
+            f"rows after a section's header as its column names and units, so it would skip this row of "
+            f"data, {' '.join(fields)!r}"
+        )
+
+
+def _is_data_row(fields: list[str]) -> bool:
+    """Whether a row is data, not names or units: its first field a number (a point's,
+    line's or type's ID) or, for a line type named by a word, its second one, and no
+    field in parentheses or brackets as units are."""
+    if any(f.startswith(("(", "[")) for f in fields):
+        return False
+    return any(is_number(f) for f in fields[:2])
 
 
 def _rows(lines: list[str], sections: dict[str, int], name: str) -> list[tuple[int, list[str]]]:

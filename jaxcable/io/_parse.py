@@ -1,6 +1,7 @@
 """Helpers the file readers share: reading a file's text, telling numbers from words,
 and catching a name defined twice. Errors are [`jaxcable.io.SceneError`][]."""
 
+import codecs
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -8,11 +9,34 @@ from ._scene import SceneError
 
 
 def read_text(path: Path, what: str = "") -> str:
-    """The text of `path`, or a `SceneError` saying why it cannot be read."""
+    """The text of `path`, or a `SceneError` saying why it cannot be read.
+
+    UTF-8 (bytes that are not are replaced: they are in comments, which MoorDyn's ASCII
+    fields never hold); UTF-16 and UTF-8 with a byte-order mark, as Windows editors
+    save them, are decoded by it. UTF-16 without a mark (zero bytes between the
+    characters) is refused, naming the encoding to save the file in."""
+    name = f"{what + ' ' if what else ''}{path}"
     try:
-        return path.read_text(encoding="utf-8", errors="replace")
+        data = path.read_bytes()
     except OSError as error:
-        raise SceneError(f"cannot read {what + ' ' if what else ''}{path}: {error.strerror}") from error
+        raise SceneError(f"cannot read {name}: {error.strerror}") from error
+    for mark, encoding in (
+        (codecs.BOM_UTF8, "utf-8-sig"),
+        (codecs.BOM_UTF16_LE, "utf-16"),
+        (codecs.BOM_UTF16_BE, "utf-16"),
+    ):
+        if data.startswith(mark):
+            try:
+                return data.decode(encoding)
+            except UnicodeDecodeError as error:
+                raise SceneError(
+                    f"{name}: not valid {encoding.upper()} after its byte-order mark ({error.reason})"
+                ) from None
+    if b"\x00" in data[:4096]:
+        raise SceneError(
+            f"{name}: the file holds zero bytes, as UTF-16 text without a byte-order mark does; save it as UTF-8"
+        )
+    return data.decode("utf-8", errors="replace")
 
 
 def is_number(token: str) -> bool:
