@@ -600,6 +600,23 @@ def test_moordyn_file_with_a_byte_order_mark_is_read(tmp_path, encoding):
         assert repr(got).replace(str(path), str(plain_path)) == repr(expected)
 
 
+@pytest.mark.parametrize("end", ["\r\n", "\r"], ids=["windows", "classic mac"])
+def test_files_with_other_line_ends_are_read(tmp_path, end):
+    """Windows and classic Mac line ends read as Unix ones do: a MoorDyn file, and a
+    scene file, whose TOML allows only LF and CR LF (a CR alone stopped `tomllib`)."""
+    plain_path = write_moordyn(tmp_path, "plain.txt")
+    path = tmp_path / "ends.txt"
+    path.write_bytes(moordyn_text().replace("\n", end).encode())
+    plain, other = jc.read_moordyn(plain_path), jc.read_moordyn(path)
+    assert repr(other.lines).replace(str(path), str(plain_path)) == repr(plain.lines)
+
+    source = jc.examples.scene_path("anchored_line")
+    scene_path = tmp_path / "anchored_line.toml"
+    scene_path.write_bytes(source.read_text(encoding="utf-8").replace("\n", end).encode())
+    expected, got = jc.read_scene(source), jc.read_scene(scene_path)
+    assert repr(got.lines).replace(str(scene_path), str(source)) == repr(expected.lines)
+
+
 def test_moordyn_utf16_without_a_byte_order_mark_is_named(tmp_path):
     path = tmp_path / "system.txt"
     path.write_bytes(moordyn_text().encode("utf-16-le"))

@@ -264,7 +264,7 @@ def _check_heading_rows(source: str, lines: list[str], header: int, name: str) -
             continue
         if offset == 1:
             what = "rows of column names and units (such as 'ID  LineType ...' and '(#)  (name) ...') are"
-        elif any(f.startswith(("(", "[")) for f in heading[0] or ()):
+        elif _is_units_row(heading[0] or []):
             what = "row of column names (such as 'ID  LineType  AttachA ...') is"
         else:
             what = "row of units (such as '(#)  (name)  (#) ...') is"
@@ -275,13 +275,15 @@ def _check_heading_rows(source: str, lines: list[str], header: int, name: str) -
         )
 
 
+def _is_units_row(fields: list[str]) -> bool:
+    """Whether a row holds units: a field in parentheses or brackets, `(m)` or `[m]`."""
+    return any(f.startswith(("(", "[")) for f in fields)
+
+
 def _is_data_row(fields: list[str]) -> bool:
-    """Whether a row is data, not names or units: its first field a number (a point's,
-    line's or type's ID) or, for a line type named by a word, its second one, and no
-    field in parentheses or brackets as units are."""
-    if any(f.startswith(("(", "[")) for f in fields):
-        return False
-    return any(is_number(f) for f in fields[:2])
+    """Whether a row is data, not names or units: not units, and its first field a
+    number (a point's or line's ID) or, for a line type named by a word, its second."""
+    return not _is_units_row(fields) and any(is_number(f) for f in fields[:2])
 
 
 def _rows(lines: list[str], sections: dict[str, int], name: str) -> list[tuple[int, list[str]]]:

@@ -11,10 +11,11 @@ from ._scene import SceneError
 def read_text(path: Path, what: str = "") -> str:
     """The text of `path`, or a `SceneError` saying why it cannot be read.
 
-    UTF-8 (bytes that are not are replaced: they are in comments, which MoorDyn's ASCII
-    fields never hold); UTF-16 and UTF-8 with a byte-order mark, as Windows editors
-    save them, are decoded by it. UTF-16 without a mark (zero bytes between the
-    characters) is refused, naming the encoding to save the file in."""
+    UTF-8 (bytes that are not are replaced, as a comment's Latin-1 degree sign);
+    UTF-16 and UTF-8 with a byte-order mark, as Windows editors save them, are decoded
+    by it. UTF-16 without a mark (zero bytes between the characters) is refused, naming
+    the encoding to save the file in. Line ends are LF, whichever the file has, as Python's
+    text mode gives them."""
     name = f"{what + ' ' if what else ''}{path}"
     try:
         data = path.read_bytes()
@@ -27,7 +28,7 @@ def read_text(path: Path, what: str = "") -> str:
     ):
         if data.startswith(mark):
             try:
-                return data.decode(encoding)
+                return _newlines(data.decode(encoding))
             except UnicodeDecodeError as error:
                 raise SceneError(
                     f"{name}: not valid {encoding.upper()} after its byte-order mark ({error.reason})"
@@ -36,7 +37,12 @@ def read_text(path: Path, what: str = "") -> str:
         raise SceneError(
             f"{name}: the file holds zero bytes, as UTF-16 text without a byte-order mark does; save it as UTF-8"
         )
-    return data.decode("utf-8", errors="replace")
+    return _newlines(data.decode("utf-8", errors="replace"))
+
+
+def _newlines(text: str) -> str:
+    """`text` with Windows (CR LF) and classic Mac (CR) line ends as LF."""
+    return text.replace("\r\n", "\n").replace("\r", "\n")
 
 
 def is_number(token: str) -> bool:
