@@ -37,7 +37,15 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from ._names import AUTO, DROPPED_KINDS, INTERPOLATIONS, LARGEST_RTOL, SMALLEST_RTOL, SOLVER_NAMES
+from ._names import (
+    AUTO,
+    DEFAULT_SAFETY_FACTOR,
+    DROPPED_KINDS,
+    INTERPOLATIONS,
+    LARGEST_RTOL,
+    SMALLEST_RTOL,
+    SOLVER_NAMES,
+)
 from .examples import record_names, record_path, scene_names, scene_path, scene_title
 
 if TYPE_CHECKING:
@@ -283,6 +291,21 @@ def _parser() -> argparse.ArgumentParser:
         help="run a MoorDyn file without the physics it asks for and jaxcable leaves out, named by kind "
         f"({', '.join(DROPPED_KINDS)}; comma-separated, e.g. EI,waves); without it such a file is refused",
     )
+    run.add_argument(
+        "--breaking-load",
+        nargs="+",
+        metavar="[TYPE=]N",
+        help="minimum breaking load (N) of a line type, e.g. chain=2.2e7 rope=8e6, or one value for every type: "
+        "each line's utilisation is reported, and a line past --safety-factor warned of (a scene file may give "
+        "minimum_breaking_load instead)",
+    )
+    run.add_argument(
+        "--safety-factor",
+        type=float,
+        default=DEFAULT_SAFETY_FACTOR,
+        help="warn of a line whose largest tension passes its breaking load over this (default "
+        f"{DEFAULT_SAFETY_FACTOR:g}, API RP 2SK's for an intact mooring, dynamic analysis)",
+    )
     run.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
     run.set_defaults(handler=_run)
 
@@ -390,6 +413,9 @@ def _read_input(args) -> _Input:
     parsed = parse(path)
     if args.segments is not None:
         parsed = dataclasses.replace(parsed, scene=parsed.scene.with_segments(args.segments))
+    if getattr(args, "breaking_load", None):
+        loads = parsed.scene.with_breaking_loads(_breaking_loads(args.breaking_load), "--breaking-load")
+        parsed = dataclasses.replace(parsed, scene=loads)
     scene = parsed.scene
     duration = scene.run.duration if args.duration is None else args.duration
     if args.command == "info":
@@ -413,6 +439,27 @@ def _read_input(args) -> _Input:
             raise SceneError(f"--duration {duration:g} s runs past the motion table's last time, {times[-1]:g} s")
         motion = (times, positions)
     return _Input(parsed, motion, duration, _run_settings(scene, args))
+
+
+def _breaking_loads(items: list[str]) -> dict[str | None, float]:
+    """`--breaking-load`'s items, `TYPE=N` or a lone `N` for every line type, as
+    `Scene.with_breaking_loads` takes them."""
+    from .io import SceneError
+
+    loads: dict[str | None, float] = {}
+    for item in items:
+        name, _, number = item.rpartition("=")
+        key = name.strip() or None
+        if key is None and len(items) > 1:
+            raise SceneError(f"--breaking-load {item}: name the line type (TYPE=N) where more than one load is given")
+        try:
+            value = float(number)
+        except ValueError:
+            raise SceneError(f"--breaking-load {item}: expected TYPE=N or N, a load in newtons") from None
+        if key in loads:
+            raise SceneError(f"--breaking-load names line type {key} twice")
+        loads[key] = value
+    return loads
 
 
 def _finish(parsed: "ParsedScene") -> "Scene":
@@ -466,6 +513,9 @@ def _check_numbers(args) -> None:
         if number is not None and not (np.isfinite(number) and (number >= 0 if allow_zero else number > 0)):
             kind = "non-negative" if allow_zero else "positive"
             raise SceneError(f"{flag} must be a {kind} number of seconds, got {number:g}")
+    factor = getattr(args, "safety_factor", None)
+    if factor is not None and not (np.isfinite(factor) and factor >= 1):
+        raise SceneError(f"--safety-factor must be a number of at least 1 (1: up to the breaking load), got {factor:g}")
     for flag, value in (("--segments", "segments"), ("--max-steps", "max_steps")):
         number = getattr(args, value, None)
         if number is not None and number < 1:
@@ -535,6 +585,7 @@ def _check_output_files(args) -> None:
 def _run(args, given: _Input) -> int:
     from .io import write_output
     from .io._channels import default_channels, parse_channel
+    from .io._extremes import overloads, table
     from .io._run import run_scene
 
     scene = _finish(given.parsed)
@@ -591,6 +642,11 @@ def _run(args, given: _Input) -> int:
 
         plot_run(run, args.plot, channels)
         print(f"wrote {args.plot}")
+    extremes = run.line_extremes()
+    print(table(extremes))
+    sys.stdout.flush()
+    for warning in overloads(extremes, args.safety_factor):
+        print(f"warning: {warning}", file=sys.stderr)
     print(run.summary())
     for _, note in scene.dropped:
         print(f"left out (--allow-ignored): {note}")

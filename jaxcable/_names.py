@@ -1,9 +1,9 @@
 """Names and limits the command line offers and checks before it imports JAX
 (`jaxcable --help` answers without it, and a refused input file is answered without
 it): the solvers and their tightest tolerance, the mass matrices and hydrodynamic
-forms, the motion tables' interpolations, and the kinds of physics a MoorDyn file may
-ask for that jaxcable leaves out. Plain data, importing nothing; the modules that use
-them import them from here."""
+forms, the motion tables' interpolations, the kinds of physics a MoorDyn file may
+ask for that jaxcable leaves out, and the default safety factor on breaking loads.
+Plain data, importing nothing; the modules that use them import them from here."""
 
 SOLVER_NAMES = (
     "dopri5",
@@ -52,3 +52,7 @@ DROPPED_KINDS = ("EI", "waves", "currents", "bathymetry", "friction")
 stiffness table (a constant EI is modelled), waves or currents from MoorDyn's input files, a bathymetry file, and
 friction's static-to-dynamic ratio. `jaxcable run` refuses such a file unless
 `--allow-ignored` names them."""
+
+DEFAULT_SAFETY_FACTOR = 1.67
+"""API RP 2SK's factor of safety for an intact mooring line in a dynamic analysis (–):
+the largest tension at most the minimum breaking load / 1.67 (`jaxcable.io._extremes`)."""

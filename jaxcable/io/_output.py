@@ -1,4 +1,5 @@
-"""The files that hold a run's output channels (named in `_channels`).
+"""The files that hold a run's output channels (named in `_channels`), and the run as
+an `xarray.Dataset`.
 
 Files: `.csv` (comma-separated, one header row of names), `.out` or `.txt` (MoorDyn's
 layout: whitespace-separated, a row of names and a row of units), and `.npz` or `.nc`,
@@ -76,8 +77,7 @@ def write(path: str | Path, run: SceneRun, names: tuple[str, ...] = ()) -> Path:
     """
     path = check_output(path)
     suffix = path.suffix.lower()
-    # + 0.0 turns the −0.0 of a slack segment (negative strain times a zero switch) into 0.
-    values = {name: series + 0.0 for name, series in run.channels(names).items()}
+    values = _channel_values(run, names)
     if suffix == ".csv":
         table = np.column_stack(list(values.values()))
         np.savetxt(path, table, delimiter=",", header=",".join(values), comments="", fmt="%.10g")
@@ -92,6 +92,57 @@ def write(path: str | Path, run: SceneRun, names: tuple[str, ...] = ()) -> Path:
         else:
             _write_netcdf(path, run, variables)
     return path
+
+
+def dataset(run: SceneRun, names: tuple[str, ...] = ()):
+    """`run` as an `xarray.Dataset` (see [`jaxcable.io.SceneRun.to_dataset`][]): the
+    `.nc` file's variables, with `time`, `xyz` and `line` as coordinates, and each line's
+    extremes along `line` (`SceneRun.line_extremes`; NaN where a line type gives no
+    minimum breaking load)."""
+    try:
+        import xarray as xr
+    except ImportError:
+        raise ImportError('SceneRun.to_dataset needs xarray: pip install xarray (or "jaxcable[xarray]")') from None
+    variables = _archive_variables(run, _channel_values(run, names))
+    data = {
+        name: xr.Variable(dims, np.asarray(values), attrs={"units": unit, "long_name": description})
+        for name, (values, dims, unit, description) in variables.items()
+        if name != "time"
+    }
+    rows = run.line_extremes()
+    per_line = {
+        "largest_tension": ("N", "each line's largest segment tension", [r.largest for r in rows]),
+        "largest_tension_time": ("s", "when each line's largest tension was", [r.largest_time for r in rows]),
+        "largest_tension_segment": ("1", "its segment, from end A, from 1", [r.largest_segment for r in rows]),
+        "smallest_tension": ("N", "each line's smallest segment tension", [r.smallest for r in rows]),
+        "smallest_tension_time": ("s", "when each line's smallest tension was", [r.smallest_time for r in rows]),
+        "end_a_largest_tension": ("N", "the largest tension of each line's end A segment", [r.end_a for r in rows]),
+        "end_b_largest_tension": ("N", "the largest tension of each line's end B segment", [r.end_b for r in rows]),
+        "minimum_breaking_load": ("N", "each line type's MBL", [r.breaking_load or np.nan for r in rows]),
+        "utilisation": (
+            "1",
+            "largest tension / MBL",
+            [np.nan if r.utilisation is None else r.utilisation for r in rows],
+        ),
+    }
+    for name, (unit, description, values) in per_line.items():
+        data[name] = xr.Variable(("line",), np.asarray(values), attrs={"units": unit, "long_name": description})
+    coords = {
+        "time": xr.Variable(("time",), np.asarray(run.times), attrs={"units": "s", "long_name": "output time"}),
+        "xyz": ["x", "y", "z"],
+        "line": [line.name for line in run.built.scene.lines],
+    }
+    scene = run.built.scene
+    attrs = {"title": f"jaxcable run of {scene.source}" + (f": {scene.title}" if scene.title else "")}
+    if run.stepping:
+        attrs["stepping"] = run.stepping
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def _channel_values(run: SceneRun, names: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """The output channels by name, `Time` first (`SceneRun.channels`)."""
+    # + 0.0 turns the −0.0 of a slack segment (negative strain times a zero switch) into 0.
+    return {name: series + 0.0 for name, series in run.channels(names).items()}
 
 
 def _write_moordyn_table(path: Path, values: dict[str, np.ndarray]) -> None:

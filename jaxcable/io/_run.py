@@ -28,6 +28,7 @@ from .._statics.solution import StaticSolution
 from .._statics.solve import prepare as prepare_statics
 from .._statics.solve import solve_statics
 from . import _channels
+from ._extremes import LineExtremes, line_extremes
 from ._initial_shape import initial_positions
 from ._moordyn import read_moordyn
 from ._scene import BuiltScene, Scene, SceneError
@@ -130,6 +131,21 @@ class SceneRun:
         model, env = self.built.model, self.built.environment
         forces = jax.vmap(generalised_forces, in_axes=(None, None, 0, 0, 0))
         return np.asarray(forces(model, env, self.times, self.positions, self.velocities))
+
+    def line_extremes(self) -> tuple[LineExtremes, ...]:
+        """Each line's largest and smallest tension with where and when, its ends' largest,
+        and its utilisation where its line type gives a minimum breaking load
+        ([`jaxcable.io.LineExtremes`][]), in the scene's order of lines."""
+        return line_extremes(self.built, self.times, self.tension)
+
+    def to_dataset(self, names: tuple[str, ...] = ()):
+        """The run as an `xarray.Dataset`: positions, velocities, tensions and reactions
+        against time, node, segment and support, the segments' lines and lengths, each
+        line's extremes, and the output channels (the scene's, or `names`), each with its
+        units (`attrs["units"]`). Needs xarray (`pip install "jaxcable[xarray]"`)."""
+        from ._output import dataset
+
+        return dataset(self, names)
 
     def peak_tension(self) -> tuple[float, int, int, float]:
         """The peak tension: `(tension (N), line index, segment index along the line

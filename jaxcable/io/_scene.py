@@ -344,6 +344,10 @@ class LineTypeSpec:
     `slack_damping` lets the damping act on a slack segment too, as MoorDyn's does (see
     [`jaxcable.KelvinVoigt`][]); the MoorDyn reader sets it, and every line type of a
     scene must agree on it.
+
+    `minimum_breaking_load` (N), optional, is not physics: a run reports each line's
+    largest tension over it, the utilisation, and warns past a safety factor
+    (`jaxcable.io._extremes`).
     """
 
     name: str
@@ -361,7 +365,15 @@ class LineTypeSpec:
     slack_width: float = 1e-5
     slack_damping: bool = False
     bending_stiffness: float = 0.0
+    minimum_breaking_load: float | None = None
     where: str = ""
+
+    def __post_init__(self):
+        mbl = self.minimum_breaking_load
+        if mbl is not None and not (np.isfinite(mbl) and mbl > 0):
+            raise SceneError(
+                f"{self.where or self.name}: minimum_breaking_load must be a positive number of N, got {mbl:g}"
+            )
 
     def damping_coefficient(self, segment_length: float) -> float:
         """C_v (N·s) for segments of unstretched length `segment_length` (m); NaN for a
@@ -544,6 +556,31 @@ class Scene:
         if not (isinstance(segments, int) and segments >= 1):
             raise SceneError(f"segments must be a positive integer, got {segments!r}")
         return self.replace(lines=tuple(dataclasses.replace(line, segments=segments) for line in self.lines))
+
+    def with_breaking_loads(self, loads: dict[str | None, float], where: str = "breaking loads") -> "Scene":
+        """A copy whose line types have these minimum breaking loads (N), by line type
+        name; the key `None` gives every line type not named its load.
+
+        **Raises:**
+
+        [`jaxcable.io.SceneError`][], naming `where`, for a line type the scene does not
+        define or a load that is not a positive number."""
+        names = [t.name for t in self.line_types]
+        for name in loads:
+            if name is not None and name not in names:
+                raise SceneError(f"{where}: the scene has no line type {name!r}; its line types: {', '.join(names)}")
+        every = loads.get(None)
+        line_types = []
+        for t in self.line_types:
+            load = loads.get(t.name, every)
+            if load is not None:
+                if not (np.isfinite(load) and load > 0):
+                    raise SceneError(
+                        f"{where}: the minimum breaking load of {t.name} must be a positive number of N, got {load:g}"
+                    )
+                t = dataclasses.replace(t, minimum_breaking_load=float(load))
+            line_types.append(t)
+        return self.replace(line_types=tuple(line_types))
 
     def with_motion_table(
         self,

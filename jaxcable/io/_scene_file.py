@@ -74,6 +74,7 @@ A scene file names its points and line types and lists its lines::
                                  # tangential_added_mass, area, slack_width,
                                  # bending_stiffness (EI, N·m²);
                                  # slack_damping = true damps slack segments too
+    minimum_breaking_load = 2.0e6  # MBL (N), optional: utilisation in the results
 
     [points.anchor]
     type = "fixed"               # "fixed", "coupled" or "free"
@@ -188,6 +189,7 @@ _LINE_TYPE_OPTIONAL = (
     "area",
     "slack_width",
     "bending_stiffness",
+    "minimum_breaking_load",
 )
 _LINE_TYPE_FLAGS = ("slack_damping",)  # true or false
 _BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height")

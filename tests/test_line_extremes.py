@@ -1,0 +1,206 @@
+"""The table an engineer reads first (issue 37, item 5): each line's largest and smallest
+tension with segment and time, its ends' largest, its utilisation against the line type's
+minimum breaking load with a warning past a safety factor, and the run as an
+`xarray.Dataset`. The extremes are checked on planted tensions, where each answer is known."""
+
+import numpy as np
+import pytest
+
+import jaxcable as jc
+from jaxcable._cli import main as cli_main
+from jaxcable.io import SceneError, SceneRun
+from jaxcable.io._extremes import overloads, table
+
+# Two line types, three lines: 4, 3 and 2 segments.
+SCENE = """
+[water]
+depth = 100.0
+
+[line_types.chain]
+mass_per_length = 100.0
+diameter = 0.08
+axial_stiffness = 5.0e8
+{chain_mbl}
+
+[line_types.rope]
+mass_per_length = 5.0
+diameter = 0.05
+axial_stiffness = 2.0e7
+
+[points.a]
+type = "fixed"
+position = [-200.0, 0.0, -100.0]
+
+[points.b]
+type = "fixed"
+position = [0.0, 0.0, -10.0]
+
+[points.c]
+type = "fixed"
+position = [0.0, 50.0, -90.0]
+
+[[lines]]
+name = "west"
+type = "chain"
+from = "a"
+to = "b"
+length = 230.0
+segments = 4
+
+[[lines]]
+name = "north"
+type = "rope"
+from = "c"
+to = "b"
+length = 90.0
+segments = 3
+
+[[lines]]
+name = "short"
+type = "rope"
+from = "a"
+to = "c"
+length = 215.0
+segments = 2
+"""
+
+
+def _scene(tmp_path, chain_mbl: str = "minimum_breaking_load = 2.0e6"):
+    path = tmp_path / "three.toml"
+    path.write_text(SCENE.format(chain_mbl=chain_mbl))
+    return path
+
+
+def _run_with(built, tension: np.ndarray) -> SceneRun:
+    """A `SceneRun` of `built` holding `tension` (N), shape `(times, segments)`, every
+    0.5 s, with the nodes at rest where the scene puts them."""
+    times = 0.5 * np.arange(tension.shape[0])
+    nodes = np.asarray(built.model.node_positions)
+    positions = np.broadcast_to(nodes, (times.size, *nodes.shape)).copy()
+    constrained = len(built.model.constrained_nodes)
+    reactions = np.zeros((times.size, constrained, 3))
+    return SceneRun(
+        built, None, times, positions, np.zeros_like(positions), tension, reactions, 10, "planted", 0.0, 0.0, ()
+    )
+
+
+@pytest.fixture
+def planted(tmp_path):
+    """A run of the three-line scene whose tensions are planted: 1 kN everywhere, the
+    west chain's largest (1.5 MN) in its third segment at t = 1.5 s and smallest (−20 N)
+    in its first at t = 0.5 s, its end B 0.9 MN at t = 2 s; the north rope's largest
+    (40 kN) at end A at t = 1 s."""
+    built = jc.read_scene(_scene(tmp_path)).build()
+    west, north, short = (np.asarray(s) for s in built.line_segments)
+    assert (west.size, north.size, short.size) == (4, 3, 2)
+    tension = np.full((5, built.model.segment_length.shape[0]), 1e3)
+    tension[3, west[2]] = 1.5e6
+    tension[1, west[0]] = -20.0
+    tension[4, west[3]] = 0.9e6
+    tension[2, north[0]] = 4e4
+    return _run_with(built, tension)
+
+
+def test_each_lines_extremes_are_where_and_when_they_were(planted):
+    west, north, short = planted.line_extremes()
+    assert (west.line, west.line_type, west.segments) == ("west", "chain", 4)
+    assert (west.largest, west.largest_time, west.largest_segment) == (1.5e6, 1.5, 3)
+    assert (west.smallest, west.smallest_time, west.smallest_segment) == (-20.0, 0.5, 1)
+    assert (west.end_a, west.end_b) == (1e3, 0.9e6)
+    assert (north.largest, north.largest_time, north.largest_segment) == (4e4, 1.0, 1)
+    assert (north.end_a, north.end_b) == (4e4, 1e3)
+    assert short.largest == short.smallest == 1e3 and short.largest_segment == 1  # the first of equals
+    assert west.breaking_load == 2.0e6 and west.utilisation == pytest.approx(0.75, rel=1e-15)
+    assert north.breaking_load is None and north.utilisation is None
+
+
+def test_a_line_past_its_safety_factor_is_warned_of(planted):
+    rows = planted.line_extremes()
+    (warning,) = overloads(rows)  # 75 % of MBL, past 1/1.67 = 59.9 %; the ropes have no MBL
+    assert warning.startswith("line west (chain): largest tension 1500.000 kN at t = 1.500 s, segment 3/4")
+    assert "75.0% of its minimum breaking load 2000.0 kN, above 1/1.67 = 59.9%" in warning
+    assert overloads(rows, safety_factor=1.3) == []  # 75 % < 1/1.3 = 76.9 %
+    scene = planted.built.scene.with_breaking_loads({"chain": 1.2e6})
+    (warning,) = overloads(_run_with(scene.build(), planted.tension).line_extremes())
+    assert "125.0% of its minimum breaking load 1200.0 kN, beyond its minimum breaking load" in warning
+
+
+def test_the_table_lists_lines_with_utilisation_where_an_mbl_is_given(planted, tmp_path):
+    text = table(planted.line_extremes())
+    heading, west, north, short = text.splitlines()
+    assert heading.split()[:3] == ["line", "type", "largest"] and heading.endswith("MBL kN  utilisation")
+    assert west.split() == ["west", "chain", "1500.000", "1.500", "3/4", "-0.020", "0.500", "1.000", "900.000"] + [
+        "2000.0",
+        "75.0%",
+    ]
+    assert north.split()[-2:] == ["-", "-"]
+    bare = jc.read_scene(_scene(tmp_path, chain_mbl="")).build()
+    without = table(_run_with(bare, planted.tension).line_extremes())
+    assert "utilisation" not in without and "MBL" not in without
+    shortened = table(planted.line_extremes(), limit=1).splitlines()
+    assert shortened[1].startswith("west") and shortened[-1] == "... and 2 more lines (all in SceneRun.line_extremes())"
+
+
+def test_breaking_loads_are_given_by_line_type_and_checked(tmp_path):
+    scene = jc.read_scene(_scene(tmp_path))
+    assert [t.minimum_breaking_load for t in scene.line_types] == [2.0e6, None]
+    every = scene.with_breaking_loads({None: 5e5, "chain": 3e6})
+    assert [t.minimum_breaking_load for t in every.line_types] == [3e6, 5e5]
+    with pytest.raises(SceneError, match=r"loads: the scene has no line type 'wire'; its line types: chain, rope"):
+        scene.with_breaking_loads({"wire": 1e6}, "loads")
+    with pytest.raises(SceneError, match=r"the minimum breaking load of rope must be a positive number of N, got -1"):
+        scene.with_breaking_loads({"rope": -1.0})
+    with pytest.raises(
+        SceneError, match=r"line_types\.chain.*minimum_breaking_load must be a positive number of N, got 0"
+    ):
+        jc.read_scene(_scene(tmp_path, "minimum_breaking_load = 0.0"))
+
+
+@pytest.mark.parametrize(
+    "flags, message",
+    [
+        (
+            ["--breaking-load", "wire=1e6"],
+            "--breaking-load: the scene has no line type 'wire'; its line types: chain, rope",
+        ),
+        (["--breaking-load", "chain=strong"], "--breaking-load chain=strong: expected TYPE=N or N, a load in newtons"),
+        (["--breaking-load", "1e6", "2e6"], "--breaking-load 1e6: name the line type (TYPE=N)"),
+        (["--breaking-load", "rope=1e6", "rope=2e6"], "--breaking-load names line type rope twice"),
+        (["--breaking-load", "rope=-3"], "the minimum breaking load of rope must be a positive number of N, got -3"),
+        (
+            ["--safety-factor", "0.8"],
+            "--safety-factor must be a number of at least 1 (1: up to the breaking load), got 0.8",
+        ),
+    ],
+)
+def test_bad_breaking_loads_are_refused_before_any_work(tmp_path, capsys, flags, message):
+    assert cli_main(["run", str(_scene(tmp_path)), "--duration", "0", *flags]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_the_command_prints_the_table_and_warns_past_the_safety_factor(capsys):
+    """The bundled Y-branch gives its ropes' breaking loads; statics' tensions (5.5 kN
+    in a 250 kN polyester leg) pass a 50× safety factor, not the default 1.67."""
+    assert cli_main(["run", "y_branch", "--duration", "0", "--no-progress", "--safety-factor", "50"]) == 0
+    out, err = capsys.readouterr()
+    rows = {line.split()[0]: line.split() for line in out.splitlines() if line.split()[:1] in (["leg_west"], ["riser"])}
+    assert rows["leg_west"][1] == "polyester" and rows["leg_west"][-2:] == ["250.0", "2.2%"]
+    assert rows["riser"][-2] == "400.0"
+    assert "warning: line leg_west (polyester): largest tension 5.45" in err and "above 1/50 = 2.0%" in err
+    assert "line riser" not in err
+
+
+def test_a_run_is_an_xarray_dataset(planted):
+    xr = pytest.importorskip("xarray")
+    data = planted.to_dataset(("FairTen1",))
+    assert isinstance(data, xr.Dataset)
+    np.testing.assert_array_equal(data["tension"].values, planted.tension)
+    assert data["tension"].dims == ("time", "segment") and data["tension"].attrs["units"] == "N"
+    assert data["positions"].dims == ("time", "node", "xyz") and list(data["xyz"].values) == ["x", "y", "z"]
+    np.testing.assert_array_equal(data["time"].values, planted.times)
+    assert list(data["line"].values) == ["west", "north", "short"]
+    assert data["largest_tension"].sel(line="west").item() == 1.5e6
+    assert data["utilisation"].sel(line="west").item() == pytest.approx(0.75)
+    assert np.isnan(data["minimum_breaking_load"].sel(line="north").item())
+    np.testing.assert_array_equal(data["FairTen1"].values, planted.channels(("FairTen1",))["FairTen1"])
+    assert data["segment_line"].values.tolist() == [1, 1, 1, 1, 2, 2, 2, 3, 3]
