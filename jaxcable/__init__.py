@@ -70,6 +70,8 @@ if TYPE_CHECKING:
     from ._sea.waves import AbstractWave as AbstractWave
     from ._sea.waves import Airy as Airy
     from ._sea.waves import airy_wavenumber as airy_wavenumber
+    from ._simulation.blocks import SimulationFailed as SimulationFailed
+    from ._simulation.blocks import SimulationInterrupted as SimulationInterrupted
     from ._simulation.simulate import SimulationResult as SimulationResult
     from ._simulation.simulate import simulate as simulate
     from ._solver.config import SOLVERS as SOLVERS

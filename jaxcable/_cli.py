@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ._interrupt import StopRequest
 from ._names import (
     AUTO,
     DEFAULT_SAFETY_FACTOR,
@@ -72,8 +73,9 @@ def command() -> None:
     short-lived garbage is, are collected as usual."""
     young, middle, _ = gc.get_threshold()
     gc.set_threshold(young, middle, 1000)
+    stop = StopRequest()
     try:
-        code = _interruptible(main)
+        code = _interruptible(lambda: main(stop=stop), stop)
     except BrokenPipeError:  # `jaxcable examples | head`: stop quietly, as `main` does for the others
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         sys.exit(1)
@@ -95,40 +97,60 @@ INTERRUPTED = 130
 """The exit status after Ctrl-C: 128 + SIGINT, as a shell reports it."""
 
 
-def _interruptible(work: Callable[[], int]) -> int:
+def _interruptible(work: Callable[[], int], stop: StopRequest | None = None) -> int:
     """`work()` on a thread of its own while this, the main thread, waits for it, so
-    that Ctrl-C ends the command at once.
+    that Ctrl-C ends the command at once, or, in a run's blocks, keeps what it computed.
 
     Python raises `KeyboardInterrupt` in the main thread only, between bytecodes: while
     the main thread is inside a compiled program or XLA's compiler (a statics solve, a
     long compile), Ctrl-C would wait for it to end, minutes on a hard scene. The
-    waiting thread wakes five times a second; on Ctrl-C it says so and ends the
-    process (a running program cannot be stopped, only left), exit status 130.
-    Exceptions of `work` are raised here."""
-    worker, outcome = _on_thread(work, "jaxcable command")
+    waiting thread wakes five times a second. On Ctrl-C, where `stop` says a run has
+    results to keep (it has finished a block of output intervals), the run is asked to
+    stop at the end of its block and `work` to write and report what it has, its exit
+    status then 130; a second Ctrl-C, or one before there is anything to keep, says so
+    and ends the process at once (a running program cannot be stopped, only left), exit
+    status 130. Exceptions of `work` are raised here."""
+    done, outcome = _on_thread(work, "jaxcable command")
     try:
-        while worker.is_alive():
-            worker.join(0.2)
+        try:
+            while not done.wait(0.2):
+                pass
+        except KeyboardInterrupt:
+            if stop is None or not stop.ask():
+                raise
+            print(
+                "\njaxcable: interrupted: stopping at the end of this block of the run to keep what it computed "
+                "(Ctrl-C again to quit at once)",
+                file=sys.stderr,
+                flush=True,
+            )
+            while not done.wait(0.2):
+                pass
     except KeyboardInterrupt:
         print("\njaxcable: interrupted", file=sys.stderr, flush=True)
         os._exit(INTERRUPTED)
     return _outcome(outcome)
 
 
-def _on_thread(work: Callable[[], object], name: str) -> tuple[threading.Thread, dict[str, object]]:
-    """`work()` started on a daemon thread, and the dict its result (`"value"`) or
-    exception (`"error"`) lands in; [`_outcome`][] reads it once the thread ends."""
+def _on_thread(work: Callable[[], object], name: str) -> tuple[threading.Event, dict[str, object]]:
+    """`work()` started on a daemon thread; the event set when it ends, and the dict its
+    result (`"value"`) or exception (`"error"`) lands in, which [`_outcome`][] reads.
+
+    Wait on the event, not with `Thread.join`: Python 3.11's `join`, interrupted by
+    Ctrl-C, releases the running thread's own lock and takes the thread for ended."""
     outcome: dict[str, object] = {}
+    done = threading.Event()
 
     def run() -> None:
         try:
             outcome["value"] = work()
         except BaseException as error:  # raised again by `_outcome`, in the waiting thread
             outcome["error"] = error
+        finally:
+            done.set()
 
-    worker = threading.Thread(target=run, name=name, daemon=True)
-    worker.start()
-    return worker, outcome
+    threading.Thread(target=run, name=name, daemon=True).start()
+    return done, outcome
 
 
 def _outcome(outcome: dict[str, object]) -> Any:
@@ -138,10 +160,13 @@ def _outcome(outcome: dict[str, object]) -> Any:
     return outcome["value"]
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Entry point of the `jaxcable` command; returns the exit status."""
+def main(argv: list[str] | None = None, stop: StopRequest | None = None) -> int:
+    """Entry point of the `jaxcable` command; returns the exit status. `stop`, asked
+    from another thread, stops `run` at the end of a block of its output intervals,
+    which then writes and reports what it computed (exit status 130)."""
     parser = _parser()
     args = parser.parse_args(argv)
+    args.stop = stop
     if args.command is None:
         parser.print_help()
         return 2
@@ -583,6 +608,7 @@ def _check_output_files(args) -> None:
 
 
 def _run(args, given: _Input) -> int:
+    from ._simulation.blocks import SimulationFailed, SimulationInterrupted
     from .io import write_output
     from .io._channels import default_channels, parse_channel
     from .io._extremes import overloads, table
@@ -614,13 +640,20 @@ def _run(args, given: _Input) -> int:
     for name in channels or default_channels(scene):
         parse_channel(name, scene)  # fail now, not after the simulation
     settings = given.settings
-    run = run_scene(
-        dataclasses.replace(scene, run=settings),  # its solver chosen for the scene where "auto"
-        duration=given.duration,
-        dt_out=args.dt_out,
-        progress=not args.no_progress,
-        statics=settings.statics,
-    )
+    try:
+        run = run_scene(
+            dataclasses.replace(scene, run=settings),  # its solver chosen for the scene where "auto"
+            duration=given.duration,
+            dt_out=args.dt_out,
+            progress=not args.no_progress,
+            statics=settings.statics,
+            stop=args.stop,
+        )
+        failure = None
+    except SimulationFailed as error:  # what ran before the failure is reported and written
+        if error.partial is None:
+            raise
+        run, failure = error.partial, error
     static = run.static
     # The equilibrium's own tensions: the first output's would carry the damping of a
     # table that starts moving at t = 0.
@@ -634,14 +667,17 @@ def _run(args, given: _Input) -> int:
     sys.stdout.flush()  # keep stdout and stderr lines in the order they were written
     for note in run.notes:
         print(f"warning: {note}", file=sys.stderr)
+    interrupted = isinstance(failure, SimulationInterrupted)
+    ended = "it was interrupted" if interrupted else "it failed"
+    so_far = "" if failure is None else f" (the run up to t = {failure.time:g} s, where {ended})"
     if args.out is not None:
         write_output(args.out, run, channels)
-        print(f"wrote {args.out}")
+        print(f"wrote {args.out}{so_far}")
     if args.plot is not None:
         from .plot import plot_run
 
         plot_run(run, args.plot, channels)
-        print(f"wrote {args.plot}")
+        print(f"wrote {args.plot}{so_far}")
     extremes = run.line_extremes()
     print(table(extremes))
     sys.stdout.flush()
@@ -650,6 +686,15 @@ def _run(args, given: _Input) -> int:
     print(run.summary())
     for _, note in scene.dropped:
         print(f"left out (--allow-ignored): {note}")
+    if failure is not None:
+        sys.stdout.flush()
+        written = " and the files written" if args.out or args.plot else ""
+        what = "" if interrupted else "solver failed: "
+        print(
+            f"jaxcable: {what}{str(failure).rstrip('.')}; the results above{written} are the run before it",
+            file=sys.stderr,
+        )
+        return INTERRUPTED if interrupted else 1
     return 0
 
 
@@ -819,9 +864,8 @@ def _advice_within(built, duration: float, stiffness: bool, seconds: float):
     from ._advice import advise
 
     if seconds > 0:
-        worker, outcome = _on_thread(lambda: advise(built, duration=duration, stiffness=stiffness), "jaxcable advice")
-        worker.join(seconds)
-        if not worker.is_alive():
+        done, outcome = _on_thread(lambda: advise(built, duration=duration, stiffness=stiffness), "jaxcable advice")
+        if done.wait(seconds):
             return _outcome(outcome), None
         late = f"statics did not finish within {seconds:g} s; --advice-time S waits longer"
     else:

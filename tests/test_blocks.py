@@ -2,7 +2,6 @@
 command line use so that their compiled solve can stay in JAX's persistent cache."""
 
 import diffrax
-import equinox as eqx
 import jax
 import numpy as np
 import pytest
@@ -10,6 +9,7 @@ from helpers import compilations
 
 import jaxcable as jc
 from jaxcable import examples
+from jaxcable._interrupt import StopRequest
 from jaxcable._simulation import blocks as _blocks
 from jaxcable._simulation.simulate import as_config, for_model
 
@@ -63,10 +63,52 @@ def test_the_block_has_no_host_callback_and_compiles_once(driven_line):
     assert reached == pytest.approx([TS[63], TS[127], TS[150]])  # the first block begins with t = 0 itself
 
 
-def test_a_failed_interval_raises_diffrax_message(driven_line):
+def test_a_failed_run_keeps_what_it_computed(driven_line):
+    """Past `max_steps`, the blocks before the failing one are kept, bitwise the full
+    run's; a state gone non-finite (RK4 at 0.02 s, beyond its stability limit here) keeps
+    the outputs before it. Each message says between which output times it failed."""
     model, env, static = driven_line
-    with pytest.raises(eqx.EquinoxRuntimeError, match="simulate: The maximum number of solver steps was reached"):
-        _blocks.simulate_in_blocks(model, env, TS, static.state, jc.SolverConfig(max_steps=40))
+    config = jc.SolverConfig(rtol=1e-6, atol=1e-6)
+    full = _blocks.simulate_in_blocks(model, env, TS, static.state, config)
+    limit = int(0.5 * full.stats["num_steps"])  # reached in the second block (measured)
+    with pytest.raises(jc.SimulationFailed, match="The maximum number of solver steps was reached") as caught:
+        _blocks.simulate_in_blocks(model, env, TS, static.state, jc.SolverConfig(rtol=1e-6, atol=1e-6, max_steps=limit))
+    partial, block = caught.value.partial, _blocks.BLOCK
+    assert str(caught.value).startswith(f"simulate failed between t = {TS[block - 1]:g} s and t = {TS[block]:g} s:")
+    assert caught.value.time == TS[block - 1] and partial is not None
+    np.testing.assert_array_equal(partial.times, TS[:block])
+    for name in ("positions", "velocities", "tension", "reactions"):
+        np.testing.assert_array_equal(getattr(partial, name), getattr(full, name)[:block], err_msg=name)
+    assert partial.stats["num_steps"] <= limit
+
+    rk4 = jc.SOLVERS["rk4"]()
+    unstable = jc.SolverConfig(rk4.solver, stepsize_controller=diffrax.ConstantStepSize(), dt0=0.02)
+    with pytest.raises(jc.SimulationFailed, match="the state became non-finite") as caught:
+        _blocks.simulate_in_blocks(model, env, TS, static.state, unstable)
+    partial = caught.value.partial
+    assert partial is not None and 1 < partial.times.size < block  # measured: 4 of them
+    first_bad = TS[partial.times.size]
+    assert f"between t = {partial.times[-1]:g} s and t = {first_bad:g} s" in str(caught.value)
+    assert np.all(np.isfinite(partial.positions)) and np.all(np.isfinite(partial.tension))
+
+
+def test_a_run_asked_to_stop_ends_its_block_and_keeps_it(driven_line):
+    """A stop asked for from another thread (Ctrl-C in `jaxcable run`) ends the run at
+    the end of the block it is in, with that block's results; until a block has ended,
+    `ask` says there is nothing to keep."""
+    model, env, static = driven_line
+    config = jc.SolverConfig(rtol=1e-6, atol=1e-6)
+    stop, said = StopRequest(), []
+    with pytest.raises(jc.SimulationInterrupted, match=f"interrupted at t = {TS[_blocks.BLOCK - 1]:g} s") as caught:
+        _blocks.simulate_in_blocks(
+            model, env, TS, static.state, config, on_block=lambda _: said.append(stop.ask()), stop=stop
+        )
+    assert said == [False]  # asked during the first block's callback, before it was kept
+    assert stop.ask()  # after it, a stop keeps results
+    partial = caught.value.partial
+    np.testing.assert_array_equal(partial.times, TS[: _blocks.BLOCK])
+    full = _blocks.simulate_in_blocks(model, env, TS, static.state, config, stop=StopRequest())
+    np.testing.assert_array_equal(partial.tension, full.tension[: _blocks.BLOCK])
 
 
 def test_bad_times_and_a_first_step_are_refused(driven_line):

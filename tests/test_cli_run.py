@@ -4,11 +4,13 @@ a log, a summary that separates statics, compile and run time and calls a held r
 steady, and `--help` without JAX. MoorDyn (the `moordyn` package) is the reference
 where it is installed."""
 
+import _thread
 import contextlib
 import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -16,7 +18,9 @@ import numpy as np
 import pytest
 
 import jaxcable as jc
+from jaxcable._cli import _interruptible
 from jaxcable._cli import main as cli_main
+from jaxcable._interrupt import StopRequest
 from jaxcable._names import DROPPED_KINDS, INTERPOLATIONS, SOLVER_NAMES
 from jaxcable.io import _channels, _run
 from jaxcable.io._initial_shape import initial_positions
@@ -470,9 +474,10 @@ def test_the_command_ends_its_process_with_everything_written(tmp_path):
 
 
 def test_ctrl_c_ends_the_command_at_once(tmp_path):
-    """Ctrl-C (SIGINT) during a long run ends `jaxcable` at once, exit status 130,
-    saying so, although the main thread would otherwise sit inside a compiled program
-    until it ends; the input is untouched and nothing half-written is left."""
+    """Ctrl-C (SIGINT) before a run has results to keep (here while it compiles its
+    programs, cold) ends `jaxcable` at once, exit status 130, saying so, although the
+    main thread would otherwise sit inside XLA's compiler until it ends; the input is
+    untouched and nothing half-written is left."""
     root = Path(jc.__file__).parent.parent
     env = {**os.environ, "PYTHONPATH": str(root), "JAXCABLE_CACHE_DIR": str(tmp_path / "cache")}
     out = tmp_path / "run.csv"
@@ -488,7 +493,7 @@ def test_ctrl_c_ends_the_command_at_once(tmp_path):
     process = subprocess.Popen(
         [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
     )
-    time.sleep(8.0)  # past JAX's import, into the compile or the run
+    time.sleep(3.0)  # past JAX's import, into the cold compile (5-10 s on these machines)
     assert process.poll() is None, process.communicate()
     process.send_signal(signal.SIGINT)
     start = time.monotonic()
@@ -496,6 +501,52 @@ def test_ctrl_c_ends_the_command_at_once(tmp_path):
     assert time.monotonic() - start < 5.0  # well under a second alone; the suite loads the cores
     assert process.returncode == 130 and err.rstrip().endswith("jaxcable: interrupted")
     assert not out.exists()
+
+
+def test_ctrl_c_in_a_runs_blocks_waits_for_what_it_keeps():
+    """Where the run has results to keep, Ctrl-C asks it to stop at the end of its
+    block, and the command waits for it to write them (its exit status is the
+    command's), not ending the process."""
+    stop = StopRequest()
+    stop.keeping()  # a block has ended
+
+    def work():
+        while not stop.asked:
+            time.sleep(0.01)
+        return 130
+
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)  # a test runner's worker ignores it
+    try:
+        threading.Timer(0.3, _thread.interrupt_main).start()
+        assert _interruptible(work, stop) == 130
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def test_a_run_that_fails_or_is_stopped_writes_what_it_computed(tmp_path, capsys):
+    """Past --max-steps, and when stopped (Ctrl-C's request), `jaxcable run` writes
+    the run up to its last good output time, reports it, and says where it ended."""
+    out = tmp_path / "run.csv"
+    argv = ["run", "anchored_line", "--duration", "20", "--dt-out", "0.05", "--out", str(out), "--no-progress"]
+    assert cli_main([*argv, "--adaptive", "--max-steps", "3000"]) == 1
+    stdout, stderr = capsys.readouterr()
+    kept = np.genfromtxt(out, delimiter=",", names=True)
+    last = kept["Time"][-1]
+    assert 0 < last < 20 and np.all(np.isfinite(kept["FairTen1"]))
+    assert f"wrote {out} (the run up to t = {last:g} s, where it failed)" in stdout
+    assert f"jaxcable: solver failed: simulate failed between t = {last:g} s and t = " in stderr
+    assert "The maximum number of solver steps was reached" in stderr and "line  type" in stdout
+
+    stop = StopRequest()
+    stop.ask()  # before the run: it stops at the end of its first block
+    assert cli_main(argv, stop=stop) == 130
+    stdout, stderr = capsys.readouterr()
+    kept = np.genfromtxt(out, delimiter=",", names=True)
+    assert kept["Time"][-1] == pytest.approx(63 * 0.05)  # the first block: t = 0 and 63 intervals
+    assert "where it was interrupted" in stdout
+    assert stderr.rstrip().endswith(
+        "jaxcable: interrupted at t = 3.15 s; the results above and the files written are the run before it"
+    )
 
 
 def test_info_answers_without_waiting_for_statics(capsys):

@@ -38,6 +38,7 @@ import numpy as np
 from jaxtyping import ArrayLike, Bool, Float
 
 from .. import _checks as checks
+from .._interrupt import StopRequest
 from .._model.network import CableNetwork, network_conditions, without_absent_bodies
 from .._model.state import State
 from .._programs import RUN_ONCE, Program, program
@@ -68,6 +69,7 @@ def simulate_in_blocks(
     initial: State,
     solver: SolverConfig | None = None,
     on_block: Callable[[float], None] | None = None,
+    stop: StopRequest | None = None,
 ) -> SimulationResult:
     """Integrate from `ts[0]` to `ts[-1]` (s), saving at `ts`, as [`jaxcable.simulate`][]
     does with `t0=ts[0]` and `throw=True`, but interval by interval (see the module's
@@ -83,6 +85,9 @@ def simulate_in_blocks(
         (`stepsize_controller=diffrax.ConstantStepSize()` with `dt0`); `SolverConfig()`
         by default.
     - `on_block`: called after each block with the simulated time (s) it reached.
+    - `stop`: a request, from another thread, to stop at the end of a block
+        (`jaxcable._interrupt.StopRequest`), raising [`jaxcable.SimulationInterrupted`][]
+        with the results so far.
 
     **Returns:**
 
@@ -92,9 +97,10 @@ def simulate_in_blocks(
     **Raises:**
 
     `ValueError` for bad times or a `solver` with `dt0`, and for a bad model field as
-    `simulate` does; `equinox.EquinoxRuntimeError` (a `RuntimeError`) with diffrax's
-    message if the solve fails, or if the intervals together take more than the
-    configuration's `max_steps`.
+    `simulate` does; [`jaxcable.SimulationFailed`][] (a `RuntimeError`) with diffrax's
+    message and the output times it fell between if the solve fails, or if the
+    intervals together take more than the configuration's `max_steps`, holding the
+    results before the failure.
     """
     config = for_model(as_config("simulate_in_blocks", solver), model)
     ts = np.asarray(ts, dtype=float)
@@ -117,20 +123,80 @@ def simulate_in_blocks(
         part = slice(k, k + BLOCK)
         carry, ys, counts, failure = block(model, env, carry, starts[part], ends[part], active[part], config, **options)
         saved, result = _outputs(model, env, ends[part], ys, failure)
-        blocks.append(saved)
-        steps += np.asarray(counts)
+        saved = [np.asarray(x) for x in saved]
+        before, steps = steps, steps + np.asarray(counts)
         # `max_steps` bounds each interval's solve; the run as a whole is held to it here.
         code = diffrax.RESULTS.where(steps[0] > config.max_steps, diffrax.RESULTS.max_steps_reached, result)
-        checks.raise_if(None, code != diffrax.RESULTS.successful, failure_message(code))
+        if code != diffrax.RESULTS.successful:
+            raise _failed(ts, blocks, saved, k, steps if code == diffrax.RESULTS.nonfinite else before, code)
+        blocks.append(saved)
+        reached = float(ends[part][active[part]][-1])
         if on_block is not None:
-            on_block(float(ends[part][active[part]][-1]))
-    columns = [np.concatenate([np.asarray(b[i]) for b in blocks])[: len(ts)] for i in range(len(blocks[0]))]
+            on_block(reached)
+        if stop is not None:
+            stop.keeping()
+            if stop.asked and reached < ts[-1]:
+                kept = ts[: min(k + BLOCK, len(ts))]
+                partial = _result(kept, blocks, steps, diffrax.RESULTS.successful)
+                raise SimulationInterrupted(f"interrupted at t = {reached:g} s", partial, reached)
+    return _result(ts, blocks, steps, diffrax.RESULTS.successful)
+
+
+class SimulationFailed(RuntimeError):
+    """A run that failed part-way, with what it computed before the failure.
+
+    **Attributes:**
+
+    - `partial`: the run's results at the output times before the failure: a
+        [`jaxcable.SimulationResult`][] from the engine, a [`jaxcable.io.SceneRun`][]
+        from [`jaxcable.run_scene`][]; `None` where nothing but the start was computed.
+    - `time`: the last output time (s) that was computed, the start where none was.
+    """
+
+    def __init__(self, message: str, partial: Any, time: float):
+        super().__init__(message)
+        self.partial = partial
+        self.time = time
+
+
+class SimulationInterrupted(SimulationFailed):
+    """A run stopped part-way when asked (Ctrl-C in `jaxcable run`), with what it computed
+    (`partial`, up to `time`)."""
+
+
+def _failed(
+    ts: np.ndarray, blocks: list, saved: list, k: int, steps: np.ndarray, code: diffrax.RESULTS
+) -> SimulationFailed:
+    """The failure of the block from interval `k`, keeping the blocks before it and,
+    where its state became non-finite, the block's outputs before that: a stable run's
+    history up to the step that diverged. After a solve's failure or `max_steps` the
+    block's outputs are not kept (its later intervals ran on from the failed one).
+    `steps`: the step counts of what is kept (the failed block's too where its outputs
+    are)."""
+    end = min(k + BLOCK, len(ts))
+    if code == diffrax.RESULTS.nonfinite:
+        positions, velocities = saved[0][: end - k], saved[1][: end - k]
+        finite = np.all(np.isfinite(positions), axis=(1, 2)) & np.all(np.isfinite(velocities), axis=(1, 2))
+        kept = int(np.argmin(finite)) if not np.all(finite) else end - k
+        blocks = [*blocks, [x[:kept] for x in saved]]
+    computed = sum(len(b[0]) for b in blocks)
+    last = float(ts[computed - 1]) if computed else float(ts[0])
+    if computed < len(ts):
+        where = f"between t = {last:g} s and t = {float(ts[computed]):g} s"
+    else:
+        where = f"by t = {last:g} s"
+    message = f"simulate failed {where}: {failure_message(code).removeprefix('simulate: ')}"
+    partial = _result(ts[:computed], blocks, steps, code) if computed > 1 else None
+    return SimulationFailed(message, partial, last)
+
+
+def _result(ts: np.ndarray, blocks: list, steps: np.ndarray, code: diffrax.RESULTS) -> SimulationResult:
+    """The outputs of `blocks` at `ts`, joined (the last block's padding left off)."""
+    columns = [np.concatenate([b[i] for b in blocks])[: len(ts)] for i in range(len(blocks[0]))]
     stats: dict[str, Any] = dict(zip(("num_steps", "num_accepted_steps", "num_rejected_steps"), map(int, steps)))
     # `device_put`, not `jnp.asarray`, which compiles a program of its own for each shape.
     positions, velocities, strain, tension, reactions = map(jax.device_put, columns)
-    return SimulationResult(
-        checks.on_device(ts), positions, velocities, strain, tension, reactions, stats, diffrax.RESULTS.successful
-    )
+    return SimulationResult(checks.on_device(ts), positions, velocities, strain, tension, reactions, stats, code)
 
 
 def prepare(

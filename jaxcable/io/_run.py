@@ -15,12 +15,13 @@ import numpy as np
 from .. import _programs as programs
 from .._advice import STABLE_STEP
 from .._equations.modes import stiffest_axial_mode
+from .._interrupt import StopRequest
 from .._model.motion import Sampled
 from .._model.reach import for_run
 from .._model.state import State
 from .._progress import progress_bar
+from .._simulation.blocks import SimulationFailed, simulate_in_blocks, substeps_per_interval
 from .._simulation.blocks import prepare as prepare_blocks
-from .._simulation.blocks import simulate_in_blocks, substeps_per_interval
 from .._simulation.simulate import simulate
 from .._solver.config import SolverConfig, describe_stepping
 from .._solver.stability import STABLE_GROWTH, STEP_FRACTION, fixed_step_growth, fixed_steps
@@ -227,6 +228,7 @@ def run_scene(
     solver: SolverConfig | None = None,
     progress: bool = False,
     statics: bool | None = None,
+    stop: StopRequest | None = None,
 ) -> SceneRun:
     """Solve a scene's statics in still water (with its current, without its waves) and,
     for a positive duration, integrate its motion from that equilibrium; or, without
@@ -251,13 +253,18 @@ def run_scene(
     - `statics`: solve statics first (the scene's `run.statics` by default); without,
         lines start as MoorDyn starts them with `TmaxIC = 0`, on their elastic catenary
         between their ends or straight (`jaxcable.io._initial_shape`), at rest.
+    - `stop`: a request from another thread to stop at the end of a block of output
+        intervals (`jaxcable._interrupt.StopRequest`), raising
+        [`jaxcable.SimulationInterrupted`][] with the run so far (`partial`).
 
     **Raises:**
 
     [`jaxcable.io.SceneError`][] for a bad duration or interval, an unknown solver
     name in the scene, or a run too large for memory (`check_size`, which also warns
     of one that would take hours);
-    `RuntimeError` if statics or the integration fails.
+    `RuntimeError` if statics or the integration fails: a
+    [`jaxcable.SimulationFailed`][] where the integration failed part-way, holding the
+    run up to its last good output time as a `SceneRun` (`partial`).
     """
     settings = scene.run
     duration = settings.duration if duration is None else duration
@@ -350,38 +357,46 @@ def run_scene(
             cache_misses=statics_meter.misses,
         )
 
+    def scene_run(result, dynamics_seconds: float, dynamics_meter: _CompileMeter) -> SceneRun:
+        positions = np.asarray(result.positions)
+        return SceneRun(
+            built,
+            static,
+            np.asarray(result.times),
+            positions,
+            np.asarray(result.velocities),
+            np.asarray(result.tension),
+            np.asarray(result.reactions),
+            int(result.stats["num_steps"]),
+            describe_stepping(solver),
+            statics_seconds,
+            dynamics_seconds,
+            start_notes + stepping_notes + _water_notes(built, positions),
+            statics_compile=statics_meter.seconds,
+            dynamics_compile=prepare_meter.seconds + dynamics_meter.seconds,
+            cache_hits=prepare_meter.hits + statics_meter.hits + dynamics_meter.hits,
+            cache_misses=prepare_meter.misses + statics_meter.misses + dynamics_meter.misses,
+        )
+
     with _compile_meter() as dynamics_meter:
         start = time.perf_counter()
         if blocks:
             # Interval by interval, so that the compiled solve has no host callback and
             # a second run loads it from JAX's persistent cache (see `jaxcable._simulation.blocks`).
-            with progress_bar(duration, progress) as bar:
-                result = simulate_in_blocks(model, env, ts, initial, solver, on_block=bar)
+            try:
+                with progress_bar(duration, progress) as bar:
+                    result = simulate_in_blocks(model, env, ts, initial, solver, on_block=bar, stop=stop)
+            except SimulationFailed as failure:  # the same failure, with the run so far as a scene's
+                seconds = prepare_seconds + time.perf_counter() - start
+                partial = None if failure.partial is None else scene_run(failure.partial, seconds, dynamics_meter)
+                raise type(failure)(str(failure), partial, failure.time) from None
         else:
             # diffrax checks an adaptive solve's given first step with a callback, so
             # this solve is compiled on every run; it is one `simulate` call, with
             # diffrax's own progress bar.
             result = simulate(model, env, duration, ts=ts, initial=initial, solver=solver, progress=progress)
-        positions = np.asarray(result.positions)
         dynamics_seconds = prepare_seconds + time.perf_counter() - start
-    return SceneRun(
-        built,
-        static,
-        np.asarray(result.times),
-        positions,
-        np.asarray(result.velocities),
-        np.asarray(result.tension),
-        np.asarray(result.reactions),
-        int(result.stats["num_steps"]),
-        describe_stepping(solver),
-        statics_seconds,
-        dynamics_seconds,
-        start_notes + stepping_notes + _water_notes(built, positions),
-        statics_compile=statics_meter.seconds,
-        dynamics_compile=prepare_meter.seconds + dynamics_meter.seconds,
-        cache_hits=prepare_meter.hits + statics_meter.hits + dynamics_meter.hits,
-        cache_misses=prepare_meter.misses + statics_meter.misses + dynamics_meter.misses,
-    )
+    return scene_run(result, dynamics_seconds, dynamics_meter)
 
 
 def _at_rest(built: BuiltScene, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
