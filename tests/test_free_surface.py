@@ -77,3 +77,55 @@ def test_submerged_interval_cases():
     a, b = submerged_interval(z_start, z_end)
     np.testing.assert_allclose(a, [0.0, 0.0, 0.0, 0.75, 0.0, 0.0])
     np.testing.assert_allclose(b, [1.0, 0.0, 0.25, 1.0, 1.0, 0.0])
+
+
+BUOY_SCENE = """
+[water]
+depth = 100.0
+free_surface = {free_surface}
+
+[line_types.rope]
+mass_per_length = 5.0
+diameter = 0.05
+axial_stiffness = 2.0e7
+
+[points.anchor]
+type = "fixed"
+position = [0.0, 0.0, -100.0]
+
+[points.buoy]
+type = "free"
+position = [20.0, 0.0, 50.0]
+mass = 100.0
+volume = 5.0{height}
+
+[[lines]]
+type = "rope"
+from = "anchor"
+to = "buoy"
+length = 160.0
+segments = 8
+"""
+
+
+@pytest.mark.parametrize("free_surface", ["true", "false"])
+def test_a_point_buoy_above_the_water_is_reported(tmp_path, free_surface):
+    """A free point whose body (5 m³, 50 kN of lift) holds a 160 m line 60 m above the
+    sea: a body without a height keeps its whole buoyancy in the air (as MoorDyn's
+    points do), which the run says; with a height its buoyancy follows its draft and it
+    floats at the surface, with nothing to say."""
+    path = tmp_path / "buoy.toml"
+    path.write_text(BUOY_SCENE.format(free_surface=free_surface, height=""))
+    run = jc.run_scene(jc.read_scene(path), duration=0.0)
+    top = float(run.positions[0, 1, 2])
+    assert top > 50.0  # the buoy, point 1, hangs the line up into the air
+    (note,) = [n for n in run.notes if "point buoy" in n]
+    assert note.startswith(
+        f"{path}, line 15, key points.buoy: point buoy's body reaches z = {top:.2f} m, above the still-water"
+    )
+    assert "keeps the buoyancy of its whole volume (5 m³)" in note and "give it a height" in note
+    if free_surface == "true":
+        path.write_text(BUOY_SCENE.format(free_surface=free_surface, height="\nheight = 2.0"))
+        floating = jc.run_scene(jc.read_scene(path), duration=0.0)
+        assert -1.0 < float(floating.positions[0, 1, 2]) < 1.0  # at the surface, within its height
+        assert not [n for n in floating.notes if "point buoy" in n]

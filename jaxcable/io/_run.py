@@ -570,17 +570,32 @@ def check_size(built: BuiltScene, duration: float, dt_out: float, solver: Solver
 
 def _water_notes(built: BuiltScene, positions: np.ndarray) -> tuple[str, ...]:
     """Where the run left the water the model assumes: above the highest crest without
-    the free surface, or below the bottom without a seabed."""
+    the free surface, a point body without a height above it (whose buoyancy the
+    surface never changes), or below the bottom without a seabed."""
     scene, env = built.scene, built.environment
     notes = []
     highest = float(positions[..., 2].max())
     crest = sum(float(wave.crest) for wave in env.waves)
+    where = "the still-water level" if not env.waves else f"the highest crest, {crest:.2f} m"
     if highest > crest + 1e-6 and not scene.water.free_surface:
-        where = "the still-water level" if not env.waves else f"the highest crest, {crest:.2f} m"
         notes.append(
             f"nodes reach z = {highest:.2f} m, above {where}: every segment is treated as "
             "submerged, so buoyancy, drag and added mass act on the emerged part too"
         )
+    # A point's node is its index (`Scene.build`). A body without a height is a point:
+    # its buoyancy is its whole volume's wherever it is (MoorDyn's points' too).
+    for k, point in enumerate(scene.points):
+        body = point.body
+        if body is None or not np.any(np.asarray(body.volume) > 0) or np.any(np.asarray(body.height) > 0):
+            continue
+        top = float(positions[..., k, 2].max())
+        if top > crest + 1e-6:
+            notes.append(
+                f"{point.where}: point {point.name}'s body reaches z = {top:.2f} m, above {where}, and keeps the "
+                f"buoyancy of its whole volume ({float(np.asarray(body.volume)):g} m³) there: a body without a height "
+                "is a point, which the surface does not change (as in MoorDyn); give it a height (m, a scene file "
+                "point's `height`) for buoyancy that follows its draft"
+            )
     depth = scene.water.depth
     if depth is not None and scene.water.seabed is None and positions[..., 2].min() < -depth:
         notes.append(
