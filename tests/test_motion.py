@@ -3,12 +3,13 @@
 import warnings
 
 import jax
+import jax.numpy as jnp
 import numpy as np
 import pytest
 from scipy.interpolate import CubicSpline, PchipInterpolator
 
 import jaxcable as jc
-from jaxcable._model.motion import AbstractMotion
+from jaxcable._model.motion import AbstractMotion, _natural_spline_slopes
 
 
 def test_harmonic_kinematics():
@@ -147,6 +148,22 @@ def test_cubic_is_scipys_natural_spline_and_warns_where_it_overshoots_a_step():
     assert "interpolation='pchip'" in message
 
 
+def test_cubic_is_scipys_natural_spline_on_uneven_samples_and_its_derivative_is_exact():
+    """The spline's slopes come from the Thomas algorithm (`_tridiagonal_solve`, two
+    scans): SciPy's natural spline through 200 unevenly spaced random samples, and,
+    the slopes being linear in the values, their forward-mode derivative in any
+    direction is the slopes of that direction."""
+    rng = np.random.default_rng(3)
+    times = np.cumsum(rng.uniform(0.01, 1.0, 200))
+    values = rng.normal(size=(200, 3))
+    slopes = _natural_spline_slopes(jnp.asarray(times), jnp.asarray(values))
+    expected = CubicSpline(times, values, bc_type="natural").derivative()(times)
+    np.testing.assert_allclose(slopes, expected, rtol=0, atol=1e-11 * float(np.max(np.abs(expected))))
+    direction = rng.normal(size=values.shape)
+    _, tangent = jax.jvp(lambda v: _natural_spline_slopes(jnp.asarray(times), v), (values,), (direction,))
+    np.testing.assert_allclose(tangent, _natural_spline_slopes(jnp.asarray(times), jnp.asarray(direction)), atol=1e-12)
+
+
 def test_pchip_through_a_step_is_the_smoothstep_and_stays_within_the_samples():
     # Flat on either side, so the Fritsch–Carlson slopes at t = 2 and 3 s are zero and
     # the rising piece is the cubic Hermite with zero end slopes: 100 (3s² − 2s³).
@@ -210,6 +227,9 @@ def test_a_ramp_starts_a_moving_table_from_rest():
     plain, ramped = (jc.Sampled(ts, table, ramp=ramp) for ramp in (0.0, 5.0))
     np.testing.assert_allclose(plain.start_velocity(), [2.0 * 2 * np.pi / 5.6, 0, 0], rtol=2e-3)
     np.testing.assert_array_equal(ramped.start_velocity(), plain.start_velocity())
+    for interpolation in ("cubic", "pchip", "linear"):  # the closed form is the interpolant's own
+        motion = jc.Sampled(ts, table, interpolation)
+        np.testing.assert_allclose(motion.start_velocity(), motion.kinematics(ts[0])[1], rtol=1e-14, atol=1e-15)
     r, v, a = ramped.kinematics(0.0)
     assert np.all(np.asarray(r) == 0) and np.all(np.asarray(v) == 0) and np.all(np.asarray(a) == 0)
     for t in (5.0, 7.3, 12.0):
