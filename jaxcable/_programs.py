@@ -232,7 +232,7 @@ class Program:
             for leaf in leaves:
                 if _is_array(leaf):
                     dynamic.append(leaf)
-                    digest.update(_encode(("array", tuple(leaf.shape), str(np.dtype(leaf.dtype)), _weak(leaf))))
+                    digest.update(_array_key(tuple(leaf.shape), leaf.dtype, _weak(leaf)))
                 else:
                     digest.update(_encode(("static", _describe(leaf))))
         except _Uncacheable:
@@ -469,6 +469,14 @@ def _cpu_flags() -> str:
     except OSError:
         pass
     return platform.processor()
+
+
+# A run's blocks call their programs with arguments of one structure a hundred times,
+# each with dozens of arrays: their part of the key is kept, not encoded anew each call.
+@functools.lru_cache(maxsize=1024)
+def _array_key(shape: tuple, dtype, weak: bool) -> bytes:
+    """An array argument's part of a program's key: its shape, dtype and weak type."""
+    return _encode(("array", shape, str(np.dtype(dtype)), weak))
 
 
 def _describe_tree(tree) -> tuple:
