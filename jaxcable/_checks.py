@@ -248,7 +248,7 @@ def float_array(name: str, value: RealLike, shape: tuple[int, ...] | None = None
     return on_device(concrete)
 
 
-def positive(name: str, value: Array, allow_zero: bool = False) -> None:
+def positive(name: str, value: Array | np.ndarray, allow_zero: bool = False) -> None:
     """Raise `ValueError` if any concrete entry of `value` is not positive (or
     negative, with `allow_zero`)."""
     enforce([sign(name, value, allow_zero)])

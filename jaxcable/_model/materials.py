@@ -254,7 +254,9 @@ class NonlinearElastic(AbstractTensionLaw):
         return self.quadratic_coefficient
 
     def damping(self):
-        return jnp.zeros_like(self.axial_stiffness)
+        # numpy's zeros where concrete: a model's checks ask for it eagerly.
+        stiffness = checks.on_host(self.axial_stiffness)
+        return (jnp if checks.traced(stiffness) else np).zeros_like(stiffness)
 
 
 class KelvinVoigt(AbstractTensionLaw):

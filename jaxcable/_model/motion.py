@@ -91,12 +91,15 @@ class Harmonic(AbstractMotion):
         direction = checks.float_array("Harmonic.direction", direction)
         if direction.shape != (3,):
             raise ValueError(f"Harmonic.direction must have shape (3,), got {direction.shape}")
-        norm = jnp.linalg.norm(direction)
+        # On the host where concrete: eagerly, the norm and the division were programs
+        # of their own, compiled in every process that built a motion.
+        direction = checks.on_host(direction)
+        norm = jnp.linalg.norm(direction) if checks.traced(direction) else np.asarray(np.linalg.norm(direction))
         checks.positive("Harmonic.direction (its length)", norm)
         self.amplitude = checks.float_array("Harmonic.amplitude", amplitude, ())
         self.period = checks.float_array("Harmonic.period", period, ())
         checks.positive("Harmonic.period", self.period)
-        self.direction = direction / norm
+        self.direction = checks.on_device(direction / norm)
         self.phase = checks.float_array("Harmonic.phase", phase, ())
         self.ramp = checks.float_array("Harmonic.ramp", ramp, ())
         checks.positive("Harmonic.ramp", self.ramp, allow_zero=True)

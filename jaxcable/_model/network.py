@@ -618,7 +618,8 @@ class CableNetwork(eqx.Module):
                 k = getattr(branch, name)
                 if not 0 <= k < junctions.shape[0]:
                     raise ValueError(f"branches[{b}].{name} = {k} is out of range for {junctions.shape[0]} junctions")
-            length = checks.float_array(f"branches[{b}].length", branch.length, ())
+            # On the host where concrete, so that `length / n` below compiles nothing.
+            length = checks.on_host(checks.float_array(f"branches[{b}].length", branch.length, ()))
             checks.positive(f"branches[{b}].length", length)
             n = branch.segments
             start, end = positions[0][branch.start], positions[0][branch.end]

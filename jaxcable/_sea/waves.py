@@ -16,7 +16,7 @@ import equinox as eqx
 import jax
 import jax.numpy as jnp
 import numpy as np
-from jaxtyping import Array, Float
+from jaxtyping import Array, ArrayLike, Float
 
 from .. import _checks as checks
 from .._typing import RealLike, RealScalarLike
@@ -40,14 +40,15 @@ def breaking_height(wavelength: RealLike, depth: RealLike) -> Array:
     return jnp.minimum(miche, BREAKING_HEIGHT_RATIO * depth)
 
 
-def floater_amplitude(period: RealScalarLike = 5.6, gravity: RealScalarLike = 9.81) -> Array:
+def floater_amplitude(period: RealScalarLike = 5.6, gravity: RealScalarLike = 9.81) -> Float[ArrayLike, ""]:
     """The anchored-line paper's wave amplitude law, `A = 0.085 (g T² / 2π)^0.75` (m).
 
     Bezverkhyy & Korniienko use it for the amplitude of a floating object's motion
     at wave period `period` T (s), 5.6 s in their study; `g T² / 2π` is the deep-water
-    wavelength (m).
+    wavelength (m). Concrete values are worked in numpy, which compiles nothing.
     """
-    return 0.085 * (jnp.square(period) * gravity / (2 * jnp.pi)) ** 0.75
+    xp = jnp if checks.traced((period, gravity)) else np
+    return 0.085 * (xp.square(period) * gravity / (2 * np.pi)) ** 0.75
 
 
 def _check_wave(name: str, height, period, depth, gravity, heading, phase):

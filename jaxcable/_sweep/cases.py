@@ -259,7 +259,8 @@ def build_batch(build, values, reference):
         return [x for x, b in zip(leaves, seen["is_batched"]) if b]
 
     try:
-        batched = jax.vmap(traced)({k: jnp.asarray(v) for k, v in values.items()})
+        # `device_put`, not `jnp.asarray`, which compiles a program for a numpy array's copy.
+        batched = jax.vmap(traced)({k: jax.device_put(np.asarray(v)) for k, v in values.items()})
     except _TRACER_ERRORS as e:
         raise ValueError(
             f"sweep: build used the value of {_culprits(build, values)} in Python (float(), int(), "

@@ -10,6 +10,7 @@ import jax.numpy as jnp
 import numpy as np
 from jaxtyping import Array, Bool, Float
 
+from .. import _checks as checks
 from .._sea.extremes import ExtremeStatistics, extreme_statistics
 from .._simulation.simulate import SimulationResult
 from .._statics.solution import StaticSolution
@@ -117,11 +118,12 @@ class SweepResult(eqx.Module):
         return np.flatnonzero(~np.asarray(self.success))
 
     @property
-    def peak_tension(self) -> Float[Array, " cases"]:
+    def peak_tension(self) -> Float[Array | np.ndarray, " cases"]:
         """The largest tension (N) in any segment at any output time, shape `(cases,)`;
         `nan` for a failed case, whose history stops early."""
-        peak = jnp.max(self.simulation.tension, axis=(1, 2))
-        return jnp.where(self.success, peak, jnp.nan)
+        tension, success = checks.on_host(self.simulation.tension), checks.on_host(self.success)
+        xp = jnp if checks.traced((tension, success)) else np  # numpy compiles nothing
+        return xp.where(success, xp.max(tension, axis=(1, 2)), np.nan)
 
     def case(self, index: int) -> SimulationResult:
         """The [`jaxcable.SimulationResult`][] of case `index` alone, as

@@ -315,7 +315,8 @@ def sweep(
         mode = "rest"  # a part that nothing holds has no equilibrium, as in `simulate`
     if mode == "statics" and n_cases > 1 and not statics_differ(batched, unbatched, t0):
         good = next(i for i in range(n_cases) if i not in invalid)
-        model, env = eqx.combine(jax.tree.map(lambda x: x[good], batched), unbatched)
+        # Indexed on the host: a JAX array's index is a program of its own, eagerly.
+        model, env = eqx.combine(jax.tree.map(lambda x: jax.device_put(np.asarray(x)[good]), batched), unbatched)
         try:
             shared["statics"] = solve_statics(model, env, t=t0, throw=False)
             mode = "shared statics"
@@ -388,7 +389,7 @@ def sweep(
     if padding:
         simulation, statics, success = jax.tree.map(lambda x: x[:n_cases], (simulation, statics, success))
     return SweepResult(
-        parameters={k: jnp.asarray(v) for k, v in values.items()},
+        parameters={k: jax.device_put(np.asarray(v)) for k, v in values.items()},
         simulation=simulation,
         statics=statics,
         success=success,
@@ -725,22 +726,28 @@ def _status(simulation: SimulationResult, statics: StaticSolution | None, invali
     """One line per case, from the result codes fetched to the host once."""
     host = jax.tree.map(np.asarray, (simulation.result, simulation.stats, statics))
     result, stats, statics = host
+    # The codes compared as integers: an enumeration's comparison is a JAX program, eagerly.
+    codes, solved = _codes(result), _codes(diffrax.RESULTS.successful)
     lines = []
     for i in range(len(np.asarray(stats["num_steps"]))):
         if i in invalid:
             lines.append(invalid[i])
             continue
-        if statics is not None:
-            static_result = jax.tree.map(lambda x: np.asarray(x[i]), statics.result)  # noqa: B023 (called within this iteration)
-            if static_result != optx.RESULTS.successful:
-                lines.append("statics failed: " + failure_message(jax.tree.map(lambda x: x[i], statics)))  # noqa: B023
-                continue
-        case_result = jax.tree.map(lambda x: np.asarray(x[i]), result)  # noqa: B023 (called within this iteration)
-        if case_result == diffrax.RESULTS.successful:
+        if statics is not None and _codes(statics.result)[i] != _codes(optx.RESULTS.successful):
+            lines.append("statics failed: " + failure_message(jax.tree.map(lambda x: x[i], statics)))  # noqa: B023
+            continue
+        if codes[i] == solved:
             lines.append("successful")
         else:
+            case_result = jax.tree.map(lambda x: np.asarray(x[i]), result)  # noqa: B023 (called within this iteration)
             lines.append(
                 f"{diffrax.RESULTS[case_result]} (stopped after {stats['num_steps'][i]} steps, "
                 f"{stats['num_rejected_steps'][i]} rejected)"
             )
     return tuple(lines)
+
+
+def _codes(result) -> np.ndarray:
+    """The integer codes of a diffrax or optimistix result (an enumeration item, of one
+    case or of many), on the host."""
+    return np.asarray(jax.tree.leaves(result)[0])
