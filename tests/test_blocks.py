@@ -17,6 +17,7 @@ from jaxcable._simulation.simulate import as_config, for_model
 TS = np.linspace(0.0, 6.0, 151)
 
 
+@pytest.mark.slow  # against a tight reference: 20 s of the default suite
 def test_blocks_are_as_accurate_as_one_simulate_call(driven_line):
     """Against a reference at rtol = atol = 1e-10, the blocks' positions are about as
     close as one `simulate` call's at the same tolerance, 1e-6 (4.7e-3 m against 2.5e-3 m,

@@ -145,6 +145,7 @@ def test_an_optimizer_that_takes_no_step_is_a_stall_not_convergence(vertical_rec
     assert "stalled: no step lowered the loss" in result.summary()
 
 
+@pytest.mark.slow  # 32 s of the default suite
 def test_loose_tolerance_derivatives_are_checked_and_the_tolerance_tightened(vertical_records, k0_fit):
     """Forward-mode derivatives ride along with the simulation, whose step-size
     controller sees only the states' error: at rtol = atol = 1e-4 those of the vertical

@@ -355,6 +355,7 @@ def test_still_water_lines_are_elastic_catenaries(name, runs):
         np.testing.assert_allclose(x[nodes, 2] - a[2], shape[:, 1], rtol=0, atol=0.1 * sag, err_msg=f"line {k + 1}")
 
 
+@pytest.mark.slow  # 35 s of the default suite
 def test_buoy_net_waves_are_ramped_on(runs):
     """buoy_net's wave grows from nothing over [water] wave_ramp by the smoothstep
     s³(6s² − 15s + 10) (s = t / ramp, as a harmonic motion's ramp): the water's

@@ -47,6 +47,7 @@ def test_failure_is_reported_without_throw(driven_line):
     assert result.result == diffrax.RESULTS.max_steps_reached
 
 
+@pytest.mark.slow  # 34 s of the default suite
 def test_the_default_start_is_statics_as_in_a_sweep(driven_line):
     """`simulate` without `initial` starts where `sweep` does: from statics, solved at
     `t0` (here 1 s, where the top's harmonic motion has moved it); `"rest"` is the drop

@@ -515,6 +515,7 @@ def test_the_stiffness_on_the_seabed_differentiates():
     np.testing.assert_allclose(jax.grad(k_xx)(1.0), central, rtol=1e-3)
 
 
+@pytest.mark.slow  # 21 s of the default suite
 def test_a_support_too_close_to_the_seabed_is_warned_of():
     """A taut line resting on the bed up to a support 20 m above it: the support cannot
     be moved across the touchdown (8 segments of 50 m) without going below the bed, so

@@ -199,6 +199,7 @@ def test_default_chunks_are_two_a_core_where_each_keeps_sixteen_cases(monkeypatc
     assert jc._sweep.devices.check_chunks(None, [Accelerator()], 256) == 1
 
 
+@pytest.mark.slow  # 24 s of the default suite
 def test_chunks_equal_one_batch(swept, monkeypatch):
     """Chunks run on threads change where the cases run, not what they give: six cases
     in four chunks (padded to eight) equal `swept` (one case a chunk by default on one
@@ -225,6 +226,7 @@ def test_chunks_equal_one_batch(swept, monkeypatch):
         np.testing.assert_allclose(result.statics.tension[ok], swept.statics.tension[ok], rtol=1e-9)
 
 
+@pytest.mark.slow  # 26 s of the default suite
 def test_cases_with_their_own_steps_run_in_turn_as_their_single_runs(monkeypatch):
     """On one CPU device, cases with their own adaptive steps are not batched: by
     default each is a chunk of its own, and each equals its single `simulate` run
@@ -257,6 +259,7 @@ def test_cases_with_their_own_steps_run_in_turn_as_their_single_runs(monkeypatch
         assert float(jnp.min(single.tension[:, -1])) == 0.0
 
 
+@pytest.mark.slow  # four sweeps: 30 s of the default suite
 def test_shared_steps_are_per_chunk():
     """With chunks, each chunk takes its own shared step: the same as a sweep of its
     cases alone. Case 1 needs more steps than case 0; apart, case 0 keeps its own."""
@@ -359,6 +362,7 @@ _SHARDED = textwrap.dedent(
 )
 
 
+@pytest.mark.slow  # a fresh two-device process: 54 s of the default suite
 def test_sharded_sweep_equals_unsharded():
     # XLA reads the flag when jax initialises its backends, so it needs a fresh process.
     # Keep the batch small: with as many host devices as cores, jaxlib's batched LU
