@@ -52,6 +52,7 @@ from .simulate import (
     for_model,
     integrated_state,
     public_state,
+    result_codes,
     result_of,
     terms_for,
 )
@@ -547,11 +548,11 @@ def integrate_batch_in_blocks(
         for column, x in zip(out, saved):
             column[:, written] = np.asarray(x)[:, : written.stop - written.start]
         # (An enumeration's item is a pytree of its code, read through `jax.tree`.)
-        codes.append(np.asarray(jax.tree.leaves(result)[0]))
+        codes.append(result_codes(result))
         steps = steps + np.asarray(counts)
         if on_block is not None:
             on_block(float(ends[part][active[part]][-1]))
     # Each case's first failure over the blocks (a block's result is its own first).
     codes = np.stack(codes)
-    failed = codes != np.asarray(jax.tree.leaves(diffrax.RESULTS.successful)[0])
+    failed = codes != result_codes(diffrax.RESULTS.successful)
     return codes[np.argmax(failed, axis=0), np.arange(codes.shape[1])], np.asarray(steps)

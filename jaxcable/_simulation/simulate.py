@@ -6,6 +6,7 @@ import diffrax
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import numpy as np
 import optimistix as optx
 from jaxtyping import Array, Float
 
@@ -311,6 +312,13 @@ def simulate(
     if checks.differentiated((model, env, start, t0, t1, ts)):
         warn_of_slack(result.times, result.strain)
     return result
+
+
+def result_codes(result) -> np.ndarray:
+    """The integer codes of a diffrax or optimistix result (an enumeration item, of one
+    case or of many), on the host: compared as integers, they compile nothing, where
+    an enumeration's comparison is a JAX program of its own, eagerly."""
+    return np.asarray(jax.tree.leaves(result)[0])
 
 
 def failure_message(result: diffrax.RESULTS) -> str:

@@ -59,6 +59,7 @@ from .._simulation.simulate import (
     _simulate,
     as_config,
     for_model,
+    result_codes,
     result_of,
     vector_field,
 )
@@ -609,7 +610,7 @@ def _run_in_blocks(parts, shared, mode: str, done: _Done):
     )
     if not ok.all():
         return _finish_batch(simulation, statics, valid, ok)
-    return simulation, statics, jax.device_put(codes == np.asarray(jax.tree.leaves(diffrax.RESULTS.successful)[0]))
+    return simulation, statics, jax.device_put(codes == result_codes(diffrax.RESULTS.successful))
 
 
 def _without_absent_bodies(cases: list, system) -> tuple[list, object]:
@@ -726,14 +727,13 @@ def _status(simulation: SimulationResult, statics: StaticSolution | None, invali
     """One line per case, from the result codes fetched to the host once."""
     host = jax.tree.map(np.asarray, (simulation.result, simulation.stats, statics))
     result, stats, statics = host
-    # The codes compared as integers: an enumeration's comparison is a JAX program, eagerly.
-    codes, solved = _codes(result), _codes(diffrax.RESULTS.successful)
+    codes, solved = result_codes(result), result_codes(diffrax.RESULTS.successful)
     lines = []
     for i in range(len(np.asarray(stats["num_steps"]))):
         if i in invalid:
             lines.append(invalid[i])
             continue
-        if statics is not None and _codes(statics.result)[i] != _codes(optx.RESULTS.successful):
+        if statics is not None and result_codes(statics.result)[i] != result_codes(optx.RESULTS.successful):
             lines.append("statics failed: " + failure_message(jax.tree.map(lambda x: x[i], statics)))  # noqa: B023
             continue
         if codes[i] == solved:
@@ -745,9 +745,3 @@ def _status(simulation: SimulationResult, statics: StaticSolution | None, invali
                 f"{stats['num_rejected_steps'][i]} rejected)"
             )
     return tuple(lines)
-
-
-def _codes(result) -> np.ndarray:
-    """The integer codes of a diffrax or optimistix result (an enumeration item, of one
-    case or of many), on the host."""
-    return np.asarray(jax.tree.leaves(result)[0])
