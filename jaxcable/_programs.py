@@ -64,12 +64,15 @@ from jax.core import Tracer
 from jax.experimental import serialize_executable
 
 _JAX_CACHE_HIT = "/jax/compilation_cache/cache_hits"
-_hits = threading.local()  # JAX's cache hits in this thread, counted by `_count_hits`
+_JAX_CACHE_MISS = "/jax/compilation_cache/cache_misses"
+_hits = threading.local()  # JAX's cache hits and misses in this thread, counted by `_count_hits`
 
 
 def _count_hits(event: str, **_) -> None:
     if event == _JAX_CACHE_HIT:
         _hits.count = getattr(_hits, "count", 0) + 1
+    elif event == _JAX_CACHE_MISS:
+        _hits.misses = getattr(_hits, "misses", 0) + 1
 
 
 # JAX records its cache's hits in the compiling thread, so a count per thread tells
@@ -78,6 +81,11 @@ monitoring.register_event_listener(_count_hits)
 
 LOADED_EVENT = "/jaxcable/programs/loaded"
 """Recorded (`jax.monitoring`) for each program loaded from the folder."""
+
+COMPILED_EVENT = "/jaxcable/programs/compiled"
+"""Recorded for each program compiled because neither the folder nor JAX's cache had it,
+where JAX recorded no cache miss of its own (it records none for a program compiled
+past its cache, as `Program._compile` does)."""
 
 WAIT_EVENT = "/jaxcable/programs/wait"
 """A time span recorded while a call waits for its program's compilation in the background."""
@@ -282,12 +290,14 @@ class Program:
         kernels, so the file would load but fail when run ("Function ... not found",
         jaxlib 0.10.2). That happens where JAX's cache outlives this folder's entry (a
         new jaxcable whose program lowers as before); JAX's cache still serves it."""
-        _hits.count = 0
+        _hits.count = _hits.misses = 0
         # Kept here, so not in JAX's cache as well: its compressed copy of statics' program
         # was written on a cold run's critical path, for nothing.
         with persistent_cache_threshold(float("inf")):
             executable = lowered.compile(self.compiler_options or None)
         if not _hits.count:
+            if not _hits.misses:
+                monitoring.record_event(COMPILED_EVENT)
             self._save(key, executable, tree)
         return executable, tree
 

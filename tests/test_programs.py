@@ -91,6 +91,30 @@ def test_a_kept_program_is_not_in_jax_cache_too(folder):
     assert any("lambda" in n for n in names) and not any("_kernel" in n for n in names)
 
 
+def test_each_program_counts_once_as_compiled_or_loaded(folder):
+    """A first `jaxcable run` said "0 of 2 programs loaded" having compiled seven: JAX
+    records no cache miss for a program compiled past its cache, as the folder's are.
+    Each is now recorded once: compiled (a miss), or loaded (a hit)."""
+    from jax import monitoring
+
+    events: list[str] = []
+
+    def listen(event: str, **_) -> None:
+        if event in (_programs.COMPILED_EVENT, _programs.LOADED_EVENT, "/jax/compilation_cache/cache_misses"):
+            events.append(event)
+
+    monitoring.register_event_listener(listen)
+    try:
+        args = (jnp.arange(4.0), 2, {"offset": 1.5})
+        _programs.Program(_kernel)(*args)
+        assert events == [_programs.COMPILED_EVENT]
+        events.clear()
+        _programs.Program(_kernel)(*args)  # a second process's
+        assert events == [_programs.LOADED_EVENT]
+    finally:
+        monitoring.unregister_event_listener(listen)
+
+
 @pytest.mark.parametrize(
     "args",
     [

@@ -93,7 +93,8 @@ class SceneRun:
         compiling programs, or loading them from JAX's persistent cache (s), as JAX's
         compile events time it.
     - `cache_hits`, `cache_misses`: programs loaded from, and compiled and missing in,
-        JAX's persistent compilation cache (both 0 with the cache off).
+        the kept programs' folder ([`jaxcable._programs`][]) or JAX's persistent
+        compilation cache (both 0 with neither).
     - `notes`: what the user should know about this run (seabed penetration, ...).
     """
 
@@ -442,7 +443,7 @@ class _CompileMeter:
     def event(self, event: str, **kwargs: str | int) -> None:
         if event in ("/jax/compilation_cache/cache_hits", programs.LOADED_EVENT):
             self.hits += 1
-        elif event == "/jax/compilation_cache/cache_misses":
+        elif event in ("/jax/compilation_cache/cache_misses", programs.COMPILED_EVENT):
             self.misses += 1
 
     @property
