@@ -331,6 +331,13 @@ def _parser() -> argparse.ArgumentParser:
         help="warn of a line whose largest tension passes its breaking load over this (default "
         f"{DEFAULT_SAFETY_FACTOR:g}, API RP 2SK's for an intact mooring, dynamic analysis)",
     )
+    run.add_argument(
+        "--statistics-from",
+        type=float,
+        default=0.0,
+        metavar="S",
+        help="leave the first S seconds (a start-up transient) out of each output channel's statistics (default 0)",
+    )
     run.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
     run.set_defaults(handler=_run)
 
@@ -463,6 +470,11 @@ def _read_input(args) -> _Input:
         if duration > times[-1]:
             raise SceneError(f"--duration {duration:g} s runs past the motion table's last time, {times[-1]:g} s")
         motion = (times, positions)
+    if args.statistics_from > 0 and args.statistics_from >= duration:
+        raise SceneError(
+            f"--statistics-from {args.statistics_from:g} s leaves nothing of a {duration:g} s run: give a time "
+            "before its end"
+        )
     return _Input(parsed, motion, duration, _run_settings(scene, args))
 
 
@@ -533,6 +545,7 @@ def _check_numbers(args) -> None:
         ("--dt-out", "dt_out", False),
         ("--ramp", "ramp", True),
         ("--advice-time", "advice_time", True),
+        ("--statistics-from", "statistics_from", True),
     ):
         number = getattr(args, value, None)
         if number is not None and not (np.isfinite(number) and (number >= 0 if allow_zero else number > 0)):
@@ -613,6 +626,7 @@ def _run(args, given: _Input) -> int:
     from .io._channels import default_channels, parse_channel
     from .io._extremes import overloads, table
     from .io._run import run_scene
+    from .io._statistics import table as statistics_table
 
     scene = _finish(given.parsed)
     if given.motion is not None:
@@ -680,6 +694,8 @@ def _run(args, given: _Input) -> int:
         print(f"wrote {args.plot}{so_far}")
     extremes = run.line_extremes()
     print(table(extremes))
+    if run.steps and run.times[-1] > args.statistics_from:
+        print(statistics_table(run.channel_statistics(channels, args.statistics_from)))
     sys.stdout.flush()
     for warning in overloads(extremes, args.safety_factor):
         print(f"warning: {warning}", file=sys.stderr)

@@ -204,3 +204,59 @@ def test_a_run_is_an_xarray_dataset(planted):
     assert np.isnan(data["minimum_breaking_load"].sel(line="north").item())
     np.testing.assert_array_equal(data["FairTen1"].values, planted.channels(("FairTen1",))["FairTen1"])
     assert data["segment_line"].values.tolist() == [1, 1, 1, 1, 2, 2, 2, 3, 3]
+
+
+def test_channels_read_as_moordyn_writes_them(planted):
+    """`FairTen`/`AnchTen` are the magnitude of the end segment's force and `L<k>N<i>T`
+    that of the mean of the force vectors beside node i (MoorDyn's
+    `getNodeTen(i).norm()`): a slack segment its damping pushes (−20 N here) reads
+    +20 N at the end, and beside a 1 kN segment, |(−20 τ₁ + 1000 τ₂)/2|: between 490 N
+    (the two in line) and 510 N."""
+    values = planted.channels(("AnchTen1", "L1N1T", "L1N0T", "FairTen1"))
+    assert values["AnchTen1"][1] == 20.0 and values["L1N0T"][1] == 20.0
+    r = planted.positions[1][planted.built.line_nodes[0][:3]]
+    first, second = (r[1] - r[0]) / np.linalg.norm(r[1] - r[0]), (r[2] - r[1]) / np.linalg.norm(r[2] - r[1])
+    expected = np.linalg.norm(-20.0 * first + 1e3 * second) / 2
+    assert 490.0 < expected < 510.0 and values["L1N1T"][1] == pytest.approx(expected, rel=1e-14)
+    assert values["FairTen1"][4] == 0.9e6
+
+
+def test_channel_statistics_are_time_averages_with_the_extremes_and_their_times(planted):
+    """On a sine over whole periods, the trapezoidal time averages are the closed form's
+    (mean c, standard deviation A/√2); `start` leaves a transient out; a short last
+    output interval weighs for its length."""
+    from jaxcable.io._statistics import channel_statistics
+    from jaxcable.io._statistics import table as statistics_table
+
+    t = np.linspace(0.0, 20.0, 2001)
+    sine = 3.0 + 2.0 * np.sin(2 * np.pi * t / 5.0)
+    step = np.where(t < 5.0, 100.0, 1.0)
+    (s, k) = channel_statistics({"Time": t, "L1N3PZ": sine, "FairTen1": step}, {"L1N3PZ": "m", "FairTen1": "N"})
+    assert (s.name, s.units, s.start, s.end) == ("L1N3PZ", "m", 0.0, 20.0)
+    assert s.mean == pytest.approx(3.0, abs=1e-12) and s.std == pytest.approx(2.0 / np.sqrt(2.0), rel=1e-12)
+    assert (s.maximum, s.maximum_time, s.minimum_time) == (5.0, 1.25, 3.75)
+    assert k.maximum == 100.0 and k.maximum_time == 0.0
+    (_, k) = channel_statistics({"Time": t, "L1N3PZ": sine, "FairTen1": step}, {"L1N3PZ": "m", "FairTen1": "N"}, 5.0)
+    assert (k.mean, k.std, k.maximum, k.start) == (1.0, 0.0, 1.0, 5.0)
+    (last,) = channel_statistics({"Time": np.array([0.0, 1.0, 2.0, 2.5]), "X": np.array([0, 0, 0, 10.0])}, {"X": "m"})
+    assert last.mean == pytest.approx(0.5 * 10.0 * 0.5 / 2.5, rel=1e-15)
+    for start in (-1.0, 20.0, np.nan):
+        with pytest.raises(ValueError, match="statistics start at"):
+            channel_statistics({"Time": t, "X": sine}, {"X": "m"}, start)
+    text = statistics_table(planted.channel_statistics(("FairTen1", "AnchTen2"), start=1.0)).splitlines()
+    assert text[0] == "statistics over t = 1 to 2 s:" and text[1].split() == [
+        *("channel", "units", "mean", "std", "min", "t", "s", "max", "t", "s")
+    ]
+    assert text[2].split()[:2] == ["FairTen1", "N"] and text[2].split()[-2:] == ["900000", "2.000"]
+
+
+def test_the_command_prints_channel_statistics_and_checks_their_start(tmp_path, capsys):
+    assert cli_main(["run", "anchored_line", "--duration", "2", "--no-progress", "--statistics-from", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "statistics over t = 1 to 2 s:" in out
+    assert [line.split()[0] for line in out.splitlines() if line.startswith(("FairTen1", "AnchTen1"))] == [
+        "FairTen1",
+        "AnchTen1",
+    ]
+    assert cli_main(["run", str(_scene(tmp_path)), "--duration", "3", "--statistics-from", "3"]) == 2
+    assert "--statistics-from 3 s leaves nothing of a 3 s run" in capsys.readouterr().err

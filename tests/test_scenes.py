@@ -107,7 +107,8 @@ def runs():
 
 def expected_channels(name: str, run: jc.io.SceneRun) -> dict[str, np.ndarray]:
     """Every line's FairTen/AnchTen and the scene's own channels, from the run's arrays
-    by the MoorDyn definitions: the end segments' tensions, node positions."""
+    by the MoorDyn definitions: the magnitudes of the end segments' forces and of the
+    mean force vector at a node (`Line::getNodeTen(i).norm()`), node positions."""
     data = toml(name)
     points = list(data["points"])
     built = run.built
@@ -118,13 +119,18 @@ def expected_channels(name: str, run: jc.io.SceneRun) -> dict[str, np.ndarray]:
         # segments chain the line's nodes.
         assert nodes[0] == points.index(line["from"]) and nodes[-1] == points.index(line["to"])
         np.testing.assert_array_equal(np.asarray(built.model.segment_nodes)[segments], np.c_[nodes[:-1], nodes[1:]])
-        values[f"FairTen{k}"] = run.tension[:, segments[-1]]
-        values[f"AnchTen{k}"] = run.tension[:, segments[0]]
+        values[f"FairTen{k}"] = np.abs(run.tension[:, segments[-1]])
+        values[f"AnchTen{k}"] = np.abs(run.tension[:, segments[0]])
     for channel in data.get("output", {}).get("channels", []):
         if match := re.fullmatch(r"L(\d+)N(\d+)(PX|PY|PZ|T)", channel):
             k, i, quantity = int(match[1]) - 1, int(match[2]), match[3]
-            if quantity == "T":  # the mean of the adjacent segments' tensions
-                values[channel] = run.tension[:, built.line_segments[k][max(i - 1, 0) : i + 1]].mean(axis=1)
+            if quantity == "T":  # |the mean of the adjacent segments' T τ|
+                nodes, segments = built.line_nodes[k], built.line_segments[k]
+                r = run.positions[:, nodes]
+                tangent = np.diff(r, axis=1) / np.linalg.norm(np.diff(r, axis=1), axis=-1, keepdims=True)
+                pulls = run.tension[:, segments, None] * tangent
+                beside = pulls[:, max(i - 1, 0) : i + 1]
+                values[channel] = np.linalg.norm(beside.mean(axis=1), axis=-1)
             else:
                 values[channel] = run.positions[:, built.line_nodes[k][i], "XYZ".index(quantity[1])]
     return values

@@ -49,5 +49,6 @@ if TYPE_CHECKING:
     from ._scene import Water as Water
     from ._scene import WaveComponentsSpec as WaveComponentsSpec
     from ._scene import WaveSpec as WaveSpec
+    from ._statistics import ChannelStatistics as ChannelStatistics
 
 __getattr__, __dir__ = _lazy.attach(__name__, __file__, globals())

@@ -4,13 +4,14 @@ values over a run.
 Channels (names are case-insensitive on input, written as below):
 
 - `Time` (s).
-- `FairTen<k>`, `AnchTen<k>` (N): the tension in the segment at end B and at end A of
-    line k, as MoorDyn defines them (the end segment's tension, damping included).
+- `FairTen<k>`, `AnchTen<k>` (N): the magnitude of the tension in the segment at end B
+    and at end A of line k, as MoorDyn defines them (the end segment's tension, damping
+    included; a slack segment that its damping pushes reads its force's magnitude).
 - `L<k>N<i>PX`, `PY`, `PZ` (m), `VX`, `VY`, `VZ` (m/s): the position and velocity of
     node i of line k, i = 0 at end A; MoorDyn's spellings `Line<k>N<i>...`,
     `L<k>NA...` (node 0) and `L<k>NB...` (the last node) too.
-- `L<k>N<i>T` (or `TEN`, N): the tension at node i, the mean of the adjacent segments'
-    (the end segment's at an end), as MoorDyn's.
+- `L<k>N<i>T` (or `TEN`, N): the tension at node i as MoorDyn's: the magnitude of the
+    mean of the adjacent segments' force vectors (the end segment's at an end).
 - `P<k>PX`, ... `P<k>VZ` (MoorDyn's `Point<k>PX`, and MoorDyn-F's and v1's `Con<k>`,
     `C<k>` and `Connect<k>`): the position (m) and velocity (m/s) of point k.
 - `P<k>FX`, `FY`, `FZ` (N): the net force on point k as MoorDyn's `Point::doRHS` sums
@@ -187,15 +188,15 @@ def channels(
     for name in tuple(names) or default_channels(scene):
         canonical, quantity, k, i = parse_channel(name, scene)
         if quantity in ("FairTen", "AnchTen"):
+            # The end segment's force's magnitude, as MoorDyn writes it: a slack end
+            # segment pushed by its damping reads positive there, not negative.
             segments = built.line_segments[k]
-            values[canonical] = tension[:, segments[-1] if quantity == "FairTen" else segments[0]]
+            values[canonical] = np.abs(tension[:, segments[-1] if quantity == "FairTen" else segments[0]])
             continue
         # Point k is node k (`Scene.build`); a line's nodes are listed from end A.
         node = k if i < 0 else built.line_nodes[k][i]
         if quantity == "T" and i >= 0:
-            segments = built.line_segments[k]
-            adjacent = segments[max(i - 1, 0) : min(i, segments.size - 1) + 1]
-            values[canonical] = tension[:, adjacent].mean(axis=1)
+            values[canonical] = _node_tension(built, k, i, tension, positions)
         elif quantity[0] in "FT":
             forces = point_forces() if forces is None else forces
             force = forces[:, node]
@@ -206,6 +207,19 @@ def channels(
             series = positions if quantity[0] == "P" else velocities
             values[canonical] = series[:, node, "XYZ".index(quantity[1])]
     return values
+
+
+def _node_tension(built: BuiltScene, k: int, i: int, tension: np.ndarray, positions: np.ndarray) -> np.ndarray:
+    """MoorDyn's `L<k>N<i>T` (N), shape `(times,)`: the magnitude of the mean of the
+    force vectors `T τ` of the segments beside node i of line k (of the one segment at
+    an end), τ each segment's unit direction from end A."""
+    segments, nodes = built.line_segments[k], built.line_nodes[k]
+    adjacent = range(max(i - 1, 0), min(i, segments.size - 1) + 1)
+    force = 0.0
+    for j in adjacent:
+        chord = positions[:, nodes[j + 1]] - positions[:, nodes[j]]
+        force = force + tension[:, segments[j], None] * (chord / np.linalg.norm(chord, axis=-1, keepdims=True))
+    return np.linalg.norm(force / len(adjacent), axis=-1)
 
 
 def _index(name: str, kind: str, k: int, count: int) -> int:

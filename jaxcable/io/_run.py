@@ -32,6 +32,7 @@ from . import _channels
 from ._extremes import LineExtremes, line_extremes
 from ._initial_shape import initial_positions
 from ._moordyn import read_moordyn
+from ._statistics import ChannelStatistics, channel_statistics
 from ._scene import BuiltScene, Scene, SceneError
 from ._scene_file import read_scene
 
@@ -139,6 +140,14 @@ class SceneRun:
         and its utilisation where its line type gives a minimum breaking load
         ([`jaxcable.io.LineExtremes`][]), in the scene's order of lines."""
         return line_extremes(self.built, self.times, self.tension)
+
+    def channel_statistics(self, names: tuple[str, ...] = (), start: float = 0.0) -> tuple[ChannelStatistics, ...]:
+        """Each output channel's time-averaged mean and standard deviation and its
+        extremes with their times, over the outputs from `start` (s) on, which leaves a
+        start-up transient out ([`jaxcable.io.ChannelStatistics`][]): the scene's
+        channels, or `names`, in their order."""
+        values = self.channels(names)
+        return channel_statistics(values, {name: _channels.channel_units(name) for name in values}, start)
 
     def to_dataset(self, names: tuple[str, ...] = ()):
         """The run as an `xarray.Dataset`: positions, velocities, tensions and reactions
