@@ -41,22 +41,27 @@ def check_plot_path(path: str | Path, what: str = "plot") -> Path:
     return check_writable(path, what, tuple(f".{suffix}" for suffix in sorted(formats)))
 
 
-def plot_run(run: "SceneRun", path: str | Path, channels: tuple[str, ...] = (), snapshots: int = 6):
-    """Save a two-panel figure of `run` to `path` (any format matplotlib writes).
+def plot_run(run: "SceneRun", path: str | Path, channels: tuple[str, ...] = (), snapshots: int = 0):
+    """Save a three-panel figure of `run` to `path` (any format matplotlib writes).
 
     Left: the tension history of each tension channel among `channels` (MoorDyn names,
     `FairTen<k>`, `AnchTen<k>`, `L<k>N<i>T`; every line's end tensions by default), in
     kN against time in s, named in words ("line 1 fairlead tension (end B, at point
-    2)"). For a statics-only run, the tension along each line against
-    the unstretched arc length from end A instead. Right: the lines in the x–z plane at
-    `snapshots` evenly spaced output times (the equilibrium for statics only).
+    2)"). For a statics-only run, the tension along each line against the unstretched
+    arc length from end A instead. Middle and right: the lines in plan (x–y) and in
+    elevation (x–z), at the start (the equilibrium), at the time of the run's largest
+    segment tension and at that of its smallest, and at `snapshots` more evenly spaced
+    output times (grey), with the points marked by kind (fixed, coupled, free), the
+    still-water level and the seabed. Legends sit below the panels, off the data.
 
     **Returns:**
 
     The matplotlib figure, already saved.
     """
     plt = _pyplot()
-    figure, (left, right) = plt.subplots(1, 2, figsize=(12, 4.5), layout="constrained")
+    figure, (history, plan, elevation) = plt.subplots(
+        1, 3, figsize=(16, 5.2), layout="constrained", gridspec_kw={"width_ratios": [1.2, 1.0, 1.0]}
+    )
     scene, built = run.built.scene, run.built
     if run.times.size > 1:
         from .io._channels import default_channels, describe_channel, end_tensions, is_tension
@@ -66,40 +71,79 @@ def plot_run(run: "SceneRun", path: str | Path, channels: tuple[str, ...] = (), 
         tensions = tuple(name for name in names if is_tension(name, scene)) or end_tensions(scene)
         for name, series in run.channels(tensions).items():
             if name != "Time":
-                left.plot(run.times, series / 1e3, label=describe_channel(name, scene), linewidth=1.0)
-        left.set_xlabel("time t (s)")
-        left.set_title("Tension history")
+                history.plot(run.times, series / 1e3, label=describe_channel(name, scene), linewidth=1.0)
+        history.set_xlabel("time t (s)")
+        history.set_title("Tension history")
     else:
         for k, line in enumerate(scene.lines):
             segments = built.line_segments[k]
             arc = (np.arange(segments.size) + 0.5) * line.length / line.segments
-            left.plot(arc, run.tension[0, segments] / 1e3, marker=".", label=f"line {line.name}")
-        left.set_xlabel("unstretched arc length from end A, s (m)")
-        left.set_title("Static tension along the lines")
-    left.set_ylabel("tension T (kN)")
-    left.grid(True, alpha=0.3)
-    left.legend(fontsize="small")
+            history.plot(arc, run.tension[0, segments] / 1e3, marker=".", label=f"line {line.name}")
+        history.set_xlabel("unstretched arc length from end A, s (m)")
+        history.set_title("Static tension along the lines")
+    history.set_ylabel("tension T (kN)")
+    history.grid(True, alpha=0.3)
+    _legend_below(history)
 
-    picks = np.unique(np.linspace(0, run.times.size - 1, max(1, snapshots)).round().astype(int))
-    colours = plt.cm.viridis(np.linspace(0, 0.9, picks.size))
-    for colour, t in zip(colours, picks):
+    for when, (colour, label, width) in _shapes(run, snapshots).items():
         for k, nodes in enumerate(built.line_nodes):
-            xyz = run.positions[t, nodes]
-            label = f"t = {run.times[t]:.2f} s" if k == 0 else None
-            right.plot(xyz[:, 0], xyz[:, 2], color=colour, linewidth=1.0, label=label)
+            xyz = run.positions[when, nodes]
+            for axes, (a, b) in ((plan, (0, 1)), (elevation, (0, 2))):
+                axes.plot(xyz[:, a], xyz[:, b], color=colour, linewidth=width, label=label if k == 0 else None)
+    start = run.positions[0]
+    for kind, marker in (("fixed", "^"), ("coupled", "s"), ("free", "o")):
+        held = [k for k, point in enumerate(scene.points) if point.kind == kind]
+        for axes, (a, b) in ((plan, (0, 1)), (elevation, (0, 2))):
+            if held:
+                axes.plot(
+                    start[held, a], start[held, b], marker, color="black", markerfacecolor="none", label=f"{kind} point"
+                )
     if scene.water.depth is not None:
-        right.axhline(-scene.water.depth, color="saddlebrown", linewidth=1.0, label="seabed")
-    right.axhline(0.0, color="tab:blue", linewidth=0.8, linestyle="--", label="still water level")
-    right.set_xlabel("x (m)")
-    right.set_ylabel("z (m)")
-    right.set_aspect("equal", adjustable="datalim")
-    right.set_title("Line shape, x–z plane")
-    right.grid(True, alpha=0.3)
-    right.legend(fontsize="small")
+        elevation.axhline(-scene.water.depth, color="saddlebrown", linewidth=1.0, label="seabed")
+    elevation.axhline(0.0, color="tab:blue", linewidth=0.8, linestyle="--", label="still water level")
+    for axes, (a, b), title in ((plan, "xy", "Plan, x–y"), (elevation, "xz", "Elevation, x–z")):
+        axes.set_xlabel(f"{a} (m)")
+        axes.set_ylabel(f"{b} (m)")
+        axes.set_aspect("equal", adjustable="datalim")
+        axes.set_title(title)
+        axes.grid(True, alpha=0.3)
+        _legend_below(axes)
     figure.suptitle(f"{scene.title} ({Path(scene.source).name})" if scene.title else Path(scene.source).name)
     figure.savefig(path, dpi=120)
     plt.close(figure)
     return figure
+
+
+def _shapes(run: "SceneRun", snapshots: int) -> dict[int, tuple[str, str, float]]:
+    """The output times (indices) whose shapes a run's figure draws, each with its
+    colour, legend label and line width: the start, the largest and the smallest
+    segment tension, and `snapshots` evenly spaced times, later ones not repeating
+    earlier ones."""
+    shapes: dict[int, tuple[str, str, float]] = {}
+    for t in np.unique(np.linspace(0, run.times.size - 1, snapshots).round().astype(int)) if snapshots else ():
+        shapes[int(t)] = ("0.75", "evenly spaced times", 0.8)
+    start = "equilibrium" if run.static is not None else "start"
+    shapes[0] = ("black", start if run.times.size > 1 else f"{start} (statics only)", 1.4)
+    if run.times.size > 1:
+        largest, k, segment, _ = run.peak_tension()
+        most = int(np.argmax(np.max(run.tension, axis=1)))
+        least = int(np.argmin(np.min(run.tension, axis=1)))
+        name = run.built.scene.lines[k].name
+        shapes[most] = (
+            "tab:red",
+            f"largest tension, {largest / 1e3:.4g} kN in line {name} (t = {run.times[most]:.2f} s)",
+            1.4,
+        )
+        smallest = float(np.min(run.tension[least])) + 0.0
+        shapes.setdefault(
+            least, ("tab:blue", f"smallest tension, {smallest / 1e3:.4g} kN (t = {run.times[least]:.2f} s)", 1.4)
+        )
+    return shapes
+
+
+def _legend_below(axes) -> None:
+    """`axes`' legend under it, outside the data."""
+    axes.legend(fontsize="small", loc="upper center", bbox_to_anchor=(0.5, -0.14), frameon=False, ncols=1)
 
 
 # Axis labels of the towing observables, with the unit each is plotted in and its

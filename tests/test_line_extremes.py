@@ -1,7 +1,8 @@
-"""The table an engineer reads first (issue 37, item 5): each line's largest and smallest
-tension with segment and time, its ends' largest, its utilisation against the line type's
-minimum breaking load with a warning past a safety factor, and the run as an
-`xarray.Dataset`. The extremes are checked on planted tensions, where each answer is known."""
+"""What an engineer reads first of a run (issue 37, item 5): each line's largest and
+smallest tension with segment and time, its ends' largest, its utilisation against the
+line type's minimum breaking load with a warning past a safety factor, each output
+channel's statistics, the figure, and the run as an `xarray.Dataset`. The extremes are
+checked on planted tensions, where each answer is known."""
 
 import numpy as np
 import pytest
@@ -260,3 +261,34 @@ def test_the_command_prints_channel_statistics_and_checks_their_start(tmp_path, 
     ]
     assert cli_main(["run", str(_scene(tmp_path)), "--duration", "3", "--statistics-from", "3"]) == 2
     assert "--statistics-from 3 s leaves nothing of a 3 s run" in capsys.readouterr().err
+
+
+def test_the_figure_draws_plan_and_elevation_at_the_extreme_tensions_with_legends_off_the_data(planted, tmp_path):
+    """Three panels (tension history, plan x–y, elevation x–z); the shapes at the start
+    and at the times of the largest (1.5 MN, t = 1.5 s) and smallest (−20 N, t = 0.5 s)
+    tensions; every point marked by kind; each legend below its panel. Ends are named
+    fairlead or anchor only where their points are coupled or fixed."""
+    pytest.importorskip("matplotlib")
+    from jaxcable.io._channels import describe_channel
+    from jaxcable.plot import plot_run
+
+    figure = plot_run(planted, tmp_path / "run.png")
+    assert (tmp_path / "run.png").stat().st_size > 10_000
+    history, plan, elevation = figure.axes
+    assert [a.get_title() for a in figure.axes] == ["Tension history", "Plan, x–y", "Elevation, x–z"]
+    labels = [t.get_text() for t in plan.get_legend().get_texts()]
+    assert labels[:3] == [
+        "start",
+        "largest tension, 1500 kN in line west (t = 1.50 s)",
+        "smallest tension, -0.02 kN (t = 0.50 s)",
+    ]
+    assert labels[3:] == ["fixed point"]  # the planted scene's three points are fixed
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    renderer = FigureCanvasAgg(figure).get_renderer()  # the figure was saved and closed
+    for axes in figure.axes:
+        legend, frame = axes.get_legend().get_window_extent(renderer), axes.get_window_extent(renderer)
+        assert legend.y1 <= frame.y0  # wholly below the panel
+    scene = planted.built.scene  # west: a (fixed) to b (fixed)
+    assert describe_channel("AnchTen1", scene) == "line west anchor tension (end A, at point a)"
+    assert describe_channel("FairTen1", scene) == "line west end B tension (at point b)"

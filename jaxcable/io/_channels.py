@@ -94,14 +94,20 @@ def _quantity(name: str) -> str:
 
 def describe_channel(name: str, scene: "Scene") -> str:
     """Channel `name` in words a user recognises, for a plot's legend: "line 1
-    fairlead tension", "point 2 z", "line 3 node 10 tension"."""
+    fairlead tension (end B, at point 2)", "point 2 z", "line 3 node 10 tension". An end
+    is a fairlead where its point is coupled (moved) and an anchor where it is fixed, as a
+    mooring's are; otherwise it is named by its end ("line rope_3 end B tension (at point
+    b2)" for a rope between two buoys of a net)."""
     _, quantity, k, i = parse_channel(name, scene)
     if quantity in ("FairTen", "AnchTen"):
         line = scene.lines[k]
         end = "B" if quantity == "FairTen" else "A"
         point = scene.points[line.end if end == "B" else line.start]
-        what = "fairlead" if quantity == "FairTen" else "anchor"
-        return f"line {line.name} {what} tension (end {end}, at point {point.name})"
+        role = {"FairTen": "coupled", "AnchTen": "fixed"}[quantity]
+        if point.kind == role:
+            what = "fairlead" if quantity == "FairTen" else "anchor"
+            return f"line {line.name} {what} tension (end {end}, at point {point.name})"
+        return f"line {line.name} end {end} tension (at point {point.name})"
     words = {"T": "tension", "PX": "x", "PY": "y", "PZ": "z", "VX": "vx", "VY": "vy", "VZ": "vz"}
     words |= {"FX": "net force x", "FY": "net force y", "FZ": "net force z"}
     if i < 0:
