@@ -8,8 +8,8 @@ A model built without it raises [`jaxcable.Float64Error`][], which says so.
 The names here are the ones a user needs day to day: the model and the sea (regular
 waves, and irregular ones realised from a spectrum), the motions of supports, the entry
 points (simulate, solve_statics, stiffness, sweep, calibrate, advise, check_derivative, and reading and
-running scenes) with their results, the extremes of a response over realisations, and
-the solvers. The rest is grouped in
+running scenes) with their results, the extremes of a response over realisations, its
+fatigue damage, and the solvers. The rest is grouped in
 public modules:
 
 - `jaxcable.io`: scene specs, the scene runner's result, output files, motion tables and
@@ -40,6 +40,13 @@ if TYPE_CHECKING:
     from ._advice import advise as advise
     from ._calibration.calibrate import calibrate as calibrate
     from ._calibration.report import CalibrationResult as CalibrationResult
+    from ._campaign.fatigue import TN_CURVES as TN_CURVES
+    from ._campaign.fatigue import FatigueDamage as FatigueDamage
+    from ._campaign.fatigue import TNCurve as TNCurve
+    from ._campaign.fatigue import chain_area as chain_area
+    from ._campaign.fatigue import damage_equivalent_load as damage_equivalent_load
+    from ._campaign.fatigue import fatigue_damage as fatigue_damage
+    from ._campaign.fatigue import rainflow_cycles as rainflow_cycles
     from ._checks import Float64Error as Float64Error
     from ._derivative_check import DerivativeCheck as DerivativeCheck
     from ._derivative_check import DerivativeWarning as DerivativeWarning
