@@ -22,10 +22,17 @@ length, so that the derivative is the dynamics' alone.
    over windows [0, t], by `jax.grad` through `jc.simulate` with its default solver and
    adjoint, judged by `jc.check_derivative` against central differences at h = 0.2 m
    ... 2e-6 m.
+3. **Axial damping** (`--part damping`): the same statistics over [0, 10] s on the same
+   line given axial damping, `jc.KelvinVoigt` with C_v = ζ L √(EA m) (MoorDyn's `BA =
+   −ζ`, the damping ratio of one segment's axial mode, L the segment length) at ζ = 0.1,
+   0.3 and 0.8 (MoorDyn files commonly ask for 0.8), beside ζ = 0: whether the
+   derivative agrees with central differences, and how far the damping moves the
+   statistic itself.
 
     python benchmarks/derivative_growth.py                  # both parts (about 10 min on 2 cores)
     python benchmarks/derivative_growth.py --part tangent   # part 1 alone
     python benchmarks/derivative_growth.py --part jumper    # part 1 on the jumper (about 2 min)
+    python benchmarks/derivative_growth.py --part damping   # part 3 (about 20 min)
     python benchmarks/derivative_growth.py --report         # the latest session's tables
 
 Results are appended to benchmarks/results/derivative_growth.json.
@@ -122,8 +129,36 @@ def jumper_part(t1=54.0, dt=5e-4, every=2.0, steps=(1e-3, 1e-5, 1e-7, 1e-9)):
     return {"t1": t1, "dt": dt, "segments": model.n_segments, "rows": rows}
 
 
-def statistics_part(windows=WINDOWS):
-    model, env, start = readme_line()
+def damped(model, ratio):
+    """`model` with axial damping of ratio `ratio` (MoorDyn's `BA = −ζ`): C_v = ζ L √(EA m)
+    (N·s), L its segment length, on its own tension law's stiffnesses."""
+    law, line = model.line.tension_law, model.line
+    stiffness, mass = np.asarray(law.axial_stiffness), np.asarray(line.mass_per_length)
+    damping = ratio * np.asarray(model.segment_length) * np.sqrt(stiffness * mass)
+    viscous = jc.KelvinVoigt(law.axial_stiffness, law.quadratic_stiffness(), damping, slack_width=law.slack_width)
+    return eqx.tree_at(lambda m: m.line.tension_law, model, viscous)
+
+
+def damping_part(ratios=(0.0, 0.1, 0.3, 0.8), window=10.0):
+    model, env, _ = readme_line()
+    part = statistics_part((window,), [damped(model, ratio) for ratio in ratios])
+    for record in part["records"]:
+        record["damping_ratio"] = ratios[record.pop("model")]
+    return part
+
+
+def statistics_part(windows=WINDOWS, models=None):
+    """Each statistic over each window [0, t] by `jax.grad`, judged by
+    `jc.check_derivative`; on the README's line, or on each of `models` (its water)."""
+    line, env, _ = readme_line()
+    records = []
+    for index, model in enumerate([line] if models is None else models):
+        start = jc.solve_statics(model, env).state
+        records += _statistics(model, env, start, windows, index)
+    return {"records": records}
+
+
+def _statistics(model, env, start, windows, index):
     records = []
     for window in windows:
         ts = jnp.linspace(0.0, window, int(round(window / 0.05)) + 1)
@@ -146,10 +181,11 @@ def statistics_part(windows=WINDOWS):
                     "reference": check.reference,
                     "verdict": check.verdict,
                     "seconds": time.perf_counter() - began,
+                    "model": index,
                 }
             )
-            print(f"[0, {window:g}] s, {name}: {check.verdict}", flush=True)
-    return {"records": records}
+            print(f"model {index}, [0, {window:g}] s, {name}: {check.verdict}", flush=True)
+    return records
 
 
 def report(session):
@@ -167,6 +203,20 @@ def report(session):
             cells += [f"{r['max_position_tangent']:.3g}", f"{r['tension_tangent']:.4g}"]
             cells += [f"{r['differences'][h]:.4g}" for h in steps]
             print("| " + " | ".join(cells) + " |")
+    if "damping" in session:
+        records = session["damping"]["records"]
+        print("\nStatistics of the top tension over [0, 10] s with axial damping of ratio ζ (MoorDyn's BA = −ζ),")
+        print("jax.grad against central differences (h = 0.2 ... 2e-6 m), and the statistic against ζ = 0:\n")
+        head = ["ζ", "statistic", "value (N)", "change from ζ = 0", "derivative (N/m)", "settled difference (N/m)"]
+        print("| " + " | ".join([*head, "verdict"]) + " |")
+        print("|---|---|---|---|---|---|---|")
+        undamped = {r["statistic"]: r["value"] for r in records if r["damping_ratio"] == 0}
+        for r in records:
+            reference = "none" if r["reference"] is None else f"{r['reference']:.4g}"
+            change = r["value"] / undamped[r["statistic"]] - 1 if r["statistic"] in undamped else float("nan")
+            cells = [f"{r['damping_ratio']:g}", r["statistic"], f"{r['value']:.6g}", f"{change:+.2%}"]
+            cells += [f"{r['derivative']:.4g}", reference, r["verdict"]]
+            print("| " + " | ".join(cells) + " |")
     if "statistics" in session:
         print("\nStatistics of the top tension over [0, t], jax.grad against central differences", end="")
         print(" (h = 0.2 ... 2e-6 m):\n")
@@ -180,7 +230,7 @@ def report(session):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--part", choices=("tangent", "jumper", "statistics", "both"), default="both")
+    parser.add_argument("--part", choices=("tangent", "jumper", "statistics", "damping", "both"), default="both")
     parser.add_argument("--report", action="store_true", help="print the latest session's tables and stop")
     args = parser.parse_args()
     if args.report:
@@ -194,6 +244,8 @@ def main():
         session["jumper"] = jumper_part()
     if args.part in ("statistics", "both"):
         session["statistics"] = statistics_part()
+    if args.part == "damping":
+        session["damping"] = damping_part()
     session["seconds"] = time.perf_counter() - began
     append_session(RESULTS, **session)
     report(session)

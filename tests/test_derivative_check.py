@@ -166,9 +166,34 @@ def test_a_derivative_through_slack_is_warned_of(monkeypatch):
         jax.jvp(mean_top_tension(2.0), (0.0,), (1.0,))
         mean_top_tension(4.0)(0.0)
     with pytest.warns(
-        jc.DerivativeWarning, match=r"through \d+ slack events? .*the first at t = 3(\.\d+)? s, segment 20 of 20"
+        jc.DerivativeWarning,
+        match=r"through \d+ slack events? .*the first at t = 3(\.\d+)? s, segment 20 of 20.*no axial damping",
     ):
         jax.jvp(mean_top_tension(4.0), (0.0,), (1.0,))
     with warnings.catch_warnings():
         warnings.simplefilter("error", jc.DerivativeWarning)
         jax.jvp(mean_top_tension(4.0), (0.0,), (1.0,))
+
+
+def test_the_slack_warning_names_damping_as_the_remedy_only_for_an_undamped_line(monkeypatch):
+    """The README's line has no axial damping (NonlinearElastic); a KelvinVoigt law with
+    zero damping has none either; with damping, or damping being differentiated, the
+    warning does not suggest it."""
+    from jaxcable._simulation.simulate import _undamped
+
+    model, _, _ = _readme_line()
+    law = model.line.tension_law
+    assert _undamped(model)
+    for damping, undamped in ((0.0, True), (6.0e4, False)):
+        viscous = jc.KelvinVoigt(law.axial_stiffness, law.quadratic_stiffness(), damping)
+        assert _undamped(eqx.tree_at(lambda m: m.line.tension_law, model, viscous)) is undamped
+    seen = []
+    jax.jit(
+        lambda c: seen.append(_undamped(eqx.tree_at(lambda m: m.line.tension_law, model, jc.KelvinVoigt(1, 0, c))))
+    )(0.0)
+    assert seen == [False]  # traced damping: its value is unknown
+    for undamped in (True, False):
+        monkeypatch.setattr(derivative_check, "_SLACK_WARNED", [False])
+        with pytest.warns(jc.DerivativeWarning) as caught:
+            derivative_check._slack_warning(3, 2.5, 19, 20, undamped=undamped)
+        assert ("no axial damping" in str(caught[0].message)) is undamped

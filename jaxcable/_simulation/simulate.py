@@ -135,6 +135,16 @@ def public_state(solver: diffrax.AbstractSolver, y):
     return tuple(jnp.swapaxes(x, -1, -2) for x in y) if _component_major(solver) else y
 
 
+def _undamped(model: CableNetwork) -> bool:
+    """Whether the line has no axial damping: a law without it, or one whose damping is
+    zero everywhere (known only where it is not traced)."""
+    law = model.line.tension_law
+    if not law.damped:
+        return True
+    damping = law.damping()
+    return not checks.traced(damping) and not np.any(np.asarray(damping))
+
+
 def simulate(
     model: CableNetwork,
     env: Environment,
@@ -310,7 +320,7 @@ def simulate(
     if throw and not inside:
         checks.raise_if(None, result.result != diffrax.RESULTS.successful, failure_message(result.result))
     if checks.differentiated((model, env, start, t0, t1, ts)):
-        warn_of_slack(result.times, result.strain)
+        warn_of_slack(result.times, result.strain, undamped=_undamped(model))
     return result
 
 
