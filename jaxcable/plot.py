@@ -115,30 +115,30 @@ def plot_run(run: "SceneRun", path: str | Path, channels: tuple[str, ...] = (), 
 
 
 def _shapes(run: "SceneRun", snapshots: int) -> dict[int, tuple[str, str, float]]:
-    """The output times (indices) whose shapes a run's figure draws, each with its
-    colour, legend label and line width: the start, the largest and the smallest
-    segment tension, and `snapshots` evenly spaced times, later ones not repeating
-    earlier ones."""
-    shapes: dict[int, tuple[str, str, float]] = {}
-    for t in np.unique(np.linspace(0, run.times.size - 1, snapshots).round().astype(int)) if snapshots else ():
-        shapes[int(t)] = ("0.75", "evenly spaced times", 0.8)
+    """The output times (indices) whose shapes a run's figure draws, in drawing order,
+    each with its colour, legend label and line width: `snapshots` evenly spaced times
+    (grey, under the rest), then the start and the times of the largest and the
+    smallest segment tension."""
     start = "equilibrium" if run.static is not None else "start"
-    shapes[0] = ("black", start if run.times.size > 1 else f"{start} (statics only)", 1.4)
+    marked = {0: ("black", start if run.times.size > 1 else f"{start} (statics only)", 1.4)}
     if run.times.size > 1:
-        largest, k, segment, _ = run.peak_tension()
+        largest, k, _, _ = run.peak_tension()
         most = int(np.argmax(np.max(run.tension, axis=1)))
         least = int(np.argmin(np.min(run.tension, axis=1)))
         name = run.built.scene.lines[k].name
-        shapes[most] = (
+        marked[most] = (
             "tab:red",
             f"largest tension, {largest / 1e3:.4g} kN in line {name} (t = {run.times[most]:.2f} s)",
             1.4,
         )
         smallest = float(np.min(run.tension[least])) + 0.0
-        shapes.setdefault(
+        marked.setdefault(
             least, ("tab:blue", f"smallest tension, {smallest / 1e3:.4g} kN (t = {run.times[least]:.2f} s)", 1.4)
         )
-    return shapes
+    evenly = np.unique(np.linspace(0, run.times.size - 1, snapshots).round().astype(int)) if snapshots else ()
+    grey = [int(t) for t in evenly if int(t) not in marked]
+    shapes = {t: ("0.75", "evenly spaced times" if n == 0 else "_nolegend_", 0.8) for n, t in enumerate(grey)}
+    return shapes | marked
 
 
 def _legend_below(axes) -> None:

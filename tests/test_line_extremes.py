@@ -272,17 +272,19 @@ def test_the_figure_draws_plan_and_elevation_at_the_extreme_tensions_with_legend
     from jaxcable.io._channels import describe_channel
     from jaxcable.plot import plot_run
 
-    figure = plot_run(planted, tmp_path / "run.png")
+    figure = plot_run(planted, tmp_path / "run.png", snapshots=5)
     assert (tmp_path / "run.png").stat().st_size > 10_000
     history, plan, elevation = figure.axes
     assert [a.get_title() for a in figure.axes] == ["Tension history", "Plan, x–y", "Elevation, x–z"]
     labels = [t.get_text() for t in plan.get_legend().get_texts()]
-    assert labels[:3] == [
+    assert labels[:4] == [
+        "evenly spaced times",  # once, for t = 1 and 2 s (the others are marked)
         "start",
         "largest tension, 1500 kN in line west (t = 1.50 s)",
         "smallest tension, -0.02 kN (t = 0.50 s)",
     ]
-    assert labels[3:] == ["fixed point"]  # the planted scene's three points are fixed
+    assert labels[4:] == ["fixed point"]  # the planted scene's three points are fixed
+    assert len(plan.lines) == 3 * 5 + 1  # three lines at five times, and the points
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     renderer = FigureCanvasAgg(figure).get_renderer()  # the figure was saved and closed
