@@ -332,6 +332,14 @@ def _parser() -> argparse.ArgumentParser:
         f"{DEFAULT_SAFETY_FACTOR:g}, API RP 2SK's for an intact mooring, dynamic analysis)",
     )
     run.add_argument(
+        "--fatigue",
+        nargs="+",
+        metavar="[TYPE=]CURVE[:AREA]",
+        help="a T-N curve for a line type's fatigue damage, e.g. chain=dnv_studless_chain:0.00907 "
+        "rope=api_polyester, or one for every type: a DNV curve with the nominal area in m² (2 π d²/4 for "
+        "chain), an API curve with the type's breaking load (a scene file may give fatigue_curve instead)",
+    )
+    run.add_argument(
         "--statistics-from",
         type=float,
         default=0.0,
@@ -448,6 +456,12 @@ def _read_input(args) -> _Input:
     if getattr(args, "breaking_load", None):
         loads = parsed.scene.with_breaking_loads(_breaking_loads(args.breaking_load), "--breaking-load")
         parsed = dataclasses.replace(parsed, scene=loads)
+    if getattr(args, "fatigue", None):
+        curves = parsed.scene.with_fatigue_curves(_fatigue_curves(args.fatigue), "--fatigue")
+        parsed = dataclasses.replace(parsed, scene=curves)
+    for line_type in parsed.scene.line_types:  # an API curve's breaking load, from the file or a flag
+        if problem := line_type.fatigue_problem():
+            raise SceneError(problem)
     scene = parsed.scene
     duration = scene.run.duration if args.duration is None else args.duration
     if args.command == "info":
@@ -476,6 +490,28 @@ def _read_input(args) -> _Input:
             "before its end"
         )
     return _Input(parsed, motion, duration, _run_settings(scene, args))
+
+
+def _fatigue_curves(items: list[str]) -> dict[str | None, tuple[str, float | None]]:
+    """`--fatigue`'s items, `TYPE=CURVE[:AREA]` or a lone `CURVE[:AREA]` for every line
+    type, as `Scene.with_fatigue_curves` takes them."""
+    from .io import SceneError
+
+    curves: dict[str | None, tuple[str, float | None]] = {}
+    for item in items:
+        name, _, given = item.rpartition("=")
+        key = name.strip() or None
+        if key is None and len(items) > 1:
+            raise SceneError(f"--fatigue {item}: name the line type (TYPE=CURVE) where more than one curve is given")
+        curve, _, area = given.partition(":")
+        try:
+            value = float(area) if area else None
+        except ValueError:
+            raise SceneError(f"--fatigue {item}: expected [TYPE=]CURVE[:AREA], an area in m² after the colon") from None
+        if key in curves:
+            raise SceneError(f"--fatigue names line type {key} twice")
+        curves[key] = (curve.strip(), value)
+    return curves
 
 
 def _breaking_loads(items: list[str]) -> dict[str | None, float]:
@@ -625,6 +661,7 @@ def _run(args, given: _Input) -> int:
     from .io import write_output
     from .io._channels import default_channels, parse_channel
     from .io._extremes import overloads, table
+    from .io._line_fatigue import table as fatigue_table
     from .io._run import run_scene
     from .io._statistics import table as statistics_table
 
@@ -696,6 +733,8 @@ def _run(args, given: _Input) -> int:
     print(table(extremes))
     if run.steps and run.times[-1] > args.statistics_from:
         print(statistics_table(run.channel_statistics(channels, args.statistics_from)))
+        if fatigue := run.line_fatigue(args.statistics_from):
+            print(fatigue_table(fatigue))
     sys.stdout.flush()
     for warning in overloads(extremes, args.safety_factor):
         print(f"warning: {warning}", file=sys.stderr)

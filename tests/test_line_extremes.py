@@ -4,6 +4,8 @@ line type's minimum breaking load with a warning past a safety factor, each outp
 channel's statistics, the figure, and the run as an `xarray.Dataset`. The extremes are
 checked on planted tensions, where each answer is known."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -11,6 +13,7 @@ import jaxcable as jc
 from jaxcable._cli import main as cli_main
 from jaxcable.io import SceneError, SceneRun
 from jaxcable.io._extremes import overloads, table
+from jaxcable.io._line_fatigue import table as fatigue_table
 
 # Two line types, three lines: 4, 3 and 2 segments.
 SCENE = """
@@ -72,17 +75,24 @@ def _scene(tmp_path, chain_mbl: str = "minimum_breaking_load = 2.0e6"):
     return path
 
 
+def _at_rest(built, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Positions and velocities, shape `(times, nodes, 3)`, of the nodes at rest where
+    the scene puts them."""
+    nodes = np.asarray(built.model.node_positions)
+    positions = np.broadcast_to(nodes, (times.size, *nodes.shape)).copy()
+    return positions, np.zeros_like(positions)
+
+
+def _no_reactions(built, times: np.ndarray) -> np.ndarray:
+    return np.zeros((times.size, len(built.model.constrained_nodes), 3))
+
+
 def _run_with(built, tension: np.ndarray) -> SceneRun:
     """A `SceneRun` of `built` holding `tension` (N), shape `(times, segments)`, every
     0.5 s, with the nodes at rest where the scene puts them."""
     times = 0.5 * np.arange(tension.shape[0])
-    nodes = np.asarray(built.model.node_positions)
-    positions = np.broadcast_to(nodes, (times.size, *nodes.shape)).copy()
-    constrained = len(built.model.constrained_nodes)
-    reactions = np.zeros((times.size, constrained, 3))
-    return SceneRun(
-        built, None, times, positions, np.zeros_like(positions), tension, reactions, 10, "planted", 0.0, 0.0, ()
-    )
+    reactions = _no_reactions(built, times)
+    return SceneRun(built, None, times, *_at_rest(built, times), tension, reactions, 10, "planted", 0.0, 0.0, ())
 
 
 @pytest.fixture
@@ -294,3 +304,55 @@ def test_the_figure_draws_plan_and_elevation_at_the_extreme_tensions_with_legend
     scene = planted.built.scene  # west: a (fixed) to b (fixed)
     assert describe_channel("AnchTen1", scene) == "line west anchor tension (end A, at point a)"
     assert describe_channel("FairTen1", scene) == "line west end B tension (at point b)"
+
+
+def test_each_lines_fatigue_is_its_worst_segments_miner_damage(tmp_path):
+    """A planted history: 1 kN everywhere but the west chain's third segment, a cosine of
+    range 100 kN about 100 kN, ten cycles crest to crest in 20 s. Under API RP 2SK's stud
+    chain curve (N = 1000 R⁻³, R over the 2 MN MBL) that is 10 (0.05)³ / 1000 = 1.25e-6,
+    a life of 20 s / 1.25e-6; counted from 10 s, half of it."""
+    scene = jc.read_scene(_scene(tmp_path)).with_fatigue_curves({"chain": ("api_stud_chain", None)}, "--fatigue")
+    built = scene.build()
+    times = np.linspace(0.0, 20.0, 401)
+    tension = np.full((times.size, built.model.segment_length.shape[0]), 1e3)
+    tension[:, np.asarray(built.line_segments[0])[2]] = 1e5 + 5e4 * np.cos(2 * np.pi * times / 2.0)
+    run = SceneRun(built, None, times, *_at_rest(built, times), tension, _no_reactions(built, times), 10, "", 0, 0, ())
+    (west,) = run.line_fatigue()  # the ropes name no curve
+    assert (west.line, west.curve, west.segment, west.segments) == ("west", "api_stud_chain", 3, 4)
+    assert west.damage == pytest.approx(10 * 0.05**3 / 1000, rel=1e-12)
+    assert west.life == pytest.approx(20.0 / (west.damage * 365.25 * 86400), rel=1e-12)
+    assert run.line_fatigue(start=10.0)[0].damage == pytest.approx(west.damage / 2, rel=1e-12)
+    text = fatigue_table(run.line_fatigue()).splitlines()
+    assert text[0] == "fatigue over t = 0 to 20 s (Miner's rule, rainflow counting):"
+    assert text[2].split()[:5] == ["west", "chain", "api_stud_chain", "1.250e-06", "3/4"]
+
+
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        ('fatigue_curve = "chain"', "unknown fatigue_curve 'chain'; jaxcable has dnv_stud_chain"),
+        ('fatigue_curve = "dnv_studless_chain"', "takes stress ranges on the nominal area: give fatigue_area"),
+        ("fatigue_area = 0.01", "fatigue_area is for a fatigue_curve; give one"),
+        ('fatigue_curve = "api_stud_chain"\nfatigue_area = 0.01', "drop fatigue_area"),
+        ('fatigue_curve = "dnv_stud_chain"\nfatigue_area = -1.0', "fatigue_area must be a positive number"),
+    ],
+)
+def test_a_scene_files_fatigue_curve_is_checked(tmp_path, extra, message):
+    with pytest.raises(SceneError, match=r"line_types\.chain.*" + re.escape(message)):
+        jc.read_scene(_scene(tmp_path, f"minimum_breaking_load = 2.0e6\n{extra}"))
+
+
+def test_fatigue_curves_on_the_command_line(tmp_path, capsys):
+    """`--fatigue` names a curve per line type, checked before any work; a scene file's
+    `fatigue_curve` with its area is read."""
+    good = jc.read_scene(_scene(tmp_path, 'fatigue_curve = "dnv_stud_chain"\nfatigue_area = 0.00907'))
+    assert (good.line_types[0].fatigue_curve, good.line_types[0].fatigue_area) == ("dnv_stud_chain", 0.00907)
+    for flags, message in (
+        (["--fatigue", "rope=api_polyester"], "fatigue_curve api_polyester takes tension ranges over the minimum"),
+        (["--fatigue", "wire=api_polyester"], "--fatigue: the scene has no line type 'wire'"),
+        (["--fatigue", "api_polyester", "chain=api_stud_chain"], "name the line type (TYPE=CURVE)"),
+        (["--fatigue", "chain=dnv_stud_chain:big"], "expected [TYPE=]CURVE[:AREA]"),
+        (["--fatigue", "chain=dnv_stud_chain"], "--fatigue, line type chain: fatigue_curve dnv_stud_chain takes"),
+    ):
+        assert cli_main(["run", str(_scene(tmp_path)), "--duration", "1", *flags]) == 2
+        assert message in capsys.readouterr().err

@@ -21,16 +21,17 @@ T–N curves come in two forms ([`jaxcable.TNCurve`][]):
 a given number of times, does the same damage as the history for an exponent m.
 
 These are numpy functions of saved histories (after a run or a sweep), not traced: the
-rainflow count is a sequence of comparisons with no derivative.
+rainflow count is a sequence of comparisons with no derivative. The module imports no
+JAX, so that the scene readers check a curve's name before JAX is imported.
 """
 
 import dataclasses
 import math
+from typing import SupportsFloat
 
 import numpy as np
+import numpy.typing as npt
 import rainflow
-
-from .._typing import RealLike, RealScalarLike
 
 SECONDS_PER_YEAR = 365.25 * 86400.0
 """A Julian year (s), by which a record's damage rate is made annual."""
@@ -70,11 +71,11 @@ class TNCurve:
 
     def cycles(
         self,
-        tension_range: RealLike,
+        tension_range: npt.ArrayLike,
         *,
-        area: RealScalarLike | None = None,
-        breaking_load: RealScalarLike | None = None,
-        mean_tension: RealScalarLike = 0.0,
+        area: SupportsFloat | None = None,
+        breaking_load: SupportsFloat | None = None,
+        mean_tension: SupportsFloat = 0.0,
     ) -> np.ndarray:
         """Cycles to failure at each `tension_range` (N): infinite at a zero range.
 
@@ -101,7 +102,7 @@ class TNCurve:
             return np.asarray(coefficient * (ranges / reference) ** (-self.exponent))
 
 
-def _require(name: str, value: RealScalarLike | None, curve: str) -> float:
+def _require(name: str, value: SupportsFloat | None, curve: str) -> float:
     """`value` as a float, where it is a positive number."""
     if value is None or not (math.isfinite(float(value)) and float(value) > 0):
         raise ValueError(f"the T–N curve {curve!r} needs {name}, a positive number, got {value!r}")
@@ -130,13 +131,13 @@ breaking strength. The codes' curves for connecting links and the corrections fo
 ranges (API TR 2FC-2) are not here: give them as a [`jaxcable.TNCurve`][]."""
 
 
-def chain_area(nominal_diameter: RealScalarLike) -> float:
+def chain_area(nominal_diameter: SupportsFloat) -> float:
     """The nominal area (m²) of chain of nominal (bar) diameter d (m) for a DNV stress
     range: both bars of a link, `2 π d² / 4`."""
     return 2.0 * math.pi * float(nominal_diameter) ** 2 / 4.0
 
 
-def rainflow_cycles(series: RealLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def rainflow_cycles(series: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The cycles of `series` by rainflow counting (ASTM E1049-85, the `rainflow`
     package): `(ranges, means, counts)`, each shape `(cycles,)`, a count of 1 for a full
     cycle and 0.5 for a half cycle (the residue)."""
@@ -172,12 +173,12 @@ class FatigueDamage:
 
 
 def fatigue_damage(
-    tension: RealLike,
-    times: RealLike,
+    tension: npt.ArrayLike,
+    times: npt.ArrayLike,
     curve: TNCurve | str,
     *,
-    area: RealScalarLike | None = None,
-    breaking_load: RealScalarLike | None = None,
+    area: SupportsFloat | None = None,
+    breaking_load: SupportsFloat | None = None,
 ) -> FatigueDamage:
     """Miner's fatigue damage of a tension history by rainflow counting.
 
@@ -221,16 +222,17 @@ def fatigue_damage(
     return FatigueDamage(damage, duration, annual, 1.0 / annual if annual > 0 else math.inf, ranges, counts, curve.name)
 
 
-def damage_equivalent_load(tension: RealLike, exponent: RealScalarLike, equivalent_cycles: RealScalarLike) -> float:
+def damage_equivalent_load(tension: npt.ArrayLike, exponent: SupportsFloat, equivalent_cycles: SupportsFloat) -> float:
     """The damage-equivalent load (N): the tension range that, repeated
     `equivalent_cycles` times, does the damage of the history's rainflow cycles under a
     T–N curve of slope `exponent` (m): `(Σ n_i ΔT_i^m / N_eq)^(1/m)`. Independent of
     the curve's coefficient, so a way to compare load cases without one."""
-    if not (math.isfinite(exponent) and exponent > 0):
+    m, cycles = float(exponent), float(equivalent_cycles)
+    if not (math.isfinite(m) and m > 0):
         raise ValueError(f"damage_equivalent_load: exponent must be a positive number, got {exponent!r}")
-    if not (math.isfinite(equivalent_cycles) and equivalent_cycles > 0):
+    if not (math.isfinite(cycles) and cycles > 0):
         raise ValueError(
             f"damage_equivalent_load: equivalent_cycles must be a positive number, got {equivalent_cycles!r}"
         )
     ranges, _, counts = rainflow_cycles(tension)
-    return float((np.sum(counts * ranges**exponent) / equivalent_cycles) ** (1.0 / exponent))
+    return float((np.sum(counts * ranges**m) / cycles) ** (1.0 / m))

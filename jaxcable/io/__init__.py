@@ -29,6 +29,7 @@ if TYPE_CHECKING:
     from ._advice_text import advice_lines as advice_lines
     from ._extremes import DEFAULT_SAFETY_FACTOR as DEFAULT_SAFETY_FACTOR
     from ._extremes import LineExtremes as LineExtremes
+    from ._line_fatigue import LineFatigue as LineFatigue
     from ._moordyn_water import write_wave_frequencies as write_wave_frequencies
     from ._motion_file import read_motion_file as read_motion_file
     from ._output import write as write_output  # noqa: F401 (re-exported under a new name)

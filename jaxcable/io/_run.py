@@ -31,10 +31,11 @@ from .._statics.solve import solve_statics
 from . import _channels
 from ._extremes import LineExtremes, line_extremes
 from ._initial_shape import initial_positions
+from ._line_fatigue import LineFatigue, line_fatigue
 from ._moordyn import read_moordyn
-from ._statistics import ChannelStatistics, channel_statistics
 from ._scene import BuiltScene, Scene, SceneError
 from ._scene_file import read_scene
+from ._statistics import ChannelStatistics, channel_statistics
 
 DEFAULT_DT_OUT = 0.1  # s
 # A tension history whose spread is below this, relative to its largest value, is
@@ -140,6 +141,12 @@ class SceneRun:
         and its utilisation where its line type gives a minimum breaking load
         ([`jaxcable.io.LineExtremes`][]), in the scene's order of lines."""
         return line_extremes(self.built, self.times, self.tension)
+
+    def line_fatigue(self, start: float = 0.0) -> tuple[LineFatigue, ...]:
+        """Each line's fatigue damage, at its most damaged segment, and the life at this
+        run's rate, over the outputs from `start` (s) on, for the lines whose line type
+        names a T–N curve ([`jaxcable.io.LineFatigue`][]), in the scene's order."""
+        return line_fatigue(self.built, self.times, self.tension, start)
 
     def channel_statistics(self, names: tuple[str, ...] = (), start: float = 0.0) -> tuple[ChannelStatistics, ...]:
         """Each output channel's time-averaged mean and standard deviation and its

@@ -348,6 +348,12 @@ class LineTypeSpec:
     `minimum_breaking_load` (N), optional, is not physics: a run reports each line's
     largest tension over it, the utilisation, and warns past a safety factor
     (`jaxcable.io._extremes`).
+
+    `fatigue_curve`, optional, names a T–N curve of [`jaxcable.TN_CURVES`][]: a run
+    reports each line's fatigue damage and life (`jaxcable.io._line_fatigue`). A DNV
+    curve (stress ranges) needs `fatigue_area` (m², the nominal area: 2 π d²/4 for chain
+    of nominal diameter d, [`jaxcable.chain_area`][]); an API curve (ranges over the
+    breaking strength) needs `minimum_breaking_load`.
     """
 
     name: str
@@ -366,6 +372,8 @@ class LineTypeSpec:
     slack_damping: bool = False
     bending_stiffness: float = 0.0
     minimum_breaking_load: float | None = None
+    fatigue_curve: str | None = None
+    fatigue_area: float | None = None
     where: str = ""
 
     def __post_init__(self):
@@ -374,6 +382,40 @@ class LineTypeSpec:
             raise SceneError(
                 f"{self.where or self.name}: minimum_breaking_load must be a positive number of N, got {mbl:g}"
             )
+        curve, area = self.fatigue_curve, self.fatigue_area
+        if area is not None and not (np.isfinite(area) and area > 0):
+            raise SceneError(f"{self.where or self.name}: fatigue_area must be a positive number of m², got {area:g}")
+        if curve is None:
+            if area is not None:
+                raise SceneError(f"{self.where or self.name}: fatigue_area is for a fatigue_curve; give one")
+            return
+        from .._campaign.fatigue import TN_CURVES  # numpy and rainflow only
+
+        if curve not in TN_CURVES:
+            raise SceneError(
+                f"{self.where or self.name}: unknown fatigue_curve {curve!r}; jaxcable has {', '.join(TN_CURVES)}"
+            )
+        stress = TN_CURVES[curve].form == "stress"
+        if stress and area is None:
+            raise SceneError(
+                f"{self.where or self.name}: fatigue_curve {curve} takes stress ranges on the nominal area: give "
+                "fatigue_area (m²; 2 π d²/4 for chain of nominal diameter d)"
+            )
+        if not stress and area is not None:
+            raise SceneError(
+                f"{self.where or self.name}: fatigue_curve {curve} takes ranges over the minimum breaking load, not "
+                f"a stress on an area: drop fatigue_area ({area:g})"
+            )
+
+    def fatigue_problem(self) -> str | None:
+        """Why this line type's fatigue cannot be computed, or `None`: an API curve
+        without a minimum breaking load (which `--breaking-load` may still give)."""
+        if self.fatigue_curve is None or self.fatigue_area is not None or self.minimum_breaking_load is not None:
+            return None
+        return (
+            f"{self.where or self.name}: fatigue_curve {self.fatigue_curve} takes tension ranges over the minimum "
+            "breaking load: give minimum_breaking_load (or --breaking-load)"
+        )
 
     def damping_coefficient(self, segment_length: float) -> float:
         """C_v (N·s) for segments of unstretched length `segment_length` (m); NaN for a
@@ -579,6 +621,34 @@ class Scene:
                         f"{where}: the minimum breaking load of {t.name} must be a positive number of N, got {load:g}"
                     )
                 t = dataclasses.replace(t, minimum_breaking_load=float(load))
+            line_types.append(t)
+        return self.replace(line_types=tuple(line_types))
+
+    def with_fatigue_curves(
+        self, curves: dict[str | None, tuple[str, float | None]], where: str = "fatigue curves"
+    ) -> "Scene":
+        """A copy whose line types have these T–N curves, by line type name: each a
+        `(curve name, nominal area in m² or None)`; the key `None` gives every line type
+        not named its curve.
+
+        **Raises:**
+
+        [`jaxcable.io.SceneError`][], naming `where`, for a line type the scene does not
+        define, or a curve or area that `LineTypeSpec` refuses."""
+        names = [t.name for t in self.line_types]
+        for name in curves:
+            if name is not None and name not in names:
+                raise SceneError(f"{where}: the scene has no line type {name!r}; its line types: {', '.join(names)}")
+        every = curves.get(None)
+        line_types = []
+        for t in self.line_types:
+            given = curves.get(t.name, every)
+            if given is not None:
+                # Checked under the flag's name, kept under the file's.
+                checked = dataclasses.replace(
+                    t, fatigue_curve=given[0], fatigue_area=given[1], where=f"{where}, line type {t.name}"
+                )
+                t = dataclasses.replace(checked, where=t.where)
             line_types.append(t)
         return self.replace(line_types=tuple(line_types))
 

@@ -75,6 +75,9 @@ A scene file names its points and line types and lists its lines::
                                  # bending_stiffness (EI, N·m²);
                                  # slack_damping = true damps slack segments too
     minimum_breaking_load = 2.0e6  # MBL (N), optional: utilisation in the results
+    fatigue_curve = "api_multistrand_rope"  # optional: fatigue damage in the results,
+                                 # a name of jaxcable.TN_CURVES; a DNV curve also
+                                 # needs fatigue_area (m², the nominal area)
 
     [points.anchor]
     type = "fixed"               # "fixed", "coupled" or "free"
@@ -190,6 +193,7 @@ _LINE_TYPE_OPTIONAL = (
     "slack_width",
     "bending_stiffness",
     "minimum_breaking_load",
+    "fatigue_area",
 )
 _LINE_TYPE_FLAGS = ("slack_damping",)  # true or false
 _BODY = ("mass", "volume", "drag_area", "specific_drag", "organism_mass", "added_mass", "height")
@@ -280,11 +284,14 @@ def parse_scene(path: str | Path) -> ParsedScene:
     for name in line_type_tables:
         keys = ("line_types", name)
         table = reader.table(line_type_tables, keys, required=True)
-        reader.keys(table, keys, _LINE_TYPE_REQUIRED + _LINE_TYPE_OPTIONAL + _LINE_TYPE_FLAGS)
+        reader.keys(table, keys, _LINE_TYPE_REQUIRED + _LINE_TYPE_OPTIONAL + _LINE_TYPE_FLAGS + ("fatigue_curve",))
         values = {k: reader.number(table, (*keys, k)) for k in _LINE_TYPE_REQUIRED}
         values |= {k: reader.number(table, (*keys, k)) for k in _LINE_TYPE_OPTIONAL if k in table}
         slack = reader.boolean(table, (*keys, "slack_damping"), False)
-        line_types.append(LineTypeSpec(name=name, where=reader.where(keys), slack_damping=slack, **values))
+        curve = reader.string(table, (*keys, "fatigue_curve")) if "fatigue_curve" in table else None
+        line_types.append(
+            LineTypeSpec(name=name, where=reader.where(keys), slack_damping=slack, fatigue_curve=curve, **values)
+        )
     unique_names(line_types, "line type", str(path))
 
     points = []
