@@ -32,7 +32,7 @@ length, so that the derivative is the dynamics' alone.
     python benchmarks/derivative_growth.py                  # both parts (about 10 min on 2 cores)
     python benchmarks/derivative_growth.py --part tangent   # part 1 alone
     python benchmarks/derivative_growth.py --part jumper    # part 1 on the jumper (about 2 min)
-    python benchmarks/derivative_growth.py --part damping   # part 3 (about 20 min)
+    python benchmarks/derivative_growth.py --part damping   # part 3 (about 16 min)
     python benchmarks/derivative_growth.py --report         # the latest session's tables
 
 Results are appended to benchmarks/results/derivative_growth.json.
