@@ -599,6 +599,16 @@ class Scene:
             raise SceneError(f"segments must be a positive integer, got {segments!r}")
         return self.replace(lines=tuple(dataclasses.replace(line, segments=segments) for line in self.lines))
 
+    def _by_line_type(self, values: dict, where: str) -> list[tuple["LineTypeSpec", Any]]:
+        """Each line type with its entry of `values` (by line type name; the key `None`
+        for every type not named; `None` where neither is given), after refusing a name
+        the scene does not define, naming `where`."""
+        names = [t.name for t in self.line_types]
+        for name in values:
+            if name is not None and name not in names:
+                raise SceneError(f"{where}: the scene has no line type {name!r}; its line types: {', '.join(names)}")
+        return [(t, values.get(t.name, values.get(None))) for t in self.line_types]
+
     def with_breaking_loads(self, loads: dict[str | None, float], where: str = "breaking loads") -> "Scene":
         """A copy whose line types have these minimum breaking loads (N), by line type
         name; the key `None` gives every line type not named its load.
@@ -607,14 +617,8 @@ class Scene:
 
         [`jaxcable.io.SceneError`][], naming `where`, for a line type the scene does not
         define or a load that is not a positive number."""
-        names = [t.name for t in self.line_types]
-        for name in loads:
-            if name is not None and name not in names:
-                raise SceneError(f"{where}: the scene has no line type {name!r}; its line types: {', '.join(names)}")
-        every = loads.get(None)
         line_types = []
-        for t in self.line_types:
-            load = loads.get(t.name, every)
+        for t, load in self._by_line_type(loads, where):
             if load is not None:
                 if not (np.isfinite(load) and load > 0):
                     raise SceneError(
@@ -635,14 +639,8 @@ class Scene:
 
         [`jaxcable.io.SceneError`][], naming `where`, for a line type the scene does not
         define, or a curve or area that `LineTypeSpec` refuses."""
-        names = [t.name for t in self.line_types]
-        for name in curves:
-            if name is not None and name not in names:
-                raise SceneError(f"{where}: the scene has no line type {name!r}; its line types: {', '.join(names)}")
-        every = curves.get(None)
         line_types = []
-        for t in self.line_types:
-            given = curves.get(t.name, every)
+        for t, given in self._by_line_type(curves, where):
             if given is not None:
                 # Checked under the flag's name, kept under the file's.
                 checked = dataclasses.replace(
