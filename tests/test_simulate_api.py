@@ -155,7 +155,12 @@ def test_fixed_step_blow_up_is_a_failure_not_output():
     run = jc.simulate(model, env, 5.0, initial=static.state, solver=heun(0.05), throw=False)
     assert not bool(run.success)
     assert run.result == diffrax.RESULTS.nonfinite
-    with pytest.raises(eqx.EquinoxRuntimeError, match="simulate: the state became non-finite"):
+    # The error names the output times the failure lies between, as the outputs show it.
+    finite = np.isfinite(np.asarray(run.positions)).all(axis=(1, 2))
+    last = int(np.argmin(finite)) - 1
+    assert last >= 0 and finite[: last + 1].all()
+    between = rf"after the output at t = {float(run.times[last]):g} s and before t = {float(run.times[last + 1]):g} s"
+    with pytest.raises(eqx.EquinoxRuntimeError, match=r"simulate: the state became non-finite.*" + between):
         jc.simulate(model, env, 5.0, initial=static.state, solver=heun(0.05))
     stable = jc.simulate(model, env, 0.5, initial=static.state, solver=heun(1e-3), throw=False)
     assert bool(stable.success)

@@ -318,7 +318,9 @@ def simulate(
             diffrax.RESULTS.where(failed, diffrax.RESULTS.promote(statics_result), result.result),
         )
     if throw and not inside:
-        checks.raise_if(None, result.result != diffrax.RESULTS.successful, failure_message(result.result))
+        failed = result.result != diffrax.RESULTS.successful
+        message = failure_message(result.result) + (_where_failed(result, ts) if bool(failed) else "")
+        checks.raise_if(None, failed, message)
     if checks.differentiated((model, env, start, t0, t1, ts)):
         warn_of_slack(result.times, result.strain, undamped=_undamped(model))
     return result
@@ -329,6 +331,22 @@ def result_codes(result) -> np.ndarray:
     case or of many), on the host: compared as integers, they compile nothing, where
     an enumeration's comparison is a JAX program of its own, eagerly."""
     return np.asarray(jax.tree.leaves(result)[0])
+
+
+def _where_failed(result: SimulationResult, requested) -> str:
+    """Between which of the `requested` output times a failed run stopped (the last with
+    a finite time and state, and the next), and how to keep the run up to then; empty
+    where the outputs do not say (none finite, or all)."""
+    state = np.concatenate([np.asarray(result.positions), np.asarray(result.velocities)], axis=-1)
+    finite = np.isfinite(np.asarray(result.times)) & np.isfinite(state).all(axis=(1, 2))
+    requested = np.asarray(requested)
+    if finite.all() or not finite[0]:
+        return ""
+    last = int(np.argmin(finite)) - 1  # the output before the first that is not finite
+    return (
+        f", after the output at t = {requested[last]:g} s and before t = {requested[last + 1]:g} s; "
+        "simulate(..., throw=False) returns the run up to then, its later outputs inf or NaN"
+    )
 
 
 def failure_message(result: diffrax.RESULTS) -> str:
