@@ -495,44 +495,41 @@ def _read_input(args) -> _Input:
 def _fatigue_curves(items: list[str]) -> dict[str | None, tuple[str, float | None]]:
     """`--fatigue`'s items, `TYPE=CURVE[:AREA]` or a lone `CURVE[:AREA]` for every line
     type, as `Scene.with_fatigue_curves` takes them."""
-    from .io import SceneError
 
-    curves: dict[str | None, tuple[str, float | None]] = {}
-    for item in items:
-        name, _, given = item.rpartition("=")
-        key = name.strip() or None
-        if key is None and len(items) > 1:
-            raise SceneError(f"--fatigue {item}: name the line type (TYPE=CURVE) where more than one curve is given")
-        curve, _, area = given.partition(":")
-        try:
-            value = float(area) if area else None
-        except ValueError:
-            raise SceneError(f"--fatigue {item}: expected [TYPE=]CURVE[:AREA], an area in m² after the colon") from None
-        if key in curves:
-            raise SceneError(f"--fatigue names line type {key} twice")
-        curves[key] = (curve.strip(), value)
-    return curves
+    def curve(given: str) -> tuple[str, float | None]:
+        name, _, area = given.partition(":")
+        return name.strip(), float(area) if area else None
+
+    return _by_line_type(items, "--fatigue", "CURVE", "[TYPE=]CURVE[:AREA], an area in m² after the colon", curve)
 
 
 def _breaking_loads(items: list[str]) -> dict[str | None, float]:
     """`--breaking-load`'s items, `TYPE=N` or a lone `N` for every line type, as
     `Scene.with_breaking_loads` takes them."""
+    return _by_line_type(items, "--breaking-load", "N", "TYPE=N or N, a load in newtons", float)
+
+
+def _by_line_type(items: list[str], flag: str, value: str, form: str, parse: Callable[[str], Any]) -> dict:
+    """A flag's items, `TYPE=VALUE` or one lone `VALUE` for every line type (the key
+    `None`), each value read by `parse`; `SceneError` naming the flag and item for a
+    value `parse` refuses (`ValueError`), a lone value among several, or a type named
+    twice."""
     from .io import SceneError
 
-    loads: dict[str | None, float] = {}
+    values: dict = {}
     for item in items:
-        name, _, number = item.rpartition("=")
+        name, _, given = item.rpartition("=")
         key = name.strip() or None
         if key is None and len(items) > 1:
-            raise SceneError(f"--breaking-load {item}: name the line type (TYPE=N) where more than one load is given")
+            raise SceneError(f"{flag} {item}: name the line type (TYPE={value}) where more than one is given")
         try:
-            value = float(number)
+            parsed = parse(given)
         except ValueError:
-            raise SceneError(f"--breaking-load {item}: expected TYPE=N or N, a load in newtons") from None
-        if key in loads:
-            raise SceneError(f"--breaking-load names line type {key} twice")
-        loads[key] = value
-    return loads
+            raise SceneError(f"{flag} {item}: expected {form}") from None
+        if key in values:
+            raise SceneError(f"{flag} names line type {key} twice")
+        values[key] = parsed
+    return values
 
 
 def _finish(parsed: "ParsedScene") -> "Scene":

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._names import DEFAULT_SAFETY_FACTOR
+from ._columns import aligned
 from ._scene import BuiltScene
 
 TABLE_ROWS = 20
@@ -112,14 +113,10 @@ def table(rows: tuple[LineExtremes, ...], limit: int = TABLE_ROWS) -> str:
             load, u = r.breaking_load, r.utilisation
             cells += ["-", "-"] if load is None or u is None else [f"{load / 1e3:.1f}", f"{u:.1%}"]
         body.append(cells)
-    widths = [max(len(row[k]) for row in [heading, *body]) for k in range(len(heading))]
-    text = [
-        "  ".join(c.ljust(w) if k < 2 else c.rjust(w) for k, (c, w) in enumerate(zip(row, widths)))
-        for row in [heading, *body]
-    ]
+    text = aligned(heading, body, left=2)
     if len(rows) > len(shown):
         text.append(f"... and {len(rows) - len(shown)} more lines (all in SceneRun.line_extremes())")
-    return "\n".join(line.rstrip() for line in text)
+    return "\n".join(text)
 
 
 def overloads(rows: tuple[LineExtremes, ...], safety_factor: float = DEFAULT_SAFETY_FACTOR) -> list[str]:

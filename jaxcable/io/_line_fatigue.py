@@ -13,7 +13,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._campaign.fatigue import TN_CURVES, fatigue_damage
+from ._columns import aligned
 from ._scene import BuiltScene, SceneError
+from ._statistics import from_start
 
 TABLE_ROWS = 20
 """Lines shown in [`table`][]: the most damaged."""
@@ -55,7 +57,7 @@ def line_fatigue(
     [`jaxcable.io.SceneError`][] for a line type whose curve needs a minimum breaking
     load it does not have."""
     types = {t.name: t for t in built.scene.line_types}
-    kept = np.asarray(times) >= start - 1e-9 * max(float(times[-1]), 1.0)
+    kept = from_start(times, start)
     t = np.asarray(times)[kept]
     rows = []
     for line, segments in zip(built.scene.lines, built.line_segments):
@@ -109,11 +111,7 @@ def table(rows: tuple[LineFatigue, ...], limit: int = TABLE_ROWS) -> str:
         ]
         for r in shown
     ]
-    widths = [max(len(row[k]) for row in [heading, *body]) for k in range(len(heading))]
-    text = [
-        "  ".join(c.ljust(w) if k < 3 else c.rjust(w) for k, (c, w) in enumerate(zip(row, widths))).rstrip()
-        for row in [heading, *body]
-    ]
+    text = aligned(heading, body, left=3)
     if len(rows) > len(shown):
         text.append(f"... and {len(rows) - len(shown)} more lines (all in SceneRun.line_fatigue())")
     first = rows[0]

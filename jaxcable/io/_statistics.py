@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._columns import aligned
+
 TABLE_ROWS = 20
 """Channels shown in [`table`][]; the rest are counted."""
 
@@ -39,6 +41,13 @@ class ChannelStatistics:
     end: float
 
 
+def from_start(times: np.ndarray, start: float) -> np.ndarray:
+    """Which output `times` (s) are counted from `start` (s) on: a boolean mask, an
+    output time within rounding of `start` included."""
+    times = np.asarray(times, dtype=float)
+    return times >= start - 1e-9 * max(float(times[-1]), 1.0)
+
+
 def channel_statistics(
     channels: dict[str, np.ndarray], units: dict[str, str], start: float = 0.0
 ) -> tuple[ChannelStatistics, ...]:
@@ -60,7 +69,7 @@ def channel_statistics(
     end = float(times[-1])
     if not np.isfinite(start) or start < 0 or (start >= end and times.size > 1):
         raise ValueError(f"statistics start at {start!r} s, but the outputs run from 0 to {end:g} s")
-    kept = times >= start - 1e-9 * max(end, 1.0)
+    kept = from_start(times, start)
     t = times[kept]
     span = t[-1] - t[0]
     rows = []
@@ -116,11 +125,7 @@ def table(rows: tuple[ChannelStatistics, ...], limit: int = TABLE_ROWS) -> str:
         ]
         for r in shown
     ]
-    widths = [max(len(row[k]) for row in [heading, *body]) for k in range(len(heading))]
-    text = [
-        "  ".join(c.ljust(w) if k < 2 else c.rjust(w) for k, (c, w) in enumerate(zip(row, widths))).rstrip()
-        for row in [heading, *body]
-    ]
+    text = aligned(heading, body, left=2)
     first = rows[0]
     what = f"statistics over t = {first.start:g} to {first.end:g} s"
     if len(rows) > len(shown):
