@@ -42,6 +42,26 @@ def pytest_configure(config):
         os.environ["JAXCABLE_CACHE_DIR"] = str(cache.mkdir("jaxcable"))
 
 
+# Files whose tests are each a unit of work of their own under `--dist loadfile`, which
+# otherwise hands a whole file to one worker: the notebooks take 1-5 minutes each, and on
+# one worker they were the slow suite's long pole (30 min of it, 2 cores).
+SPLIT_FILES = ("tests/test_notebooks.py",)
+
+
+def pytest_xdist_make_scheduler(config, log):
+    """`--dist loadfile`, but with the tests of `SPLIT_FILES` spread across workers."""
+    if config.getoption("dist") != "loadfile":
+        return None
+    from xdist.scheduler import LoadFileScheduling
+
+    class SplitFileScheduling(LoadFileScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            path = nodeid.split("::", 1)[0]
+            return nodeid if path in SPLIT_FILES else path
+
+    return SplitFileScheduling(config, log)
+
+
 @pytest.fixture(autouse=True, scope="module")
 def _release_compiled_programs():
     """Drop each module's compiled programs when it ends.
