@@ -7,8 +7,8 @@ A model built without it raises [`jaxcable.Float64Error`][], which says so.
 
 The names here are the ones a user needs day to day: the model and the sea (regular
 waves, and irregular ones realised from a spectrum), the motions of supports, the entry
-points (simulate, solve_statics, stiffness, sweep, calibrate, advise, check_derivative, and reading and
-running scenes) with their results, the extremes of a response over realisations, its
+points (simulate, solve_statics, stiffness, sweep, calibrate, advise, check_derivative, reading and
+running scenes, and campaigns of load cases) with their results, the extremes of a response over realisations, its
 fatigue damage, and the solvers. The rest is grouped in
 public modules:
 
@@ -40,6 +40,10 @@ if TYPE_CHECKING:
     from ._advice import advise as advise
     from ._calibration.calibrate import calibrate as calibrate
     from ._calibration.report import CalibrationResult as CalibrationResult
+    from ._campaign.campaign import CampaignResult as CampaignResult
+    from ._campaign.campaign import run_campaign as run_campaign
+    from ._campaign.cases import Case as Case
+    from ._campaign.cases import read_cases as read_cases
     from ._campaign.fatigue import TN_CURVES as TN_CURVES
     from ._campaign.fatigue import FatigueDamage as FatigueDamage
     from ._campaign.fatigue import TNCurve as TNCurve

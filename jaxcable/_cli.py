@@ -10,6 +10,8 @@
                        [--segments N] [--check-segments]
                        [--optimizer lbfgs|adam] [--max-steps N] [--plot FILE.png]
                        [--out FILE.json]
+    jaxcable campaign INPUT CASES --out FOLDER [--duration S] [--dt-out S] [--shard I/N]
+                       [--batch N] [--tables-only] [--channels ...]
     jaxcable examples
 
 INPUT is a jaxcable scene (`.toml`), a MoorDyn v2 input file (any other suffix), or the
@@ -17,8 +19,8 @@ name of a bundled example scene (see `jaxcable examples`). A RECORD is a towing 
 (CSV, see `jaxcable.io.read_record`) whose header names its rig, or the name of a
 bundled sample record.
 
-`--help` and `examples` answer without importing JAX (seconds). `run` and `info` read
-and check their flags and input files first, in plain Python and numpy, so that a
+`--help` and `examples` answer without importing JAX (seconds). `run`, `info` and
+`campaign` read and check their flags and input files (and the case table) first, in plain Python and numpy, so that a
 refused input is answered without JAX too; then they import the engine.
 """
 
@@ -37,6 +39,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ._campaign import command as campaign_command
 from ._interrupt import StopRequest
 from ._names import (
     AUTO,
@@ -180,7 +183,12 @@ def main(argv: list[str] | None = None, stop: StopRequest | None = None) -> int:
     try:
         _check_numbers(args)
         _check_no_overwrite(args)
-        given = _read_input(args) if args.command in ("run", "info") else None
+        if args.command in ("run", "info"):
+            given = _read_input(args)
+        elif args.command == "campaign":
+            given = _read_campaign(args)
+        else:
+            given = None
     except SceneError as error:
         print(f"jaxcable: error: {error}", file=sys.stderr)
         return 2
@@ -308,44 +316,8 @@ def _parser() -> argparse.ArgumentParser:
         help="start from the file's geometry at rest, lines as MoorDyn lays them with TmaxIC = 0 (its catenary, "
         "or straight), for drop and swing tests; a MoorDyn file's TmaxIC = 0 asks for this too",
     )
-    run.add_argument("--segments", type=int, help="divide every line into this many segments")
     run.add_argument("--channels", nargs="+", help="output channels, e.g. FairTen1 AnchTen1 L1N10PZ Point2PZ Point2FZ")
-    run.add_argument(
-        "--allow-ignored",
-        metavar="KINDS",
-        help="run a MoorDyn file without the physics it asks for and jaxcable leaves out, named by kind "
-        f"({', '.join(DROPPED_KINDS)}; comma-separated, e.g. EI,waves); without it such a file is refused",
-    )
-    run.add_argument(
-        "--breaking-load",
-        nargs="+",
-        metavar="[TYPE=]N",
-        help="minimum breaking load (N) of a line type, e.g. chain=2.2e7 rope=8e6, or one value for every type: "
-        "each line's utilisation is reported, and a line past --safety-factor warned of (a scene file may give "
-        "minimum_breaking_load instead)",
-    )
-    run.add_argument(
-        "--safety-factor",
-        type=float,
-        default=DEFAULT_SAFETY_FACTOR,
-        help="warn of a line whose largest tension passes its breaking load over this (default "
-        f"{DEFAULT_SAFETY_FACTOR:g}, API RP 2SK's for an intact mooring, dynamic analysis)",
-    )
-    run.add_argument(
-        "--fatigue",
-        nargs="+",
-        metavar="[TYPE=]CURVE[:AREA]",
-        help="a T-N curve for a line type's fatigue damage, e.g. chain=dnv_studless_chain:0.00907 "
-        "rope=api_polyester, or one for every type: a DNV curve with the nominal area in m² (2 π d²/4 for "
-        "chain), an API curve with the type's breaking load (a scene file may give fatigue_curve instead)",
-    )
-    run.add_argument(
-        "--statistics-from",
-        type=float,
-        default=0.0,
-        metavar="S",
-        help="leave the first S seconds (a start-up transient) out of each output channel's statistics (default 0)",
-    )
+    _scene_flags(run)
     run.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
     run.set_defaults(handler=_run)
 
@@ -401,9 +373,55 @@ def _parser() -> argparse.ArgumentParser:
     )
     calibrate.set_defaults(handler=_calibrate)
 
+    campaign_command.add_parser(commands, _scene_flags)
+    commands.choices["campaign"].set_defaults(handler=_campaign)
+
     examples = commands.add_parser("examples", help="list the bundled example scenes")
     examples.set_defaults(handler=_examples)
     return parser
+
+
+def _scene_flags(parser: argparse.ArgumentParser) -> None:
+    """The flags `run` and `campaign` share: what to do to the input file's scene
+    (`--segments`, `--allow-ignored`, `--breaking-load`, `--fatigue`) and how to judge
+    its results (`--safety-factor`, `--statistics-from`)."""
+    parser.add_argument("--segments", type=int, help="divide every line into this many segments")
+    parser.add_argument(
+        "--allow-ignored",
+        metavar="KINDS",
+        help="run a MoorDyn file without the physics it asks for and jaxcable leaves out, named by kind "
+        f"({', '.join(DROPPED_KINDS)}; comma-separated, e.g. EI,waves); without it such a file is refused",
+    )
+    parser.add_argument(
+        "--breaking-load",
+        nargs="+",
+        metavar="[TYPE=]N",
+        help="minimum breaking load (N) of a line type, e.g. chain=2.2e7 rope=8e6, or one value for every type: "
+        "each line's utilisation is reported, and a line past --safety-factor warned of (a scene file may give "
+        "minimum_breaking_load instead)",
+    )
+    parser.add_argument(
+        "--safety-factor",
+        type=float,
+        default=DEFAULT_SAFETY_FACTOR,
+        help="warn of a line whose largest tension passes its breaking load over this (default "
+        f"{DEFAULT_SAFETY_FACTOR:g}, API RP 2SK's for an intact mooring, dynamic analysis)",
+    )
+    parser.add_argument(
+        "--fatigue",
+        nargs="+",
+        metavar="[TYPE=]CURVE[:AREA]",
+        help="a T-N curve for a line type's fatigue damage, e.g. chain=dnv_studless_chain:0.00907 "
+        "rope=api_polyester, or one for every type: a DNV curve with the nominal area in m² (2 π d²/4 for "
+        "chain), an API curve with the type's breaking load (a scene file may give fatigue_curve instead)",
+    )
+    parser.add_argument(
+        "--statistics-from",
+        type=float,
+        default=0.0,
+        metavar="S",
+        help="leave the first S seconds (a start-up transient) out of each output channel's statistics (default 0)",
+    )
 
 
 def _input_path(args) -> Path:
@@ -445,28 +463,11 @@ def _read_input(args) -> _Input:
     the duration, stepping flags that contradict each other or the file."""
     from .io import SceneError
 
-    path = _input_path(args)
-    if path.suffix.lower() == ".toml":
-        from .io._scene_file import parse_scene as parse
-    else:
-        from .io._moordyn import parse_moordyn as parse
-    parsed = parse(path)
-    if args.segments is not None:
-        parsed = dataclasses.replace(parsed, scene=parsed.scene.with_segments(args.segments))
-    if getattr(args, "breaking_load", None):
-        loads = parsed.scene.with_breaking_loads(_breaking_loads(args.breaking_load), "--breaking-load")
-        parsed = dataclasses.replace(parsed, scene=loads)
-    if getattr(args, "fatigue", None):
-        curves = parsed.scene.with_fatigue_curves(_fatigue_curves(args.fatigue), "--fatigue")
-        parsed = dataclasses.replace(parsed, scene=curves)
-    for line_type in parsed.scene.line_types:  # an API curve's breaking load, from the file or a flag
-        if problem := line_type.fatigue_problem():
-            raise SceneError(problem)
+    parsed = _read_scene(args)
     scene = parsed.scene
     duration = scene.run.duration if args.duration is None else args.duration
     if args.command == "info":
         return _Input(parsed, None, duration, scene.run)
-    _refuse_dropped(scene, _allowed(args))
     motion = None
     if args.ramp is not None and args.motion is None:
         raise SceneError("--ramp switches a --motion table on smoothly: give the table with --motion")
@@ -490,6 +491,49 @@ def _read_input(args) -> _Input:
             "before its end"
         )
     return _Input(parsed, motion, duration, _run_settings(scene, args))
+
+
+def _read_scene(args) -> "ParsedScene":
+    """The input file, read in plain Python as [`jaxcable.load_scene`][] reads it (a
+    jaxcable scene if it ends in `.toml`, otherwise a MoorDyn file), with the shared
+    flags (`_scene_flags`) applied; `SceneError` for a malformed file or flag, and, but
+    for `info`, physics left out that `--allow-ignored` does not allow."""
+    from .io import SceneError
+
+    path = _input_path(args)
+    if path.suffix.lower() == ".toml":
+        from .io._scene_file import parse_scene as parse
+    else:
+        from .io._moordyn import parse_moordyn as parse
+    parsed = parse(path)
+    if args.segments is not None:
+        parsed = dataclasses.replace(parsed, scene=parsed.scene.with_segments(args.segments))
+    if getattr(args, "breaking_load", None):
+        loads = parsed.scene.with_breaking_loads(_breaking_loads(args.breaking_load), "--breaking-load")
+        parsed = dataclasses.replace(parsed, scene=loads)
+    if getattr(args, "fatigue", None):
+        curves = parsed.scene.with_fatigue_curves(_fatigue_curves(args.fatigue), "--fatigue")
+        parsed = dataclasses.replace(parsed, scene=curves)
+    for line_type in parsed.scene.line_types:  # an API curve's breaking load, from the file or a flag
+        if problem := line_type.fatigue_problem():
+            raise SceneError(problem)
+    if args.command != "info":
+        _refuse_dropped(parsed.scene, _allowed(args))
+    return parsed
+
+
+def _read_campaign(args) -> tuple["ParsedScene", "campaign_command.Given"]:
+    """The input file and the case table of `campaign`, checked before JAX is imported."""
+    parsed = _read_scene(args)
+    return parsed, campaign_command.read(args, parsed.scene)
+
+
+def _campaign(args, given) -> int:
+    parsed, read = given
+    scene = _finish(parsed)
+    for note in scene.notes:
+        print(f"note: {note}", file=sys.stderr)
+    return campaign_command.run(args, read._replace(scene=scene))
 
 
 def _fatigue_curves(items: list[str]) -> dict[str | None, tuple[str, float | None]]:

@@ -125,6 +125,14 @@ def test_each_lines_extremes_are_where_and_when_they_were(planted):
     assert north.breaking_load is None and north.utilisation is None
 
 
+def test_extremes_from_a_start_leave_the_transient_out(planted):
+    west, north, _ = planted.line_extremes(start=2.0)  # the outputs at 2.0 s on: the last
+    assert (west.largest, west.largest_time, west.largest_segment) == (0.9e6, 2.0, 4)
+    assert (west.smallest, west.smallest_time) == (1e3, 2.0)
+    assert north.largest == 1e3 and west.utilisation == pytest.approx(0.45, rel=1e-15)
+    assert planted.line_extremes(start=1.5 - 1e-12)[0].largest == 1.5e6  # an output within rounding counts
+
+
 def test_a_line_past_its_safety_factor_is_warned_of(planted):
     rows = planted.line_extremes()
     (warning,) = overloads(rows)  # 75 % of MBL, past 1/1.67 = 59.9 %; the ropes have no MBL

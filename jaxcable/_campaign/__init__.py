@@ -1,2 +1,3 @@
-"""Design-load campaigns: the reductions of load cases to what a design code asks for
-(fatigue damage by rainflow counting and T–N curves)."""
+"""Design-load campaigns: a scene run over a table of load cases (`campaign`, `cases`,
+`store`, the command line's `command`), and the reductions of a case to what a design
+code asks for (fatigue damage by rainflow counting and T–N curves, `fatigue`)."""

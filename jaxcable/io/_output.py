@@ -94,11 +94,11 @@ def write(path: str | Path, run: SceneRun, names: tuple[str, ...] = ()) -> Path:
     return path
 
 
-def dataset(run: SceneRun, names: tuple[str, ...] = ()):
+def dataset(run: SceneRun, names: tuple[str, ...] = (), start: float = 0.0):
     """`run` as an `xarray.Dataset` (see [`jaxcable.io.SceneRun.to_dataset`][]): the
     `.nc` file's variables, with `time`, `xyz` and `line` as coordinates, and each line's
-    extremes along `line` (`SceneRun.line_extremes`; NaN where a line type gives no
-    minimum breaking load)."""
+    extremes from `start` (s) along `line` (`SceneRun.line_extremes`; NaN where a line
+    type gives no minimum breaking load)."""
     try:
         import xarray as xr
     except ImportError:
@@ -109,7 +109,7 @@ def dataset(run: SceneRun, names: tuple[str, ...] = ()):
         for name, (values, dims, unit, description) in variables.items()
         if name != "time"
     }
-    rows = run.line_extremes()
+    rows = run.line_extremes(start)
     per_line = {
         "largest_tension": ("N", "each line's largest segment tension", [r.largest for r in rows]),
         "largest_tension_time": ("s", "when each line's largest tension was", [r.largest_time for r in rows]),

@@ -35,7 +35,7 @@ from ._line_fatigue import LineFatigue, line_fatigue
 from ._moordyn import read_moordyn
 from ._scene import BuiltScene, Scene, SceneError
 from ._scene_file import read_scene
-from ._statistics import ChannelStatistics, channel_statistics
+from ._statistics import ChannelStatistics, channel_statistics, from_start
 
 DEFAULT_DT_OUT = 0.1  # s
 # A tension history whose spread is below this, relative to its largest value, is
@@ -136,11 +136,13 @@ class SceneRun:
         forces = jax.vmap(generalised_forces, in_axes=(None, None, 0, 0, 0))
         return np.asarray(forces(model, env, self.times, self.positions, self.velocities))
 
-    def line_extremes(self) -> tuple[LineExtremes, ...]:
+    def line_extremes(self, start: float = 0.0) -> tuple[LineExtremes, ...]:
         """Each line's largest and smallest tension with where and when, its ends' largest,
         and its utilisation where its line type gives a minimum breaking load
-        ([`jaxcable.io.LineExtremes`][]), in the scene's order of lines."""
-        return line_extremes(self.built, self.times, self.tension)
+        ([`jaxcable.io.LineExtremes`][]), over the outputs from `start` (s) on, in the
+        scene's order of lines."""
+        keep = from_start(self.times, start)
+        return line_extremes(self.built, self.times[keep], self.tension[keep])
 
     def line_fatigue(self, start: float = 0.0) -> tuple[LineFatigue, ...]:
         """Each line's fatigue damage, at its most damaged segment, and the life at this
@@ -156,14 +158,15 @@ class SceneRun:
         values = self.channels(names)
         return channel_statistics(values, {name: _channels.channel_units(name) for name in values}, start)
 
-    def to_dataset(self, names: tuple[str, ...] = ()):
+    def to_dataset(self, names: tuple[str, ...] = (), start: float = 0.0):
         """The run as an `xarray.Dataset`: positions, velocities, tensions and reactions
         against time, node, segment and support, the segments' lines and lengths, each
-        line's extremes, and the output channels (the scene's, or `names`), each with its
-        units (`attrs["units"]`). Needs xarray (`pip install "jaxcable[xarray]"`)."""
+        line's extremes over the outputs from `start` (s) on, and the output channels (the
+        scene's, or `names`), each with its units (`attrs["units"]`). Needs xarray (`pip
+        install "jaxcable[xarray]"`)."""
         from ._output import dataset
 
-        return dataset(self, names)
+        return dataset(self, names, start)
 
     def peak_tension(self) -> tuple[float, int, int, float]:
         """The peak tension: `(tension (N), line index, segment index along the line
