@@ -11,7 +11,7 @@
                        [--optimizer lbfgs|adam] [--max-steps N] [--plot FILE.png]
                        [--out FILE.json]
     jaxcable campaign INPUT CASES --out FOLDER [--duration S] [--dt-out S] [--shard I/N]
-                       [--batch N] [--tables-only] [--channels ...]
+                       [--batch N] [--tables-only] [--channels ...] [--distributed]
     jaxcable examples
 
 INPUT is a jaxcable scene (`.toml`), a MoorDyn v2 input file (any other suffix), or the
@@ -201,6 +201,8 @@ def main(argv: list[str] | None = None, stop: StopRequest | None = None) -> int:
     # The command owns its process, so it may set JAX's global configuration, which
     # the library itself never does.
     jax.config.update("jax_enable_x64", True)
+    if args.command == "campaign":
+        campaign_command.initialize(args)  # before the backend starts
     kept = _programs.folder()
     _use_compilation_cache()
     _one_kernel_thread()  # every command runs one scene or calibration at a time

@@ -6,6 +6,7 @@ run, failures recorded while the others go on, and the tables over cases and see
 import csv
 import json
 import shutil
+import socket
 import subprocess
 import sys
 import textwrap
@@ -380,9 +381,39 @@ def test_a_bad_table_is_refused_before_jax_is_imported(files):
         (["--shard", "half"], "--shard must be I/N"),
         (["--batch", "0"], "batch must be a positive number of cases"),
         (["--duration", "1", "--statistics-from", "1"], "leaves nothing of a 1 s run"),
+        (["--processes", "2"], "--coordinator, --processes and --process-id go together"),
+        (["--coordinator", "here", "--processes", "2", "--process-id", "0"], "--coordinator must be HOST:PORT"),
+        (["--coordinator", "here:1", "--processes", "2", "--process-id", "2"], "--process-id must be from 0"),
     ],
 )
 def test_bad_flags_are_refused(files, capsys, flags, expected):
     argv = ["campaign", str(files / "scene.toml"), str(files / "cases.csv"), "--out", str(files / "x"), *flags]
     assert cli_main(argv) == 2
     assert expected in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_two_processes_give_what_one_gives(files, campaign, tmp_path):
+    """Two local processes of JAX's multi-controller runtime run the campaign as one,
+    each batch split across both processes' devices: the same results as one process."""
+    with socket.socket() as free:
+        free.bind(("localhost", 0))
+        port = free.getsockname()[1]
+    folder = tmp_path / "two"
+    command = [sys.executable, "-m", "jaxcable", "campaign", str(files / "scene.toml"), str(files / "cases.csv")]
+    command += ["--out", str(folder), "--coordinator", f"localhost:{port}", "--processes", "2", "--no-progress"]
+    started = [
+        subprocess.Popen(
+            [*command, "--process-id", str(i)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+        )
+        for i in range(2)
+    ]
+    outputs = [process.communicate(timeout=900)[0] for process in started]
+    assert [process.returncode for process in started] == [0, 0], outputs
+    assert "4 case(s) run, 0 failed" in outputs[0]
+    for case in campaign[1]:
+        with (
+            xr.open_dataset(folder / "cases" / f"{case.name}.nc") as two,
+            xr.open_dataset(campaign[2].folder / "cases" / f"{case.name}.nc") as one,
+        ):
+            np.testing.assert_allclose(two["tension"].values, one["tension"].values, rtol=1e-10, atol=1e-6)

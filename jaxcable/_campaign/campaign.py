@@ -151,6 +151,8 @@ def run_campaign(
     skipped = tuple(case.name for case, _ in mine if store.finished(case))
     pending = [(case, s) for case, s in mine if case.name not in skipped]
     jobs = [_Job.build(case, s, length, interval) for case, s in pending]  # every case checked before any runs
+    processes = _Processes()
+    processes.agree("the cases to run", [job.case.name for job in jobs])
     say(
         f"campaign: {len(mine)} of {len(cases)} cases in this shard"
         + (f", {len(skipped)} finished already" if skipped else "")
@@ -166,7 +168,9 @@ def run_campaign(
                 f"({len(part)} case(s))"
             )
             began = time.perf_counter()
-            for job, outcome in zip(part, _run_batch(part, length, interval, progress)):
+            for job, outcome in zip(part, _run_batch(part, length, interval, progress, processes)):
+                if outcome is None:  # another process's to write
+                    continue
                 if isinstance(outcome, str):
                     store.write_failure(job.case, outcome)
                     failed[job.case.name] = outcome
@@ -175,7 +179,16 @@ def run_campaign(
                     store.write(job.case, _case_dataset(outcome, job, names, statistics_from, interval))
                 ran.append(job.case.name)
             say(f"campaign: {len(part)} case(s) done in {time.perf_counter() - began:.1f} s")
-    summary, groups = write_tables(store, statistics_from, [case.name for case in cases])
+    processes.agree("the campaign's end", [])  # every case file written before the tables
+    if processes.count > 1:  # what all of them ran, from the folder they share
+        held = store.failures()
+        ran = [job.case.name for job in jobs]
+        failed = {name: held[name] for name in ran if name in held}
+    if processes.index == 0:
+        write_tables(store, statistics_from, [case.name for case in cases])
+    processes.agree("the tables", [])
+    summary = store.folder / "summary.csv"
+    groups = store.folder / "groups.csv" if (store.folder / "groups.csv").exists() else None
     return CampaignResult(store.folder, tuple(ran), skipped, failed, summary, groups)
 
 
@@ -292,10 +305,44 @@ def _groups(jobs: list[_Job]) -> list[list[_Job]]:
     return [members for _, _, members in groups]
 
 
-def _run_batch(jobs: list[_Job], duration: float, dt_out: float, progress: bool) -> list:
-    """Each job's `SceneRun`, or why it failed: cases whose models differ by one sweep,
-    from each one's own equilibrium; a lone case (or cases whose models are equal) by
-    `run_scene`, as `jaxcable run` runs it."""
+class _Processes:
+    """The processes of JAX's multi-controller runtime (`jax.distributed`) that run one
+    campaign together: one global batch a sweep, split across all their devices, whose
+    results process 0 writes; the cases run alone, split among them. One process
+    alone: nothing to agree on."""
+
+    def __init__(self):
+        import jax
+
+        self.index, self.count = jax.process_index(), jax.process_count()
+
+    def agree(self, what: str, names: list[str]) -> None:
+        """Wait for every process here, and check that each has the same `names`: a
+        process that saw other finished cases (a folder not shared) would run other
+        batches, and the shared programs would wait for each other for ever."""
+        if self.count == 1:
+            return
+        import hashlib
+
+        from jax.experimental import multihost_utils
+
+        multihost_utils.sync_global_devices(f"jaxcable campaign: {what}")
+        digest = np.frombuffer(hashlib.sha256("\n".join(names).encode()).digest(), np.uint8)
+        multihost_utils.assert_equal(
+            digest, f"campaign: the processes disagree on {what}: is the campaign's folder shared by all of them?"
+        )
+
+    def owns(self, k: int, batched: bool) -> bool:
+        """Whether this process writes the `k`-th case of a batch: process 0 a sweep's,
+        case k's own process (k modulo the count) a case run alone."""
+        return self.index == 0 if batched else k % self.count == self.index
+
+
+def _run_batch(jobs: list[_Job], duration: float, dt_out: float, progress: bool, processes: _Processes) -> list:
+    """Each job's `SceneRun`, or why it failed, or `None` where another process writes
+    it (`_Processes.owns`): cases whose models differ by one sweep, from each one's own
+    equilibrium; a lone case (or cases whose models are equal) by `run_scene`, as
+    `jaxcable run` runs it."""
     import equinox as eqx
     import jax
 
@@ -309,7 +356,8 @@ def _run_batch(jobs: list[_Job], duration: float, dt_out: float, progress: bool)
         any(not np.array_equal(np.asarray(leaves[k][i]), np.asarray(first[i])) for k in running)
         for i in range(len(first))
     ]
-    if len(running) > 1 and any(varying):
+    batched = len(running) > 1 and any(varying)
+    if batched:
         runs = _sweep_batch(
             [jobs[k] for k in running],
             [outcomes[k] for k in running],
@@ -321,13 +369,15 @@ def _run_batch(jobs: list[_Job], duration: float, dt_out: float, progress: bool)
         )
         for k, run in zip(running, runs):
             outcomes[k] = run
-        return outcomes
-    for k in running:
-        try:
-            outcomes[k] = run_scene(jobs[k].scene, duration=duration, dt_out=dt_out, progress=progress)
-        except (RuntimeError, ValueError) as error:  # its statics or dynamics failed, or statics refused it
-            outcomes[k] = str(error)
-    return outcomes
+    else:
+        for k in running:
+            if not processes.owns(k, batched):
+                continue
+            try:
+                outcomes[k] = run_scene(jobs[k].scene, duration=duration, dt_out=dt_out, progress=progress)
+            except (RuntimeError, ValueError) as error:  # its statics or dynamics failed, or statics refused it
+                outcomes[k] = str(error)
+    return [outcome if processes.owns(k, batched) else None for k, outcome in enumerate(outcomes)]
 
 
 def _start(job: _Job):
@@ -363,6 +413,7 @@ def _sweep_batch(jobs, starts, leaves, varying, duration, dt_out, progress) -> l
     import jax.numpy as jnp
 
     from .._model.state import State
+    from .._simulation.simulate import to_host
     from .._sweep.sweep import sweep
     from ..io._run import SceneRun, output_times
 
@@ -389,7 +440,7 @@ def _sweep_batch(jobs, starts, leaves, varying, duration, dt_out, progress) -> l
         solver=jobs[0].solver,
         progress=progress,
     )
-    simulation = jax.tree.map(np.asarray, result.simulation)
+    simulation = to_host(result.simulation)  # gathered from every process where it spans several
     share = (time.perf_counter() - began) / len(jobs)
     runs: list = []
     for k, (job, start) in enumerate(zip(jobs, starts)):

@@ -43,6 +43,18 @@ def add_parser(commands, scene_flags) -> None:
     campaign.add_argument(
         "--tables-only", action="store_true", help="run nothing: make summary.csv and groups.csv from the folder"
     )
+    campaign.add_argument(
+        "--distributed",
+        action="store_true",
+        help="run as one of several processes (on one host or many) sharing each batch through JAX's "
+        "multi-controller runtime, set up from the environment of Slurm or Open MPI; start the same command in "
+        "each, with one --out folder that they all see",
+    )
+    campaign.add_argument(
+        "--coordinator", metavar="HOST:PORT", help="as --distributed, with process 0's address given here"
+    )
+    campaign.add_argument("--processes", type=int, metavar="N", help="with --coordinator: how many processes")
+    campaign.add_argument("--process-id", type=int, metavar="I", help="with --coordinator: this one, from 0")
     scene_flags(campaign)
     campaign.add_argument("--no-progress", action="store_true", help="do not show the progress bars")
     campaign.set_defaults(handler=run, reader=read)
@@ -69,6 +81,16 @@ def read(args, scene: Scene) -> Given:
         if not match:
             raise SceneError(f"--shard must be I/N, such as 0/4, got {args.shard!r}")
         shard = (int(match[1]), int(match[2]))
+    explicit = (args.coordinator, args.processes, args.process_id)
+    if any(v is not None for v in explicit):
+        if any(v is None for v in explicit) or args.distributed:
+            raise SceneError("--coordinator, --processes and --process-id go together, without --distributed")
+        if not re.fullmatch(r"[^\s:]+:\d+", args.coordinator):
+            raise SceneError(f"--coordinator must be HOST:PORT, such as localhost:12345, got {args.coordinator!r}")
+        if not (args.processes >= 1 and 0 <= args.process_id < args.processes):
+            raise SceneError(
+                f"--process-id must be from 0 to --processes − 1, got {args.process_id} of {args.processes}"
+            )
     duration = scene.run.duration if args.duration is None else args.duration
     dt_out = (scene.run.dt_out or 0.1) if args.dt_out is None else args.dt_out
     check_settings(duration, dt_out, args.statistics_from, shard, DEFAULT_BATCH if args.batch is None else args.batch)
@@ -76,13 +98,31 @@ def read(args, scene: Scene) -> Given:
     return Given(scene, cases, shard)
 
 
+def initialize(args) -> None:
+    """Join JAX's multi-controller runtime where the flags ask for it, before JAX starts
+    its backend: from the environment (`--distributed`) or from `--coordinator`,
+    `--processes` and `--process-id`; with Gloo for the CPU's collectives across
+    processes."""
+    if not (args.distributed or args.coordinator):
+        return
+    import jax
+
+    jax.config.update("jax_cpu_collectives_implementation", "gloo")
+    jax.distributed.initialize(args.coordinator, args.processes, args.process_id)
+
+
 def run(args, given: Given) -> int:
     """Run the campaign (or with `--tables-only` make its tables) and print where its
     results are."""
+    import jax
+
     from .campaign import DEFAULT_BATCH, run_campaign, write_tables
 
+    first = jax.process_index() == 0  # of the processes of one campaign, the one that reports
+
     def say(line: str) -> None:
-        print(line, file=sys.stderr, flush=True)
+        if first:
+            print(line, file=sys.stderr, flush=True)
 
     scene = given.scene
     if args.tables_only:
@@ -105,9 +145,11 @@ def run(args, given: Given) -> int:
         channels=tuple(args.channels or ()),
         shard=given.shard,
         batch=DEFAULT_BATCH if args.batch is None else args.batch,
-        progress=not args.no_progress,
+        progress=first and not args.no_progress,
         log=say,
     )
+    if not first:  # process 0 reports for all
+        return 1 if result.failed else 0
     ran, failed = len(result.ran), len(result.failed)
     print(f"campaign {args.folder}: {ran - failed} case(s) run, {failed} failed, {len(result.skipped)} finished before")
     for name, message in result.failed.items():

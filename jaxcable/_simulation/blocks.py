@@ -55,6 +55,7 @@ from .simulate import (
     result_codes,
     result_of,
     terms_for,
+    to_host,
 )
 
 BLOCK = 64
@@ -545,11 +546,11 @@ def integrate_batch_in_blocks(
         )
         saved, result = _batch_outputs(cases, system, ends[part], ys, failure)
         written = slice(k, min(k + BLOCK, len(ts)))  # the last block's padding is not
-        for column, x in zip(out, saved):
-            column[:, written] = np.asarray(x)[:, : written.stop - written.start]
+        for column, x in zip(out, to_host(saved)):
+            column[:, written] = x[:, : written.stop - written.start]
         # (An enumeration's item is a pytree of its code, read through `jax.tree`.)
         codes.append(result_codes(result))
-        steps = steps + np.asarray(counts)
+        steps = steps + to_host(counts)
         if on_block is not None:
             on_block(float(ends[part][active[part]][-1]))
     # Each case's first failure over the blocks (a block's result is its own first).

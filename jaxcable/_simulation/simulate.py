@@ -330,7 +330,22 @@ def result_codes(result) -> np.ndarray:
     """The integer codes of a diffrax or optimistix result (an enumeration item, of one
     case or of many), on the host: compared as integers, they compile nothing, where
     an enumeration's comparison is a JAX program of its own, eagerly."""
-    return np.asarray(jax.tree.leaves(result)[0])
+    return to_host(jax.tree.leaves(result)[0])
+
+
+def to_host(tree):
+    """The arrays of `tree` as numpy arrays. An array split across the devices of
+    several processes (JAX's multi-controller runtime, `jax.distributed`) is gathered
+    from all of them, so that each process holds the whole of it; every process must
+    then make the same call at the same point, as for any program they share."""
+    from jax.experimental import multihost_utils
+
+    def one(x):
+        if isinstance(x, jax.Array) and not x.is_fully_addressable:
+            return np.asarray(multihost_utils.process_allgather(x, tiled=True))
+        return np.asarray(x)
+
+    return jax.tree.map(one, tree)
 
 
 def _where_failed(result: SimulationResult, requested) -> str:

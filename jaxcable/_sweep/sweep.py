@@ -61,6 +61,7 @@ from .._simulation.simulate import (
     for_model,
     result_codes,
     result_of,
+    to_host,
     vector_field,
 )
 from .._solver.config import SolverConfig, describe_stepping
@@ -217,9 +218,13 @@ def sweep(
         CPU with one device and `steps="per_case"` with an adaptive controller, the
         cases of a chunk run one after another, not batched, and the default is one
         case a chunk, on as many threads as cores: each thread takes the next case
-        when it finishes one.
+        when it finishes one. 1 (and only 1) where the devices span processes.
     - `devices`: the JAX devices to split the cases (of each chunk) across;
-        `jax.devices()` by default.
+        `jax.devices()` by default. Across processes and hosts (JAX's multi-controller
+        runtime: `jax.distributed.initialize()` in every process, which then all call
+        `sweep` alike), `jax.devices()` are every process's devices: the batch is one
+        global batch split across them, and each process's `SweepResult` holds every
+        case once its arrays are gathered (`jax.experimental.multihost_utils`).
     - `progress`: show a progress bar on stderr in simulated seconds, summed over the
         cases (`sweep: |███   | 480.0/1920.0 s simulated` for 32 cases of 60 s), as
         [`jaxcable.simulate`][]'s; with fixed steps it moves after each block of 64
@@ -299,6 +304,12 @@ def sweep(
         and devices[0].platform == "cpu"
         and not isinstance(config.stepsize_controller, _FIXED_STEPS)
     )
+    if any(d.process_index != jax.process_index() for d in devices):
+        # Across processes (`jax.distributed`) every process must launch the programs it
+        # shares with the others in the same order, which chunks on threads would not.
+        if chunks not in (None, 1):
+            raise ValueError(f"sweep: chunks must be 1 where the devices span processes, got {chunks!r}")
+        chunks = 1
     chunks = n_cases if in_turn and chunks is None else min(check_chunks(chunks, devices, n_cases), n_cases)
 
     # Per-case inputs carry the case axis and are split across devices; shared inputs
@@ -562,8 +573,7 @@ def _run_in_blocks(parts, shared, mode: str, done: _Done):
     with ThreadPoolExecutor(len(parts)) as pool:
         starts = list(pool.map(lambda part: _starts(part, inputs, mode), parts))
     statics, valid, ok = (
-        jax.tree.map(lambda *x: np.concatenate([np.asarray(y) for y in x]), *[s[i] for s in starts])
-        for i in range(1, 4)
+        jax.tree.map(lambda *x: np.concatenate(to_host(list(x))), *[s[i] for s in starts]) for i in range(1, 4)
     )
     model = eqx.combine(parts[0]["model"], system)[0]
     nodes, constrained = model.node_positions.shape[-2], len(model.constrained_nodes)
@@ -725,7 +735,7 @@ def _free_nodes(systems):
 
 def _status(simulation: SimulationResult, statics: StaticSolution | None, invalid: dict[int, str]) -> tuple[str, ...]:
     """One line per case, from the result codes fetched to the host once."""
-    host = jax.tree.map(np.asarray, (simulation.result, simulation.stats, statics))
+    host = to_host((simulation.result, simulation.stats, statics))
     result, stats, statics = host
     codes, solved = result_codes(result), result_codes(diffrax.RESULTS.successful)
     lines = []
