@@ -361,17 +361,26 @@ def test_the_command_runs_a_campaign(files, campaign, capsys):
     assert f"wrote {files / 'copy' / 'summary.csv'} and {files / 'copy' / 'groups.csv'}" in out
 
 
-def test_a_bad_table_is_refused_before_jax_is_imported(files):
-    (files / "typo.csv").write_text("case,wave_hieght\na,1\n")
+@pytest.mark.parametrize(
+    ("table", "expected"),
+    [
+        ("case,wave_hieght\na,1\n", "unknown column 'wave_hieght'"),
+        # A motion table is read and checked before JAX too (not made into a motion).
+        ("case,motion\na,two_points.csv\n", "case row 1: motion: "),
+    ],
+)
+def test_a_bad_table_is_refused_before_jax_is_imported(files, tmp_path, table, expected):
+    (tmp_path / "two_points.csv").write_text("0 1 2 3 4 5 6\n1 1 2 3 4 5 6\n")
+    (tmp_path / "bad.csv").write_text(table)
     code = (
         "import sys; from jaxcable._cli import main; "
-        f"status = main(['campaign', {str(files / 'scene.toml')!r}, {str(files / 'typo.csv')!r}, '--out', "
-        f"{str(files / 'never')!r}]); print(status, 'jax' in sys.modules)"
+        f"status = main(['campaign', {str(files / 'scene.toml')!r}, {str(tmp_path / 'bad.csv')!r}, '--out', "
+        f"{str(tmp_path / 'never')!r}]); print(status, 'jax' in sys.modules)"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.split() == ["2", "False"], done.stderr
-    assert "unknown column 'wave_hieght'" in done.stderr
-    assert not (files / "never").exists()
+    assert expected in done.stderr and ("motion" not in table or "expected 4 columns" in done.stderr)
+    assert not (tmp_path / "never").exists()
 
 
 @pytest.mark.parametrize(

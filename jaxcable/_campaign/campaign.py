@@ -65,10 +65,13 @@ class CampaignResult:
     groups: Path | None
 
 
-def case_scenes(scene: Scene, cases: Sequence[Case], table_folder: str | Path = ".") -> list[Scene]:
+def case_scenes(
+    scene: Scene, cases: Sequence[Case], table_folder: str | Path = ".", motion: bool = True
+) -> list[Scene]:
     """Each case's scene (`jaxcable._campaign.cases.case_scene`), all checked before any
-    work: plain Python, no JAX."""
-    return [case_scene(scene, case, Path(table_folder)) for case in cases]
+    work; without `motion`, in plain Python (no JAX), motion tables read and checked
+    but not made into motions."""
+    return [case_scene(scene, case, Path(table_folder), motion) for case in cases]
 
 
 def run_campaign(

@@ -174,8 +174,10 @@ def _value(column: str, given, where: str) -> float | int | str:
     return number
 
 
-def case_scene(scene: Scene, case: Case, folder: Path) -> Scene:
-    """`scene` as `case` sets it; motion tables are read relative to `folder`.
+def case_scene(scene: Scene, case: Case, folder: Path, motion: bool = True) -> Scene:
+    """`scene` as `case` sets it; motion tables are read relative to `folder`. Without
+    `motion`, a case's motion table is read and checked against the coupled points but
+    not made into the points' motions (which needs JAX), for a check before JAX starts.
 
     **Raises:**
 
@@ -195,8 +197,12 @@ def case_scene(scene: Scene, case: Case, folder: Path) -> Scene:
         coupled = scene.coupled_points
         if not coupled:
             raise SceneError(f"{case.where}: motion {path}: the scene has no coupled points to move")
-        times, positions = read_motion_file(path, len(coupled))
-        scene = scene.with_motion_table(times, positions, f"{case.where}, motion {path}")
+        try:
+            times, positions = read_motion_file(path, len(coupled))
+        except SceneError as error:
+            raise SceneError(f"{case.where}: motion: {error}") from None
+        if motion:
+            scene = scene.with_motion_table(times, positions, f"{case.where}, motion {path}")
     return scene
 
 

@@ -94,7 +94,7 @@ def read(args, scene: Scene) -> Given:
     duration = scene.run.duration if args.duration is None else args.duration
     dt_out = (scene.run.dt_out or 0.1) if args.dt_out is None else args.dt_out
     check_settings(duration, dt_out, args.statistics_from, shard, DEFAULT_BATCH if args.batch is None else args.batch)
-    case_scenes(scene, cases, args.cases.parent)  # every row checked against the scene, before JAX
+    case_scenes(scene, cases, args.cases.parent, motion=False)  # every row checked against the scene, before JAX
     return Given(scene, cases, shard)
 
 
