@@ -334,6 +334,18 @@ def test_a_folder_of_another_campaign_is_refused(files, campaign, tmp_path):
         run_campaign(scene, read_cases(changed), result.folder, table_folder=files)
 
 
+def test_a_motion_table_short_of_the_duration_is_refused_before_any_case_runs(files, tmp_path):
+    scene = jc.read_scene(files / "scene.toml")
+    (tmp_path / "short.csv").write_text("time,x,y,z\n0,0,0,-5\n1,0.1,0,-5\n")
+    table = tmp_path / "cases.csv"
+    table.write_text("case,motion\nheld,\nmoved,short.csv\n")
+    with pytest.raises(
+        SceneError, match="case row 2: case moved: .*motion table covers 0 to 1 s, but the run needs 0 to 2 s"
+    ):
+        run_campaign(scene, read_cases(table), tmp_path / "out", table_folder=tmp_path)
+    assert not list((tmp_path / "out" / "cases").glob("*"))
+
+
 def test_a_failed_case_is_recorded_and_the_others_go_on(files, tmp_path):
     scene = jc.read_scene(files / "scene.toml")
     table = tmp_path / "cases.csv"

@@ -253,9 +253,11 @@ def write_tables(store: Store, statistics_from: float, order: Sequence[str] = ()
     summary = store.folder / "summary.csv"
     write_table(summary, rows, ["case", *given])  # the case table's columns first, then the results
     grouped = group_rows(files, statistics_from)
-    groups = store.folder / "groups.csv" if grouped else None
-    if groups is not None:
-        write_table(groups, grouped, ["cases", "seeds", *given])
+    groups = store.folder / "groups.csv"
+    if not grouped:
+        groups.unlink(missing_ok=True)  # an earlier run's, of other cases
+        return summary, None
+    write_table(groups, grouped, ["cases", "seeds", *given])
     return summary, groups
 
 
@@ -276,9 +278,10 @@ class _Job:
     def build(cls, case: Case, scene: Scene, duration: float, dt_out: float) -> "_Job":
         """The case built, with the solver `jaxcable run` would choose for it."""
         from .._model.reach import for_run
-        from ..io._run import _feasible, output_times
+        from ..io._run import _feasible, check_motion_tables, output_times
 
         try:
+            check_motion_tables(scene, duration)
             built = scene.build()
         except (SceneError, ValueError) as error:
             raise SceneError(f"{case.where}: case {case.name}: {error}") from None

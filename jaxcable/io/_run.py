@@ -300,15 +300,7 @@ def run_scene(
             solver = settings.solver_config()  # checked before the scene is built
         except ValueError as error:  # a scene built in Python with an unknown solver name
             raise SceneError(str(error)) from None
-    for point in scene.points:
-        motion = point.motion
-        if isinstance(motion, Sampled):
-            first, last = (float(t) for t in np.asarray(motion.times)[[0, -1]])
-            if first > 0 or last < duration:
-                raise SceneError(
-                    f"{point.where}: point {point.name}'s motion table covers {first:g} to {last:g} s, "
-                    f"but the run needs 0 to {duration:g} s"
-                )
+    check_motion_tables(scene, duration)
     built = scene.build()
     for warning in check_size(built, duration, dt_out, solver):  # before any work on the model
         warnings.warn(warning, stacklevel=2)
@@ -417,6 +409,20 @@ def run_scene(
             result = simulate(model, env, duration, ts=ts, initial=initial, solver=solver, progress=progress)
         dynamics_seconds = prepare_seconds + time.perf_counter() - start
     return scene_run(result, dynamics_seconds, dynamics_meter)
+
+
+def check_motion_tables(scene: Scene, duration: float) -> None:
+    """[`jaxcable.io.SceneError`][] naming the point for a motion table that does not
+    cover a run from 0 to `duration` (s)."""
+    for point in scene.points:
+        motion = point.motion
+        if isinstance(motion, Sampled):
+            first, last = (float(t) for t in np.asarray(motion.times)[[0, -1]])
+            if first > 0 or last < duration:
+                raise SceneError(
+                    f"{point.where}: point {point.name}'s motion table covers {first:g} to {last:g} s, "
+                    f"but the run needs 0 to {duration:g} s"
+                )
 
 
 def _at_rest(built: BuiltScene, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
