@@ -44,6 +44,12 @@ Rows (`--rows` takes these names):
   histories diverge), relative difference between the engines. The script gets the same new
   `JAXCABLE_CACHE_DIR` as `jaxcable run` does: its second run gains whatever the
   library keeps there. Targets: sweep32 first run ≥ 3× faster, second ≥ 10×; sweep256 first run ≥ 10×.
+- `campaign`: a design campaign of `--campaign-cases` (32) load cases of line40, each its
+  own surge table (amplitudes 0.5 to 3 m, periods 5.6 to 12 s), 120 s each: `jaxcable
+  campaign line40.txt cases.csv --out FOLDER`, first and second run, against MoorDyn's
+  driver in 2 processes at once (half the cases each, in turn). The figure is the
+  speed-up, MoorDyn ÷ jaxcable, with cases per hour; accuracy, each case's `FairTen1`
+  against MoorDyn's after the first 10 s. No target (issue 39 asks for the figure).
 - `lowe_langley`: the Low & Langley (2006) file's case 1, `jaxcable run line.txt
   --motion ...` (`lowe_langley.run_cli`) against MoorDyn's whole process
   (`lowe_langley.run_moordyn`), as `speed.py`'s `ll` rows; the statics' share of the
@@ -63,6 +69,7 @@ Rows (`--rows` takes these names):
     # quick checks, NOT the measurement:
     python benchmarks/first_contact.py --rows refusal line40 --repeats 1 --duration 20
     python benchmarks/first_contact.py --rows sweep32 --cases 4 --repeats 1
+    python benchmarks/first_contact.py --rows campaign --campaign-cases 4 --repeats 1
     python benchmarks/first_contact.py --rows examples --examples y_branch --repeats 1
 
 Sessions are appended to `benchmarks/results/first_contact.json` (`--out`).
@@ -88,14 +95,16 @@ from speed import cached_programs, load
 
 BENCHMARKS = Path(__file__).resolve().parent
 RESULTS = BENCHMARKS / "results" / "first_contact.json"
-ROWS = ("line40", "line40_auto", "sweep32", "sweep256", "lowe_langley", "examples", "refusal")
-DEFAULTS = {"repeats": 3, "duration": 600.0, "cases": None, "examples": None}
+ROWS = ("line40", "line40_auto", "sweep32", "sweep256", "campaign", "lowe_langley", "examples", "refusal")
+DEFAULTS = {"repeats": 3, "duration": 600.0, "cases": None, "examples": None, "campaign_cases": 32}
 
 # line40: the anchored-line paper's rope, 40 segments, with internal damping and a seabed.
 LINE40_TOP = 346.4101615137755  # m: the top's x at rest, H cot 30°
 LINE40_AMPLITUDE, LINE40_PERIOD = 1.5733227425801541, 5.6  # m, s: the anchored-line paper's top motion
 LINE40_DTM, LINE40_DT_OUT = 0.002, 0.1  # s
 LINE40_SETTLED = 10.0  # s: the tensions are also compared after this, past the start's transient
+CAMPAIGN_DURATION = 120.0  # s: each case of the campaign row
+CAMPAIGN_PERIODS = (5.6, 8.0, 10.0, 12.0)  # s: its cases' surge periods, in turn
 LINE40 = f"""line40: a 40-segment anchored steel rope (benchmarks/first_contact.py)
 ----------------------- LINE TYPES ------------------------------------------
 TypeName   Diam     Mass/m     EA         BA/-zeta    EI         Cd     Ca     CdAx    CaAx
@@ -125,32 +134,34 @@ RK2           tScheme       explicit midpoint
 ------------------------- need this line --------------------------------------
 """
 
-# What MoorDyn's own driver does with a motion table, as a Python process:
-# `python moordyn_table.py INPUT TABLE DTM DT_OUT TENSION.npy`.
+# What MoorDyn's own driver does with a motion table, as a Python process, for one table
+# or several in turn: `python moordyn_table.py INPUT DTM DT_OUT TABLE TENSION.npy [TABLE
+# TENSION.npy ...]`.
 MOORDYN_TABLE = """\
 import sys
 
 import moordyn
 import numpy as np
 
-path, table, dtm, dt_out, out = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4]), sys.argv[5]
-data = np.loadtxt(table, delimiter=",", skiprows=1)
-steps = round((data[-1, 0] - data[0, 0]) / dtm)
-times = data[0, 0] + dtm * np.arange(steps + 1)
-x = np.column_stack([np.interp(times, data[:, 0], data[:, i]) for i in (1, 2, 3)])
-v = (x[1:] - x[:-1]) / dtm  # the secant velocity over each step
-positions, velocities, starts = x.tolist(), v.tolist(), times.tolist()
-every = round(dt_out / dtm)
-system = moordyn.Create(path)
-moordyn.Init(system, positions[0], velocities[0])
-line = moordyn.GetLine(system, 1)
-tension = [moordyn.GetLineFairTen(line)]
-for k in range(steps):
-    moordyn.Step(system, positions[k], velocities[k], starts[k], dtm)
-    if (k + 1) % every == 0:
-        tension.append(moordyn.GetLineFairTen(line))
-moordyn.Close(system)
-np.save(out, np.array(tension))
+path, dtm, dt_out, pairs = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), sys.argv[4:]
+for table, out in zip(pairs[::2], pairs[1::2]):
+    data = np.loadtxt(table, delimiter=",", skiprows=1)
+    steps = round((data[-1, 0] - data[0, 0]) / dtm)
+    times = data[0, 0] + dtm * np.arange(steps + 1)
+    x = np.column_stack([np.interp(times, data[:, 0], data[:, i]) for i in (1, 2, 3)])
+    v = (x[1:] - x[:-1]) / dtm  # the secant velocity over each step
+    positions, velocities, starts = x.tolist(), v.tolist(), times.tolist()
+    every = round(dt_out / dtm)
+    system = moordyn.Create(path)
+    moordyn.Init(system, positions[0], velocities[0])
+    line = moordyn.GetLine(system, 1)
+    tension = [moordyn.GetLineFairTen(line)]
+    for k in range(steps):
+        moordyn.Step(system, positions[k], velocities[k], starts[k], dtm)
+        if (k + 1) % every == 0:
+            tension.append(moordyn.GetLineFairTen(line))
+    moordyn.Close(system)
+    np.save(out, np.array(tension))
 """
 
 # The sweeps' line: the anchored-line paper's, with the equations MoorDyn has (as moordyn_side_by_side's).
@@ -224,6 +235,9 @@ def parse(argv=None) -> argparse.Namespace:
     )
     parser.add_argument("--cases", type=int, help="the sweeps' case count instead of 32 and 256, for checks")
     parser.add_argument("--examples", nargs="+", help="the examples row's scenes (default: every bundled one)")
+    parser.add_argument(
+        "--campaign-cases", type=int, default=DEFAULTS["campaign_cases"], help="the campaign row's case count"
+    )
     parser.add_argument("--out", type=Path, default=RESULTS, help="the results file")
     parser.add_argument("--report", action="store_true", help="print the latest session's table")
     return parser.parse_args(argv)
@@ -386,16 +400,12 @@ def row_line40(args, solver: str | None = None) -> list[dict]:
         folder = Path(tmp)
         (folder / "line40.txt").write_text(LINE40)
         (folder / "moordyn_table.py").write_text(MOORDYN_TABLE)
-        t = np.arange(round(args.duration / LINE40_DT_OUT) + 1) * LINE40_DT_OUT
-        x = LINE40_TOP + LINE40_AMPLITUDE * np.sin(2 * np.pi * t / LINE40_PERIOD)
-        zeros = np.zeros_like(t)
-        table = np.column_stack([t, x, zeros, zeros])
-        np.savetxt(folder / "motion.csv", table, delimiter=",", header="time,x,y,z", comments="", fmt="%.10g")
+        surge_table(folder / "motion.csv", args.duration, LINE40_AMPLITUDE, LINE40_PERIOD)
         jaxcable = ["jaxcable", "run", "line40.txt", "--motion", "motion.csv", "--out", "run.csv"]
         if solver is not None:
             jaxcable += ["--solver", solver]
-        moordyn = [sys.executable, "moordyn_table.py", "line40.txt", "motion.csv", repr(LINE40_DTM)]
-        moordyn += [repr(LINE40_DT_OUT), "moordyn_tension.npy"]
+        moordyn = [sys.executable, "moordyn_table.py", "line40.txt", repr(LINE40_DTM), repr(LINE40_DT_OUT)]
+        moordyn += ["motion.csv", "moordyn_tension.npy"]
         runs = interleaved(
             lambda cache: process(jaxcable, folder, cache),
             lambda: process(moordyn, folder),
@@ -424,6 +434,16 @@ def row_line40(args, solver: str | None = None) -> list[dict]:
             accuracy=accuracy,
         ),
     ]
+
+
+def surge_table(path: Path, duration: float, amplitude: float, period: float) -> None:
+    """A motion table (`time,x,y,z` every `LINE40_DT_OUT`) of line40's top surging
+    harmonically about its rest by `amplitude` (m) at `period` (s), for `duration` (s)."""
+    t = np.arange(round(duration / LINE40_DT_OUT) + 1) * LINE40_DT_OUT
+    x = LINE40_TOP + amplitude * np.sin(2 * np.pi * t / period)
+    zeros = np.zeros_like(t)
+    table = np.column_stack([t, x, zeros, zeros])
+    np.savetxt(path, table, delimiter=",", header="time,x,y,z", comments="", fmt="%.10g")
 
 
 def line40_accuracy(folder: Path) -> tuple[str, dict | None]:
@@ -459,6 +479,123 @@ def line40_accuracy(folder: Path) -> tuple[str, dict | None]:
         f"after {LINE40_SETTLED:g} s {difference['settled_rms_over_peak'] or float('nan'):.2%} of "
         f"{later_peak / 1e3:.1f} kN; at t = 0 jaxcable {difference['start_N']['jaxcable'] / 1e3:.1f} kN, MoorDyn "
         f"{difference['start_N']['moordyn'] / 1e3:.1f} kN"
+    )
+    return text, difference
+
+
+def row_campaign(args) -> list[dict]:
+    """A design campaign: line40 under `--campaign-cases` surge motions (amplitudes from
+    0.5 to 3 m, periods 5.6, 8, 10 and 12 s in turn), `CAMPAIGN_DURATION` s each, one
+    motion table a case. `jaxcable campaign line40.txt cases.csv --out FOLDER`, cold and
+    warm (a new folder each, so that nothing is skipped), against MoorDyn's driver in two
+    processes at once, each running half the cases in turn. The figure is the speed-up,
+    MoorDyn ÷ jaxcable, with both as cases per hour; accuracy, each case's `FairTen1`
+    against MoorDyn's (its RMS difference after `LINE40_SETTLED` s relative to MoorDyn's
+    peak there, and its peak)."""
+    count = args.campaign_cases
+    amplitudes = np.linspace(0.5, 3.0, count)
+    periods = [CAMPAIGN_PERIODS[k % len(CAMPAIGN_PERIODS)] for k in range(count)]
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        (folder / "line40.txt").write_text(LINE40)
+        (folder / "moordyn_table.py").write_text(MOORDYN_TABLE)
+        rows = ["case,motion"]
+        for k, (amplitude, period) in enumerate(zip(amplitudes, periods)):
+            surge_table(folder / f"surge{k:03d}.csv", CAMPAIGN_DURATION, amplitude, period)
+            rows.append(f"surge{k:03d},surge{k:03d}.csv")
+        (folder / "cases.csv").write_text("\n".join(rows) + "\n")
+        outs = iter(range(10**6))
+
+        def jaxcable(cache):
+            command = ["jaxcable", "campaign", "line40.txt", "cases.csv", "--out", f"out{next(outs)}", "--no-progress"]
+            command += ["--duration", repr(CAMPAIGN_DURATION)]  # a MoorDyn file gives none (60 s by default)
+            return process(command, folder, cache)
+
+        moordyn = []
+        for half in (0, 1):
+            command = [sys.executable, "moordyn_table.py", "line40.txt", repr(LINE40_DTM), repr(LINE40_DT_OUT)]
+            for k in range(half, count, 2):
+                command += [f"surge{k:03d}.csv", f"moordyn{k:03d}.npy"]
+            moordyn.append(command)
+        runs = interleaved(jaxcable, lambda: together(moordyn, folder), args.repeats, folder, "campaign")
+        accuracy, difference = campaign_accuracy(folder, count)
+    hourly = {
+        kind: statistics.median(3600 * count / r["wall_s"] for r in records if r["status"] == 0)
+        for kind, records in runs.items()
+        if any(r["status"] == 0 for r in records)
+    }
+    notes = "cases per hour: " + ", ".join(f"{kind} {value:.0f}" for kind, value in hourly.items())
+    measure = f"campaign: {count} cases of line40, {CAMPAIGN_DURATION:g} s each, against MoorDyn in 2 processes"
+    return [
+        row(
+            f"{measure}, first `jaxcable campaign`",
+            jaxcable=runs["cold"],
+            moordyn=runs["moordyn"],
+            figure="speed-up",
+            accuracy=accuracy,
+            notes=notes,
+            difference=difference,
+        ),
+        row(
+            f"{measure}, second `jaxcable campaign` (warm cache, a new folder)",
+            jaxcable=runs["warm"],
+            moordyn=runs["moordyn"],
+            figure="speed-up",
+            accuracy=accuracy,
+            notes=notes,
+        ),
+    ]
+
+
+def together(commands: list[list[str]], cwd: Path) -> dict:
+    """`commands` as processes started at once, as `process` records one: the wall time
+    until the last ends, the worst exit status, the first process's stderr."""
+    before = load()
+    start = time.perf_counter()
+    started = [
+        subprocess.Popen(c, cwd=cwd, env=environment(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        for c in commands
+    ]
+    outputs = [p.communicate() for p in started]
+    wall = time.perf_counter() - start
+    status = max(abs(p.returncode) for p in started)
+    errors = [line for _, err in outputs for line in err.splitlines() if line.strip()]
+    return {
+        "command": f"{len(commands)} processes at once: " + " & ".join(" ".join(c[:3]) for c in commands),
+        "wall_s": wall,
+        "status": status,
+        "load": [before, load()],
+        "stderr_first": errors[0] if errors else "",
+        "stderr_tail": errors[-8:] if status else [],
+        "traceback": any("Traceback" in err for _, err in outputs),
+        "stdout_tail": [],
+        "summary": [],
+        "split": {},
+    }
+
+
+def campaign_accuracy(folder: Path, count: int) -> tuple[str, dict | None]:
+    """Each case's `FairTen1` in the first campaign's files against MoorDyn's: the RMS
+    difference after `LINE40_SETTLED` s over MoorDyn's peak there, and the peaks'
+    difference over MoorDyn's peak; the median and the worst over the cases."""
+    import xarray as xr
+
+    rms, peaks = [], []
+    try:
+        for k in range(count):
+            theirs = np.load(folder / f"moordyn{k:03d}.npy")
+            with xr.open_dataset(folder / "out0" / "cases" / f"surge{k:03d}.nc") as case:
+                ours = np.interp(np.arange(theirs.size) * LINE40_DT_OUT, case["time"].values, case["FairTen1"].values)
+            later = np.arange(theirs.size) * LINE40_DT_OUT >= LINE40_SETTLED
+            peak = float(np.max(np.abs(theirs[later])))
+            rms.append(float(np.sqrt(np.mean((ours - theirs)[later] ** 2)) / peak))
+            peaks.append(float(np.max(ours[later]) / peak - 1))
+    except OSError as error:
+        return f"not compared: {error}", None
+    difference = {"settled_rms_over_peak": rms, "peak_difference": peaks, "settled_s": LINE40_SETTLED}
+    text = (
+        f"FairTen1 after {LINE40_SETTLED:g} s: RMS diff median {np.median(rms):.2%}, worst {np.max(rms):.2%} of "
+        f"MoorDyn's peak; peaks differ by median {np.median(np.abs(peaks)):.2%}, worst {np.max(np.abs(peaks)):.2%}"
     )
     return text, difference
 
@@ -694,6 +831,7 @@ RUNNERS = {
     "line40_auto": lambda args: row_line40(args, "auto"),
     "sweep32": lambda args: row_sweep(args, 32, (3.0, 10.0)),
     "sweep256": lambda args: row_sweep(args, 256, (10.0, None)),
+    "campaign": row_campaign,
     "lowe_langley": row_lowe_langley,
     "examples": row_examples,
     "refusal": row_refusal,
