@@ -336,7 +336,7 @@ def test_a_folder_of_another_campaign_is_refused(files, campaign, tmp_path):
 
 def test_a_motion_table_short_of_the_duration_is_refused_before_any_case_runs(files, tmp_path):
     scene = jc.read_scene(files / "scene.toml")
-    (tmp_path / "short.csv").write_text("time,x,y,z\n0,0,0,-5\n1,0.1,0,-5\n")
+    (tmp_path / "short.csv").write_text("time,x,y,z\n0,0,0,-5\n1,0,0,-5\n")
     table = tmp_path / "cases.csv"
     table.write_text("case,motion\nheld,\nmoved,short.csv\n")
     with pytest.raises(
@@ -370,7 +370,28 @@ def test_the_command_runs_a_campaign(files, campaign, capsys):
     out = capsys.readouterr().out
     assert status == 0, out
     assert "0 case(s) run, 0 failed, 4 finished before" in out
-    assert f"wrote {files / 'copy' / 'summary.csv'} and {files / 'copy' / 'groups.csv'}" in out
+    copy = files / "copy"
+    assert f"wrote {copy / 'summary.csv'}, {copy / 'groups.csv'}, {copy / 'report.html'}" in out
+
+
+def test_safety_factors_are_judged_and_reported(files, campaign, capsys):
+    """Each line's safety factor, MBL over its largest tension (over seeds, over the
+    most probable maximum), against the required one: the chains here carry about
+    16 kN against a 1 MN breaking load, a factor of about 63."""
+    _, _, result = campaign
+    rows = {row["case"]: row for row in _table(result.summary)}
+    calm = rows["calm"]
+    assert float(calm["safety_factor.w"]) == pytest.approx(1e6 / float(calm["largest_tension.w"]), rel=1e-7)
+    assert result.shortfalls == ()  # 63 is well above 1.67
+    argv = ["campaign", str(files / "scene.toml"), str(files / "cases.csv"), "--out", str(result.folder)]
+    assert cli_main([*argv, "--tables-only", "--safety-factor", "100"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: calm: line w's largest tension leaves a safety factor of 62." in err and "below 100" in err
+    assert "warning: calm calm_seed2: line w's most probable maximum leaves a safety factor of" in err
+    report = (result.folder / "report.html").read_text()
+    assert "Below the required safety factor" in report and "calm_seed2" in report
+    assert 'src="data:image/png;base64,' in report  # the figure, embedded
+    cli_main([*argv, "--tables-only"])  # the folder's report as the campaign left it
 
 
 @pytest.mark.parametrize(

@@ -29,9 +29,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .._names import DEFAULT_SAFETY_FACTOR
 from ..io._scene import Scene, SceneError
 from .cases import Case, case_scene
-from .store import Store, digest, group_rows, summary_rows, write_table
+from .report import write_report
+from .store import Store, digest, group_rows, shortfalls, summary_rows, write_table
 
 if TYPE_CHECKING:
     from .._model.network import CableNetwork
@@ -55,6 +57,9 @@ class CampaignResult:
     - `summary`: the table of every finished case in the folder (`summary.csv`).
     - `groups`: the table of groups of cases that differ only in their seed
         (`groups.csv`), or `None` where there are none.
+    - `report`: the short report (`report.html`).
+    - `shortfalls`: each line of a case (or a group's most probable maximum) whose
+        safety factor falls below the required one, in words.
     """
 
     folder: Path
@@ -63,6 +68,8 @@ class CampaignResult:
     failed: dict[str, str]
     summary: Path
     groups: Path | None
+    report: Path
+    shortfalls: tuple[str, ...]
 
 
 def case_scenes(
@@ -86,6 +93,7 @@ def run_campaign(
     channels: Sequence[str] = (),
     shard: tuple[int, int] = (0, 1),
     batch: int = DEFAULT_BATCH,
+    safety_factor: float = DEFAULT_SAFETY_FACTOR,
     progress: bool = False,
     log: Callable[[str], None] | None = None,
 ) -> CampaignResult:
@@ -109,8 +117,10 @@ def run_campaign(
     channel's maximum, minimum, mean and standard deviation; a failed case's message),
     and `groups.csv` a row for each group of cases that differ only in `seed`: each
     line's most probable maximum tension by a Gumbel fit to the seeds' maxima
-    ([`jaxcable.extreme_statistics`][]), its standard error and utilisation, and the
-    mean fatigue damage. A folder that holds another campaign (another scene or
+    ([`jaxcable.extreme_statistics`][]), its standard error, utilisation and safety
+    factor, and the mean fatigue damage; `report.html` judges every line's safety factor
+    (minimum breaking load over largest tension) against `safety_factor`, with a figure
+    and the tables. A folder that holds another campaign (another scene or
     settings), or another row under a case's name, is refused: nothing is
     overwritten.
 
@@ -130,6 +140,9 @@ def run_campaign(
     - `shard`: `(i, n)`, run the cases whose position in the table is i modulo n
         (from 0).
     - `batch`: the most cases run together in one sweep.
+    - `safety_factor`: the factor the report (`report.html`) requires of each line's
+        minimum breaking load over its largest tension (1.67 by default, API RP 2SK's
+        for an intact mooring analysed dynamically).
     - `progress`: show each batch's progress bar in simulated seconds.
     - `log`: called with a line of text as each batch starts and ends.
 
@@ -187,12 +200,21 @@ def run_campaign(
         held = store.failures()
         ran = [job.case.name for job in jobs]
         failed = {name: held[name] for name in ran if name in held}
+    short: tuple[str, ...] = ()
     if processes.index == 0:
-        write_tables(store, statistics_from, [case.name for case in cases])
+        short = write_tables(store, statistics_from, [case.name for case in cases], safety_factor)
     processes.agree("the tables", [])
-    summary = store.folder / "summary.csv"
-    groups = store.folder / "groups.csv" if (store.folder / "groups.csv").exists() else None
-    return CampaignResult(store.folder, tuple(ran), skipped, failed, summary, groups)
+    groups = store.folder / "groups.csv"
+    return CampaignResult(
+        store.folder,
+        tuple(ran),
+        skipped,
+        failed,
+        store.folder / "summary.csv",
+        groups if groups.exists() else None,
+        store.folder / "report.html",
+        short,
+    )
 
 
 def check_settings(duration: float, dt_out: float, statistics_from: float, shard: tuple[int, int], batch: int) -> None:
@@ -241,10 +263,14 @@ def identity(
     }
 
 
-def write_tables(store: Store, statistics_from: float, order: Sequence[str] = ()) -> tuple[Path, Path | None]:
+def write_tables(
+    store: Store, statistics_from: float, order: Sequence[str] = (), safety_factor: float = DEFAULT_SAFETY_FACTOR
+) -> tuple[str, ...]:
     """Make `summary.csv` (and `groups.csv`, where cases differ only in their seed)
     from every case file in the store's folder, in the order of the case names in
-    `order` (the table's), cases not named there after them."""
+    `order` (the table's), cases not named there after them, and `report.html`, which
+    judges the lines' safety factors against `safety_factor`. Returns the lines whose
+    safety factor falls short, in words (`store.shortfalls`)."""
     rank = {name: k for k, name in enumerate(order)}
     files = sorted(store.case_files(), key=lambda path: (rank.get(path.stem, len(rank)), path.stem))
     rows, given = summary_rows(files)
@@ -253,12 +279,15 @@ def write_tables(store: Store, statistics_from: float, order: Sequence[str] = ()
     summary = store.folder / "summary.csv"
     write_table(summary, rows, ["case", *given])  # the case table's columns first, then the results
     grouped = group_rows(files, statistics_from)
+    title = f"Campaign of {store.identity.get('describe', store.folder.name)}"
+    write_report(store.folder / "report.html", title, rows, given, grouped, safety_factor)
     groups = store.folder / "groups.csv"
-    if not grouped:
+    if grouped:
+        write_table(groups, grouped, ["cases", "seeds", *given])
+    else:
         groups.unlink(missing_ok=True)  # an earlier run's, of other cases
-        return summary, None
-    write_table(groups, grouped, ["cases", "seeds", *given])
-    return summary, groups
+    finished = [row for row in rows if not row.get("failed")]
+    return tuple(shortfalls(finished, safety_factor) + shortfalls(grouped, safety_factor, "mpm_safety_factor."))
 
 
 @dataclasses.dataclass

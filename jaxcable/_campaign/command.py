@@ -131,8 +131,8 @@ def run(args, given: Given) -> int:
 
         settings = identity(scene, args.duration, args.dt_out, args.statistics_from, args.channels)
         store = Store(args.folder, settings, create=False)
-        summary, groups = write_tables(store, args.statistics_from, [c.name for c in given.cases])
-        print(f"wrote {summary}" + (f" and {groups}" if groups else ""))
+        short = write_tables(store, args.statistics_from, [c.name for c in given.cases], args.safety_factor)
+        _report(args.folder, short)
         return 0
     result = run_campaign(
         scene,
@@ -145,6 +145,7 @@ def run(args, given: Given) -> int:
         channels=tuple(args.channels or ()),
         shard=given.shard,
         batch=DEFAULT_BATCH if args.batch is None else args.batch,
+        safety_factor=args.safety_factor,
         progress=first and not args.no_progress,
         log=say,
     )
@@ -154,5 +155,15 @@ def run(args, given: Given) -> int:
     print(f"campaign {args.folder}: {ran - failed} case(s) run, {failed} failed, {len(result.skipped)} finished before")
     for name, message in result.failed.items():
         print(f"  failed: {name}: {message}")
-    print(f"wrote {result.summary}" + (f" and {result.groups}" if result.groups else ""))
+    _report(args.folder, result.shortfalls)
     return 1 if failed else 0
+
+
+def _report(folder: Path, short: tuple[str, ...]) -> None:
+    """Name the tables written in `folder`, and warn of each safety factor short of
+    the required one."""
+    tables = [folder / name for name in ("summary.csv", "groups.csv", "report.html") if (folder / name).exists()]
+    print("wrote " + ", ".join(map(str, tables)))
+    sys.stdout.flush()
+    for text in short:
+        print(f"warning: {text}", file=sys.stderr)

@@ -182,6 +182,11 @@ def summary_rows(files: list[Path]) -> tuple[list[dict[str, Any]], list[str]]:
             for k, line in enumerate(case["line"].values):
                 for variable in ("largest_tension", "utilisation", "end_a_largest_tension", "end_b_largest_tension"):
                     row[f"{variable}.{line}"] = float(case[variable].values[k])
+                # The line's safety factor against its breaking load, as API RP 2SK and
+                # DNV-OS-E301 judge it: MBL over the largest tension.
+                row[f"safety_factor.{line}"] = _ratio(
+                    case["minimum_breaking_load"].values[k], row[f"largest_tension.{line}"]
+                )
                 if "fatigue_damage" in case:
                     row[f"fatigue_damage.{line}"] = float(case["fatigue_damage"].values[k])
             if "channel" in case.coords:
@@ -261,7 +266,32 @@ def group_rows(files: list[Path], start: float) -> list[dict[str, Any]]:
             row[f"mpm_tension.{line}"] = mpm
             row[f"mpm_standard_error.{line}"] = float(fit.standard_error)
             row[f"mpm_utilisation.{line}"] = mpm / breaking[line] if np.isfinite(breaking[line]) else math.nan
+            row[f"mpm_safety_factor.{line}"] = _ratio(breaking[line], mpm)
             if line in damage:
                 row[f"mean_fatigue_damage.{line}"] = float(np.mean(damage[line]))
         rows.append(row)
     return rows
+
+
+def _ratio(breaking_load: float, tension: float) -> float:
+    """MBL over a tension, NaN where there is no MBL or no tension."""
+    if not (np.isfinite(breaking_load) and tension > 0):
+        return math.nan
+    return float(breaking_load / tension)
+
+
+def shortfalls(rows: list[dict[str, Any]], required: float, prefix: str = "safety_factor.") -> list[str]:
+    """Each line of each row (a case's, or a group's with `prefix="mpm_safety_factor."`)
+    whose safety factor falls below `required`, in words."""
+    found = []
+    for row in rows:
+        name = row.get("case") or row.get("cases")
+        for column, value in row.items():
+            if column.startswith(prefix) and isinstance(value, float) and value < required:
+                line = column.removeprefix(prefix)
+                what = "most probable maximum" if prefix.startswith("mpm") else "largest tension"
+                found.append(
+                    f"{name}: line {line}'s {what} leaves a safety factor of {value:.3g} against its breaking load, "
+                    f"below {required:g}"
+                )
+    return found
