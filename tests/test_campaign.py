@@ -294,6 +294,12 @@ def test_seeds_of_one_sea_state_give_its_most_probable_maximum(campaign):
             times = held["time"].values
     fit = jc.extreme_statistics(np.stack(records), times)
     assert float(group["mpm_tension.w"]) == pytest.approx(float(fit.most_probable_maximum), rel=1e-7)
+    channel = []
+    for name in ("calm", "calm_seed2"):
+        with xr.open_dataset(result.folder / "cases" / f"{name}.nc") as held:
+            channel.append(held["FairTen1"].values)
+    fit = jc.extreme_statistics(np.stack(channel), times)
+    assert float(group["mpm.FairTen1"]) == pytest.approx(float(fit.most_probable_maximum), rel=1e-7)
 
 
 def test_shards_and_a_restart_add_up_to_one_run(files, campaign, tmp_path):

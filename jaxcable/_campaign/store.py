@@ -227,8 +227,9 @@ def group_rows(files: list[Path], start: float) -> list[dict[str, Any]]:
     """A row per group of two or more cases that differ only in their `seed`: each
     line's most probable maximum tension (N) over the record from `start` (s), by a
     Gumbel fit to the seeds' maxima ([`jaxcable.extreme_statistics`][]), with its
-    standard error and its utilisation where the line has a minimum breaking load, and
-    the mean fatigue damage over the seeds."""
+    standard error and its utilisation and safety factor where the line has a minimum
+    breaking load, and the mean fatigue damage over the seeds; and each output
+    channel's most probable maximum, in its units."""
     import xarray as xr
 
     from .._sea.extremes import extreme_statistics
@@ -245,6 +246,7 @@ def group_rows(files: list[Path], start: float) -> list[dict[str, Any]]:
         if len(members) < 2:
             continue
         histories: dict[str, list[np.ndarray]] = {}
+        channels: dict[str, list[np.ndarray]] = {}
         damage: dict[str, list[float]] = {}
         breaking: dict[str, float] = {}
         for path in members:
@@ -257,6 +259,8 @@ def group_rows(files: list[Path], start: float) -> list[dict[str, Any]]:
                     breaking[line] = float(case["minimum_breaking_load"].values[k])
                     if "fatigue_damage" in case:
                         damage.setdefault(line, []).append(float(case["fatigue_damage"].values[k]))
+                for channel in case["channel"].values if "channel" in case.coords else ():
+                    channels.setdefault(str(channel), []).append(case[str(channel)].values)
         row: dict[str, Any] = {"cases": " ".join(p.stem for p in members), "seeds": len(members), **json.loads(key)}
         for line, records in histories.items():
             if len(records) < 2:
@@ -269,6 +273,10 @@ def group_rows(files: list[Path], start: float) -> list[dict[str, Any]]:
             row[f"mpm_safety_factor.{line}"] = _ratio(breaking[line], mpm)
             if line in damage:
                 row[f"mean_fatigue_damage.{line}"] = float(np.mean(damage[line]))
+        for channel, records in channels.items():
+            if len(records) == len(members):
+                fit = extreme_statistics(np.stack(records), times, start=start)
+                row[f"mpm.{channel}"] = float(fit.most_probable_maximum)
         rows.append(row)
     return rows
 
