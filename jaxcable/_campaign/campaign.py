@@ -6,16 +6,17 @@ naming it. Cases whose models have the same structure (the same lines, segments,
 component counts, options: only values differ) run together as one [`jaxcable.sweep`][]
 of `batch` cases at a time, each from its own static equilibrium (solved as `jaxcable
 run` solves it, in still water with the current) and with the steps `jaxcable run`
-would choose for each (cases that need other steps run apart). A case whose statics or integration fails
-is recorded as failed and the others go on. A case's answer does not depend on its
-batch: its run agrees with its own `jaxcable run` to rounding.
+would choose for it (cases that need other steps run apart). A case whose statics or
+integration fails is recorded as failed and the others go on. A case's answer does not
+depend on its batch: its run agrees with its own `jaxcable run` to rounding.
 
 Each finished case's results are written at once (`jaxcable._campaign.store`), so a
 campaign killed part-way loses at most its running batch, and a restart runs only the
 cases without results. `shard=(i, n)` runs every n-th case from the i-th, for job
 arrays: shards write into one folder (on a shared file system) or into several, whose
 case files can be put together in one, and the tables are made from whatever cases the
-folder holds.
+folder holds. Processes joined by JAX's multi-controller runtime (`jax.distributed`) run
+one campaign together, each batch split across all their devices (`_Processes`).
 """
 
 import dataclasses
