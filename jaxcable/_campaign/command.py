@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from ..io._scene import Scene, SceneError
+from .cases import COLUMNS
 
 HELP = "run a scene over a table of load cases; keep each case's results and tables of them"
 
@@ -18,7 +19,8 @@ def add_parser(commands, scene_flags) -> None:
     campaign = commands.add_parser(
         "campaign",
         help=HELP,
-        description=f"{HELP}. The case table's columns: see `jaxcable._campaign.cases` or the docs' Campaigns page.",
+        description=f"{HELP}. The case table's columns (an empty cell keeps the scene's value; .NAME names a line): "
+        f"{', '.join(COLUMNS)}. See the docs' command-line page, jaxcable campaign.",
     )
     campaign.add_argument("input", help="scene (.toml), MoorDyn input file, or bundled example name")
     campaign.add_argument("cases", type=Path, help="case table: CSV (a header of columns, a row a case) or TOML")
@@ -27,8 +29,8 @@ def add_parser(commands, scene_flags) -> None:
         dest="folder",
         type=Path,
         required=True,
-        help="the campaign's folder: a file a case, summary.csv and groups.csv; a folder of this campaign is "
-        "continued (finished cases skipped), one of another refused",
+        help="the campaign's folder: a file a case, summary.csv, groups.csv and report.html; a folder of this "
+        "campaign is continued (finished cases skipped), one of another refused",
     )
     campaign.add_argument("--duration", type=float, help="simulated time of each case (s); default: the scene's")
     campaign.add_argument("--dt-out", type=float, help="output interval (s); default: the scene's, or 0.1 s")
@@ -41,7 +43,9 @@ def add_parser(commands, scene_flags) -> None:
     )
     campaign.add_argument("--batch", type=int, help="the most cases run together in one sweep (default 32)")
     campaign.add_argument(
-        "--tables-only", action="store_true", help="run nothing: make summary.csv and groups.csv from the folder"
+        "--tables-only",
+        action="store_true",
+        help="run nothing: make summary.csv, groups.csv and report.html from the cases in the folder",
     )
     campaign.add_argument(
         "--distributed",
