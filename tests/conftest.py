@@ -48,13 +48,6 @@ def pytest_configure(config):
 SPLIT_FILES = ("tests/test_notebooks.py",)
 
 
-def pytest_collection_modifyitems(config, items):
-    """The tests of `SPLIT_FILES` first: the longest units of work start first, so that
-    the shorter ones fill the workers' ends (the longest first, as a scheduler balances
-    best), where as the last ones they left one worker busy alone."""
-    items.sort(key=lambda item: item.nodeid.split("::", 1)[0] not in SPLIT_FILES)
-
-
 def pytest_xdist_make_scheduler(config, log):
     """`--dist loadfile`, but with the tests of `SPLIT_FILES` spread across workers."""
     if config.getoption("dist") != "loadfile":

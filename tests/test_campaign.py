@@ -441,29 +441,31 @@ def test_bad_flags_are_refused(files, capsys, flags, expected):
 
 
 @pytest.mark.slow
-def test_two_processes_give_what_one_gives(files, campaign, tmp_path):
+def test_two_processes_give_what_one_gives(files, tmp_path):
     """Two local processes of JAX's multi-controller runtime run the campaign as one,
-    each batch split across both processes' devices: the same results as one process."""
+    its batch split across both processes' devices: the same results as one process."""
+    # Two cases of one structure: one sweep.
+    (tmp_path / "cases.csv").write_text("\n".join(CASES.splitlines()[:3]) + "\n")
+    scene, cases = jc.read_scene(files / "scene.toml"), read_cases(tmp_path / "cases.csv")
+    one = run_campaign(scene, cases, tmp_path / "one", table_folder=tmp_path)
     with socket.socket() as free:
         free.bind(("localhost", 0))
         port = free.getsockname()[1]
-    folder = tmp_path / "two"
-    # Two cases of one structure: one sweep, split across the two processes' devices.
-    (tmp_path / "cases.csv").write_text("\n".join(CASES.splitlines()[:3]) + "\n")
     command = [sys.executable, "-m", "jaxcable", "campaign", str(files / "scene.toml"), str(tmp_path / "cases.csv")]
-    command += ["--out", str(folder), "--coordinator", f"localhost:{port}", "--processes", "2", "--no-progress"]
+    command += ["--out", str(tmp_path / "two"), "--coordinator", f"localhost:{port}", "--processes", "2"]
     started = [
         subprocess.Popen(
-            [*command, "--process-id", str(i)], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+            [*command, "--process-id", str(i), "--no-progress"],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
         )
         for i in range(2)
     ]
     outputs = [process.communicate(timeout=900)[0] for process in started]
     assert [process.returncode for process in started] == [0, 0], outputs
     assert "2 case(s) run, 0 failed" in outputs[0]
-    for case in campaign[1][:2]:
-        with (
-            xr.open_dataset(folder / "cases" / f"{case.name}.nc") as two,
-            xr.open_dataset(campaign[2].folder / "cases" / f"{case.name}.nc") as one,
-        ):
-            np.testing.assert_allclose(two["tension"].values, one["tension"].values, rtol=1e-10, atol=1e-6)
+    for case in cases:
+        with xr.open_dataset(tmp_path / "two" / "cases" / f"{case.name}.nc") as two:
+            with xr.open_dataset(one.folder / "cases" / f"{case.name}.nc") as alone:
+                np.testing.assert_allclose(two["tension"].values, alone["tension"].values, rtol=1e-10, atol=1e-6)

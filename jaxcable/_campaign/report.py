@@ -11,7 +11,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from .store import shortfalls
+from .store import cell, shortfalls
 
 
 def write_report(
@@ -68,7 +68,7 @@ def _table(rows: list[dict[str, Any]], columns: list[str]) -> str:
     present = [c for c in columns if any(c in row for row in rows)]
     head = "".join(f"<th>{html.escape(_heading(c))}</th>" for c in present)
     body = "".join(
-        "<tr>" + "".join(f"<td>{html.escape(_cell(row.get(c)))}</td>" for c in present) + "</tr>" for row in rows
+        "<tr>" + "".join(f"<td>{html.escape(cell(row.get(c), 4))}</td>" for c in present) + "</tr>" for row in rows
     )
     return f"<table><tr>{head}</tr>{body}</table>"
 
@@ -77,14 +77,6 @@ def _heading(column: str) -> str:
     kind, _, line = column.partition(".")
     units = {"largest_tension": " (kN)", "mpm_tension": " (kN)", "mpm_standard_error": " (kN)"}
     return f"{kind.replace('_', ' ')}{units.get(kind, '')}" + (f", {line}" if line else "")
-
-
-def _cell(value: Any) -> str:
-    if value is None or (isinstance(value, float) and math.isnan(value)):
-        return ""
-    if isinstance(value, float):
-        return f"{value:.4g}"
-    return str(value)
 
 
 def _figure(rows: list[dict[str, Any]], lines: list[str], required: float) -> str:

@@ -207,7 +207,7 @@ def write_table(path: Path, rows: list[dict[str, Any]], first: Sequence[str] = (
     columns = {**dict.fromkeys(c for c in first if c in columns), **columns}
     lines = []
     for row in rows:
-        lines.append([_cell(row.get(c)) for c in columns])
+        lines.append([cell(row.get(c)) for c in columns])
     buffer = [list(columns), *lines]
     temporary = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     with temporary.open("w", newline="") as f:
@@ -215,11 +215,13 @@ def write_table(path: Path, rows: list[dict[str, Any]], first: Sequence[str] = (
     os.replace(temporary, path)
 
 
-def _cell(value: Any) -> str:
+def cell(value: Any, digits: int = 8) -> str:
+    """A table's cell: a float to `digits` significant digits, empty where there is
+    none or it is NaN, anything else as text."""
     if value is None or (isinstance(value, float) and math.isnan(value)):
         return ""
     if isinstance(value, float):
-        return f"{value:.8g}"
+        return f"{value:.{digits}g}"
     return str(value)
 
 
