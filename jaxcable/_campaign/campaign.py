@@ -384,21 +384,27 @@ def _run_batch(jobs: list[_Job], duration: float, dt_out: float, progress: bool,
 
     from ..io._run import run_scene
 
-    outcomes: list = [_start(job) for job in jobs]
-    running = [k for k, outcome in enumerate(outcomes) if not isinstance(outcome, str)]
-    leaves = {k: jax.tree.leaves(eqx.filter((jobs[k].model, jobs[k].env), eqx.is_array)) for k in running}
-    first = leaves[running[0]] if running else []
-    varying = [
-        any(not np.array_equal(np.asarray(leaves[k][i]), np.asarray(first[i])) for k in running)
-        for i in range(len(first))
-    ]
-    batched = len(running) > 1 and any(varying)
+    def varying(cases: list[int]) -> list[bool]:
+        """Which array leaves of the models and water differ between `cases`."""
+        leaves = [jax.tree.leaves(eqx.filter((jobs[k].model, jobs[k].env), eqx.is_array)) for k in cases]
+        return [
+            any(not np.array_equal(np.asarray(x[i]), np.asarray(leaves[0][i])) for x in leaves)
+            for i in range(len(leaves[0]))
+        ]
+
+    running = list(range(len(jobs)))
+    outcomes: list = [None] * len(jobs)
+    batched = len(jobs) > 1 and any(varying(running))
+    if batched:  # each case's equilibrium first, for the sweep to start from (run_scene solves its own)
+        outcomes = [_start(job) for job in jobs]
+        running = [k for k, outcome in enumerate(outcomes) if not isinstance(outcome, str)]
+        batched = len(running) > 1 and any(varying(running))
     if batched:
         runs = _sweep_batch(
             [jobs[k] for k in running],
             [outcomes[k] for k in running],
-            [leaves[k] for k in running],
-            varying,
+            [jax.tree.leaves(eqx.filter((jobs[k].model, jobs[k].env), eqx.is_array)) for k in running],
+            varying(running),
             duration,
             dt_out,
             progress,
