@@ -7,7 +7,7 @@ A model built without it raises [`jaxcable.Float64Error`][], which says so.
 
 The names here are the ones a user needs day to day: the model and the sea (regular
 waves, and irregular ones realised from a spectrum), the motions of supports, the entry
-points (simulate, solve_statics, stiffness, sweep, calibrate, advise, check_derivative, reading and
+points (simulate, solve_statics, stiffness, sweep, calibrate, advise, check_derivative and check_gradient, reading and
 running scenes, and campaigns of load cases) with their results, the extremes of a response over realisations, its
 fatigue damage, and the solvers. The rest is grouped in
 public modules:
@@ -55,6 +55,7 @@ if TYPE_CHECKING:
     from ._derivative_check import DerivativeCheck as DerivativeCheck
     from ._derivative_check import DerivativeWarning as DerivativeWarning
     from ._derivative_check import check_derivative as check_derivative
+    from ._derivative_check import check_gradient as check_gradient
     from ._model.materials import AbstractTensionLaw as AbstractTensionLaw
     from ._model.materials import KelvinVoigt as KelvinVoigt
     from ._model.materials import LinearElastic as LinearElastic

@@ -234,13 +234,8 @@ def check_derivative(
     if mode not in ("reverse", "forward"):
         raise ValueError(f"check_derivative: mode must be 'reverse' or 'forward', got {mode!r}")
 
-    def scalar(x):
-        value = jnp.asarray(f(x))
-        if value.shape != ():
-            raise ValueError(f"check_derivative: f must return a scalar, got shape {value.shape}")
-        return value
-
-    bar = _bar(1 + 2 * len(steps), progress)
+    scalar = _scalar(f, "check_derivative")
+    bar = _bar(1 + 2 * len(steps), progress, "check_derivative")
     if mode == "reverse":
         value, gradient = jax.value_and_grad(scalar)(x)
         derivative = float(jnp.vdot(gradient, direction))
@@ -248,6 +243,102 @@ def check_derivative(
         value, tangent = jax.jvp(scalar, (x,), (direction,))
         derivative = float(tangent)
     _tick(bar)
+    differences = _differences(scalar, x, direction, steps, bar)
+    if bar is not None:
+        bar.close()
+    check = _judge(float(value), derivative, steps, differences, rtol)
+    if warn and not check.trusted:
+        warnings.warn(str(check), DerivativeWarning, stacklevel=2)
+    return check
+
+
+def check_gradient(
+    f: Callable[[jax.Array], ArrayLike],
+    x: ArrayLike,
+    *,
+    steps: Sequence[float] | None = None,
+    rtol: float = 0.02,
+    warn: bool = True,
+    progress: bool = False,
+) -> tuple[DerivativeCheck, ...]:
+    """Check every component of the gradient of a scalar `f` at `x` against central
+    differences: [`jaxcable.check_derivative`][] along each coordinate, from one
+    gradient.
+
+    Before a calibration or a design optimisation, each parameter's derivative should
+    be one to optimise on; checking them one direction at a time would take a gradient
+    per parameter, where one gradient holds them all.
+
+    **Arguments:**
+
+    - `f`: a function of one array (the parameters) returning a scalar.
+    - `x`: where to check, a float or an array of any shape.
+    - `steps`: the steps `h` of the differences, in the units of `x`, the same for
+        every component; by default `DEFAULT_STEPS` (1e-2 to 1e-7) times each
+        component's own size `|x[i]|` (or 1 where it is zero).
+    - `rtol`, `warn`, `progress`: as [`jaxcable.check_derivative`][]'s; a warning
+        names the component (its index in `x` flattened).
+
+    **Returns:**
+
+    One [`jaxcable.DerivativeCheck`][] a component of `x`, in the order of `x`
+    flattened (`x.size` of them); `all(c.trusted for c in checks)` says whether the
+    gradient is one to optimise on.
+
+    **Cost:** one gradient (`jax.grad`) and two evaluations of `f` per step and
+    component (`1 + 2 × steps × x.size`).
+
+    **Raises:**
+
+    `ValueError` for an empty `x`, a step that is not a positive finite number, a
+    non-positive `rtol`, or an `f` that does not return a scalar.
+    """
+    x = jnp.asarray(x, dtype=float)
+    if x.size == 0:
+        raise ValueError("check_gradient: x must have at least one component, got an empty array")
+    if not (rtol > 0):
+        raise ValueError(f"check_gradient: rtol must be positive, got {rtol}")
+    flat = [abs(float(v)) for v in np.asarray(x).ravel()]
+    if steps is None:
+        ladders = [tuple(s * (size if size > 0 else 1.0) for s in DEFAULT_STEPS) for size in flat]
+    else:
+        ladder = tuple(sorted((float(h) for h in steps), reverse=True))
+        if not ladder or any(not (h > 0 and math.isfinite(h)) for h in ladder):
+            raise ValueError(f"check_gradient: steps must be positive finite numbers, got {steps}")
+        ladders = [ladder] * x.size
+
+    scalar = _scalar(f, "check_gradient")
+    bar = _bar(1 + 2 * sum(len(ladder) for ladder in ladders), progress, "check_gradient")
+    value, gradient = jax.value_and_grad(scalar)(x)
+    gradient = np.asarray(gradient).ravel()
+    _tick(bar)
+    checks = []
+    for i, ladder in enumerate(ladders):
+        direction = jnp.zeros(x.size).at[i].set(1.0).reshape(x.shape)
+        differences = _differences(scalar, x, direction, ladder, bar)
+        check = _judge(float(value), float(gradient[i]), ladder, differences, rtol)
+        if warn and not check.trusted:
+            warnings.warn(f"component {i} of x: {check}", DerivativeWarning, stacklevel=2)
+        checks.append(check)
+    if bar is not None:
+        bar.close()
+    return tuple(checks)
+
+
+def _scalar(f, caller):
+    """`f`, refusing a result that is not a scalar."""
+
+    def scalar(x):
+        value = jnp.asarray(f(x))
+        if value.shape != ():
+            raise ValueError(f"{caller}: f must return a scalar, got shape {value.shape}")
+        return value
+
+    return scalar
+
+
+def _differences(scalar, x, direction, steps, bar) -> tuple[float, ...]:
+    """The central differences of `scalar` at `x` along `direction`, one a step."""
     differences = []
     for h in steps:
         above = float(scalar(x + h * direction))
@@ -255,12 +346,7 @@ def check_derivative(
         below = float(scalar(x - h * direction))
         _tick(bar)
         differences.append((above - below) / (2 * h))
-    if bar is not None:
-        bar.close()
-    check = _judge(float(value), derivative, steps, tuple(differences), rtol)
-    if warn and not check.trusted:
-        warnings.warn(str(check), DerivativeWarning, stacklevel=2)
-    return check
+    return tuple(differences)
 
 
 def _judge(value, derivative, steps, differences, rtol) -> DerivativeCheck:
@@ -296,12 +382,12 @@ def _judge(value, derivative, steps, differences, rtol) -> DerivativeCheck:
     return DerivativeCheck(value, derivative, steps, differences, settled, reference, verdict, rtol)
 
 
-def _bar(total, progress):
+def _bar(total, progress, caller):
     if not progress:
         return None
     from tqdm.auto import tqdm
 
-    return tqdm(total=total, desc="check_derivative", unit="evaluation")
+    return tqdm(total=total, desc=caller, unit="evaluation")
 
 
 def _tick(bar):

@@ -93,6 +93,41 @@ def test_a_function_that_returns_no_scalar_is_refused():
         jc.check_derivative(lambda x: jnp.array([x, x]), 0.3)
 
 
+def test_a_gradient_is_checked_component_by_component():
+    """One gradient, each component against its own central differences, at steps
+    scaled by the component's own size; a wrong component alone is named."""
+    x = jnp.array([[1.3, 0.0], [-2.0, 0.4]])
+    calls = []
+
+    def f(v):
+        calls.append(1)
+        return jnp.sin(v[0, 0]) * v[0, 0] ** 2 + v[0, 1] ** 3 + 4.0 * v[1, 0] + _sine_with_double_slope(v[1, 1])
+
+    with pytest.warns(jc.DerivativeWarning, match="component 3 of x: check_derivative: the derivative .* disagrees"):
+        checks = jc.check_gradient(f, x)
+    assert [c.verdict for c in checks] == ["agrees", "agrees", "agrees", "disagrees"]
+    exact = [np.cos(1.3) * 1.3**2 + 2 * 1.3 * np.sin(1.3), 0.0, 4.0, 2 * np.cos(0.4)]
+    assert [c.derivative for c in checks] == pytest.approx(exact, rel=1e-12, abs=1e-12)
+    assert checks[3].reference == pytest.approx(np.cos(0.4), rel=1e-6)
+    # Each component's steps from its own size; a zero component's from 1.
+    assert [c.steps[0] for c in checks] == pytest.approx([1.3e-2, 1e-2, 2e-2, 0.4e-2])
+    # One gradient (f traced once for it) and two evaluations a step and component.
+    assert len(calls) == 1 + 2 * 4 * len(jc._derivative_check.DEFAULT_STEPS)
+
+
+@pytest.mark.parametrize(
+    ("x", "keywords", "message"),
+    [
+        (jnp.zeros(0), {}, "x must have at least one component, got an empty array"),
+        (jnp.ones(2), {"steps": []}, r"steps must be positive finite numbers, got \[\]"),
+        (jnp.ones(2), {"rtol": -1.0}, "rtol must be positive, got -1.0"),
+    ],
+)
+def test_bad_arguments_to_check_gradient_are_refused_by_name(x, keywords, message):
+    with pytest.raises(ValueError, match=f"check_gradient: {message}"):
+        jc.check_gradient(lambda v: jnp.sum(v), x, **keywords)
+
+
 def _readme_line():
     model, env = jc.examples.anchored_line_in_current()
     return model, env, jc.solve_statics(model, env).state
