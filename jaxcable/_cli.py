@@ -422,7 +422,8 @@ def _scene_flags(parser: argparse.ArgumentParser) -> None:
         type=float,
         default=0.0,
         metavar="S",
-        help="leave the first S seconds (a start-up transient) out of each output channel's statistics (default 0)",
+        help="leave the first S seconds (a start-up transient) out of each line's extremes and utilisation, each "
+        "output channel's statistics and the fatigue damage (default 0)",
     )
 
 
@@ -772,11 +773,16 @@ def _run(args, given: _Input) -> int:
 
         plot_run(run, args.plot, channels)
         print(f"wrote {args.plot}{so_far}")
-    extremes = run.line_extremes()
+    # A run that failed before `--statistics-from` keeps its extremes over what it ran.
+    windowed = bool(run.steps) and run.times[-1] > args.statistics_from
+    start = args.statistics_from if windowed else 0.0
+    extremes = run.line_extremes(start)
+    if start > 0:
+        print(f"line tensions over t = {start:g} to {run.times[-1]:g} s:")
     print(table(extremes))
-    if run.steps and run.times[-1] > args.statistics_from:
-        print(statistics_table(run.channel_statistics(channels, args.statistics_from)))
-        if fatigue := run.line_fatigue(args.statistics_from):
+    if windowed:
+        print(statistics_table(run.channel_statistics(channels, start)))
+        if fatigue := run.line_fatigue(start):
             print(fatigue_table(fatigue))
     sys.stdout.flush()
     for warning in overloads(extremes, args.safety_factor):

@@ -273,6 +273,11 @@ def test_the_command_prints_channel_statistics_and_checks_their_start(tmp_path, 
     assert cli_main(["run", "anchored_line", "--duration", "2", "--no-progress", "--statistics-from", "1"]) == 0
     out = capsys.readouterr().out
     assert "statistics over t = 1 to 2 s:" in out
+    # The lines' extremes leave the same transient out.
+    lines = out.splitlines()
+    at = lines.index("line tensions over t = 1 to 2 s:")
+    assert lines[at + 1].split()[:3] == ["line", "type", "largest"]
+    assert 1.0 <= float(lines[at + 2].split()[3]) <= 2.0  # line 1's largest tension's time
     assert [line.split()[0] for line in out.splitlines() if line.startswith(("FairTen1", "AnchTen1"))] == [
         "FairTen1",
         "AnchTen1",
