@@ -311,16 +311,20 @@ def simulate(
     if statics_result is not None:
         # A start that is not an equilibrium fails the run, as a failed case of a sweep
         # does (reachable with `throw=False` only: otherwise statics raised).
-        failed = statics_result != optx.RESULTS.successful
-        result = eqx.tree_at(
-            lambda r: r.result,
-            result,
-            diffrax.RESULTS.where(failed, diffrax.RESULTS.promote(statics_result), result.result),
+        # Concrete codes are compared on the host, which compiles nothing.
+        failed = (
+            statics_result != optx.RESULTS.successful
+            if checks.traced(statics_result)
+            else bool(np.any(result_codes(statics_result) != result_codes(optx.RESULTS.successful)))
         )
-    if throw and not inside:
-        failed = result.result != diffrax.RESULTS.successful
-        message = failure_message(result.result) + (_where_failed(result, ts) if bool(failed) else "")
-        checks.raise_if(None, failed, message)
+        if failed is not False:
+            result = eqx.tree_at(
+                lambda r: r.result,
+                result,
+                diffrax.RESULTS.where(failed, diffrax.RESULTS.promote(statics_result), result.result),
+            )
+    if throw and not inside and np.any(result_codes(result.result) != result_codes(diffrax.RESULTS.successful)):
+        raise eqx.EquinoxRuntimeError(failure_message(result.result) + _where_failed(result, ts))
     if checks.differentiated((model, env, start, t0, t1, ts)):
         warn_of_slack(result.times, result.strain, undamped=_undamped(model))
     return result
