@@ -19,6 +19,7 @@ from collections.abc import Mapping, Sequence
 
 import diffrax
 import equinox as eqx
+import jax
 import jax.numpy as jnp
 import numpy as np
 import optax
@@ -146,7 +147,10 @@ def _optimise(problem, log_values, opt, max_steps, tolerance, progress):
     """Run optax from `log_values`. Returns the best iterate's log values, the losses
     up to it, whether the loss settled, whether the optimizer stalled (took no step),
     the iterations taken, and the best iterate's Jacobian, residuals and successes."""
-    state = opt.init(log_values)
+    # Optax's initial states hold weakly typed leaves (L-BFGS's line search: an integer)
+    # that the states its updates return do not: left so, `_update` compiled twice, once
+    # for each, 18-20 s each on the calibration notebook's records.
+    state = jax.tree.map(lambda x: jnp.asarray(x, dtype=jnp.asarray(x).dtype), opt.init(log_values))
     evaluated = []  # (log values, loss, report data)
     bar = _bar(max_steps, progress)
     converged, stalled, steps = False, False, 0
