@@ -19,6 +19,7 @@ import xarray as xr
 import jaxcable as jc
 from jaxcable._campaign.campaign import run_campaign
 from jaxcable._campaign.cases import case_scene, read_cases
+from jaxcable._campaign.store import cell
 from jaxcable._cli import main as cli_main
 from jaxcable.io import SceneError
 from jaxcable.io._run import run_scene
@@ -57,6 +58,7 @@ diameter = 0.03
 axial_stiffness = 5.0e7
 axial_damping_ratio = 0.5
 minimum_breaking_load = 1.0e6
+fatigue_curve = "api_stud_chain"
 
 [line_types.heavy]
 mass_per_length = 40.0
@@ -277,6 +279,17 @@ def test_the_summary_has_a_row_per_case(campaign):
         assert float(rows[1]["utilisation.w"]) == pytest.approx(float(rough["largest_tension"][k]) / 1e6, rel=1e-7)
         series = rough["FairTen1"].values
         assert float(rows[1]["maximum.FairTen1"]) == pytest.approx(series.max(), rel=1e-7)
+        # The chain's fatigue (API RP 2SK's stud chain curve, m = 3) at its most damaged
+        # segment, and that segment's damage-equivalent load at one cycle a second.
+        damage, load = float(rough["fatigue_damage"][k]), float(rough["fatigue_equivalent_load"][k])
+        assert float(rows[1]["fatigue_damage.w"]) == pytest.approx(damage, rel=1e-7) and damage > 0
+        owner, times = rough["segment_line"].values, rough["time"].values
+        worst = max(
+            (rough["tension"].values[:, j] for j in np.flatnonzero(owner == k + 1)),
+            key=lambda history: jc.damage_equivalent_load(history, 3.0, times[-1] - times[0]),
+        )
+        assert load == pytest.approx(jc.damage_equivalent_load(worst, 3.0, times[-1] - times[0]), rel=1e-12)
+        assert float(rows[1]["fatigue_equivalent_load.w"]) == pytest.approx(load, rel=1e-7)
     # The damaged case has no line e and no FairTen2; the table leaves its cells empty.
     assert rows[3]["largest_tension.e"] == "" and rows[3]["maximum.FairTen2"] == ""
     assert rows[3]["largest_tension.w"] != ""
@@ -396,6 +409,10 @@ def test_safety_factors_are_judged_and_reported(files, campaign, capsys):
     assert "warning: calm calm_seed2: line w's most probable maximum leaves a safety factor of" in err
     report = (result.folder / "report.html").read_text()
     assert "Below the required safety factor" in report and "calm_seed2" in report
+    # Tensions in kN, as the headings say; the tables hold newtons.
+    assert "<th>largest tension (kN), w</th>" in report
+    assert f"<td>{cell(float(calm['largest_tension.w']) / 1e3, 4)}</td>" in report
+    assert "<th>fatigue equivalent load (kN), w</th>" in report
     assert 'src="data:image/png;base64,' in report  # the figure, embedded
     cli_main([*argv, "--tables-only"])  # the folder's report as the campaign left it
 

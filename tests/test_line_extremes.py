@@ -335,9 +335,14 @@ def test_each_lines_fatigue_is_its_worst_segments_miner_damage(tmp_path):
     assert west.damage == pytest.approx(10 * 0.05**3 / 1000, rel=1e-12)
     assert west.life == pytest.approx(20.0 / (west.damage * 365.25 * 86400), rel=1e-12)
     assert run.line_fatigue(start=10.0)[0].damage == pytest.approx(west.damage / 2, rel=1e-12)
+    # Ten cycles of 100 kN in 20 s at m = 3, as twenty equivalent cycles (1 Hz).
+    assert west.equivalent_load == pytest.approx(1e5 * (10 / 20) ** (1 / 3), rel=1e-12)
+    assert run.line_fatigue(start=10.0)[0].equivalent_load == pytest.approx(west.equivalent_load, rel=1e-12)
     text = fatigue_table(run.line_fatigue()).splitlines()
     assert text[0] == "fatigue over t = 0 to 20 s (Miner's rule, rainflow counting):"
+    assert text[1].rstrip().endswith("DEL kN (1 Hz)")
     assert text[2].split()[:5] == ["west", "chain", "api_stud_chain", "1.250e-06", "3/4"]
+    assert float(text[2].split()[-1]) == pytest.approx(79.37, abs=0.01)
 
 
 @pytest.mark.parametrize(

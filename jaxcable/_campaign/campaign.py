@@ -114,7 +114,8 @@ def run_campaign(
     each line's fatigue damage, the case row and the software's version), written
     whole or not at all, so that a campaign killed part-way loses only its running
     batch; run again, it skips the cases with results. `summary.csv` has a row a case
-    (its values, each line's largest tension, utilisation and fatigue damage, each
+    (its values, each line's largest tension, utilisation, fatigue damage and
+    damage-equivalent load, each
     channel's maximum, minimum, mean and standard deviation; a failed case's message),
     and `groups.csv` a row for each group of cases that differ only in `seed`: each
     line's most probable maximum tension by a Gumbel fit to the seeds' maxima
@@ -542,6 +543,7 @@ def _case_dataset(run, job: _Job, channels: Sequence[str], statistics_from: floa
         ("damage", "1", "Miner's sum of the most damaged segment"),
         ("annual_damage", "1/year", "that damage per year"),
         ("life", "year", "the fatigue life at that rate"),
+        ("equivalent_load", "N", "that segment's damage-equivalent load, one cycle a second"),
     ):
         values = [getattr(fatigue[n], field) if n in fatigue else np.nan for n in lines]
         name = "fatigue_damage" if field == "damage" else f"fatigue_{field}"

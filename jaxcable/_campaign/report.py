@@ -61,22 +61,33 @@ def write_report(
 
 
 # Each line's columns in the report's table of cases.
-_PER_LINE = ("largest_tension", "safety_factor", "fatigue_damage")
+_PER_LINE = ("largest_tension", "safety_factor", "fatigue_damage", "fatigue_equivalent_load")
+
+# The columns shown in kN, which the tables hold in N.
+_KILONEWTONS = ("largest_tension", "mpm_tension", "mpm_standard_error", "fatigue_equivalent_load")
 
 
 def _table(rows: list[dict[str, Any]], columns: list[str]) -> str:
     present = [c for c in columns if any(c in row for row in rows)]
     head = "".join(f"<th>{html.escape(_heading(c))}</th>" for c in present)
     body = "".join(
-        "<tr>" + "".join(f"<td>{html.escape(cell(row.get(c), 4))}</td>" for c in present) + "</tr>" for row in rows
+        "<tr>" + "".join(f"<td>{html.escape(cell(_shown(row.get(c), c), 4))}</td>" for c in present) + "</tr>"
+        for row in rows
     )
     return f"<table><tr>{head}</tr>{body}</table>"
 
 
+def _shown(value: Any, column: str) -> Any:
+    """A table's value as the report shows it: tensions in kN."""
+    if column.partition(".")[0] in _KILONEWTONS and isinstance(value, float):
+        return value / 1e3
+    return value
+
+
 def _heading(column: str) -> str:
     kind, _, line = column.partition(".")
-    units = {"largest_tension": " (kN)", "mpm_tension": " (kN)", "mpm_standard_error": " (kN)"}
-    return f"{kind.replace('_', ' ')}{units.get(kind, '')}" + (f", {line}" if line else "")
+    units = " (kN)" if kind in _KILONEWTONS else ""
+    return f"{kind.replace('_', ' ')}{units}" + (f", {line}" if line else "")
 
 
 def _figure(rows: list[dict[str, Any]], lines: list[str], required: float) -> str:

@@ -168,8 +168,9 @@ def _write_atomic(path: Path, data: bytes) -> None:
 
 def summary_rows(files: list[Path]) -> tuple[list[dict[str, Any]], list[str]]:
     """A row per case file: the case, its values, and per line (by name) the largest
-    tension (N), its utilisation, the largest at each end and the fatigue damage; per
-    channel its maximum, minimum, mean and standard deviation. With the columns of the
+    tension (N), its utilisation, the largest at each end, the fatigue damage and the
+    damage-equivalent load (N, 1 Hz); per channel its maximum, minimum, mean and
+    standard deviation. With the columns of the
     case table that the rows have, in order of appearance."""
     import xarray as xr
 
@@ -187,8 +188,9 @@ def summary_rows(files: list[Path]) -> tuple[list[dict[str, Any]], list[str]]:
                 row[f"safety_factor.{line}"] = _ratio(
                     case["minimum_breaking_load"].values[k], row[f"largest_tension.{line}"]
                 )
-                if "fatigue_damage" in case:
-                    row[f"fatigue_damage.{line}"] = float(case["fatigue_damage"].values[k])
+                for variable in ("fatigue_damage", "fatigue_equivalent_load"):
+                    if variable in case:
+                        row[f"{variable}.{line}"] = float(case[variable].values[k])
             if "channel" in case.coords:
                 for k, channel in enumerate(case["channel"].values):
                     for statistic in ("maximum", "minimum", "mean", "std"):

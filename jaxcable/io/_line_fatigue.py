@@ -5,14 +5,17 @@ lines has its tension history counted by rainflow and summed by Miner's rule
 ([`jaxcable.fatigue_damage`][]); the line's row is its worst segment's. The damage is
 that of the run's history from `start` on, and the life (years) its rate's: a single
 run stands for one sea state, so a design's life sums the damage rates of its sea
-states weighted by their probabilities (a campaign's work).
+states weighted by their probabilities (a campaign's work). Beside it, the worst
+segment's damage-equivalent load at one cycle a second
+([`jaxcable.damage_equivalent_load`][] at the curve's exponent): a tension range that
+compares load cases without the curve's coefficient.
 """
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from .._campaign.fatigue import TN_CURVES, fatigue_damage
+from .._campaign.fatigue import TN_CURVES, damage_equivalent_load, fatigue_damage
 from ._columns import aligned
 from ._scene import BuiltScene, SceneError
 from ._statistics import from_start
@@ -30,6 +33,9 @@ class LineFatigue:
     - `damage`: Miner's sum (–) of the worst segment over the counted history.
     - `segment`: that segment, numbered from end A from 1.
     - `annual_damage` (1/year) and `life` (years) at that rate.
+    - `equivalent_load`: that segment's damage-equivalent load (N) at the curve's
+        exponent m, one equivalent cycle a second of the counted interval (1 Hz):
+        `(Σ n_i ΔT_i^m / (end − start))^(1/m)`.
     - `start`, `end`: the counted interval (s).
     """
 
@@ -41,6 +47,7 @@ class LineFatigue:
     segment: int
     annual_damage: float
     life: float
+    equivalent_load: float
     start: float
     end: float
 
@@ -85,6 +92,9 @@ def line_fatigue(
                 segment=worst + 1,
                 annual_damage=r.annual_damage,
                 life=r.life,
+                equivalent_load=damage_equivalent_load(
+                    np.asarray(tension)[kept, np.asarray(segments)[worst]], curve.exponent, t[-1] - t[0]
+                ),
                 start=float(t[0]),
                 end=float(t[-1]),
             )
@@ -98,7 +108,7 @@ def table(rows: tuple[LineFatigue, ...], limit: int = TABLE_ROWS) -> str:
     if not rows:
         return ""
     shown = sorted(rows, key=lambda r: r.damage, reverse=True)[:limit]
-    heading = ["line", "type", "T–N curve", "damage", "segment", "per year", "life (years)"]
+    heading = ["line", "type", "T–N curve", "damage", "segment", "per year", "life (years)", "DEL kN (1 Hz)"]
     body = [
         [
             r.line,
@@ -108,6 +118,7 @@ def table(rows: tuple[LineFatigue, ...], limit: int = TABLE_ROWS) -> str:
             f"{r.segment}/{r.segments}",
             f"{r.annual_damage:.3e}",
             "inf" if not np.isfinite(r.life) else f"{r.life:.4g}",
+            f"{r.equivalent_load / 1e3:.4g}",
         ]
         for r in shown
     ]
