@@ -47,47 +47,17 @@ def pytest_configure(config):
 # one worker they were the slow suite's long pole (30 min of it, 2 cores).
 SPLIT_FILES = ("tests/test_notebooks.py",)
 
-# In the slow suite (`-m slow`) these files' tests are each a unit too, and all the
-# split units start first: each file held 5-8 minutes of slow tests, and a file left to
-# the end ran alone on one worker while the other idled (30:08 on a fresh clone, for 56
-# CPU-minutes over 2 workers). Their slow tests share no module fixture, but for
-# test_calibrate's records at 12 segments, which two workers may then each make.
-SLOW_SPLIT_FILES = (
-    "tests/test_calibrate.py",
-    "tests/test_derivative_check.py",
-    "tests/test_parameter_derivatives.py",
-    "tests/test_statics_fuzz.py",
-    "tests/test_stiffness.py",
-)
-
-
-def _slow_suite(config) -> bool:
-    return config.getoption("markexpr", "") == "slow"
-
-
-def _split_files(config) -> tuple[str, ...]:
-    return SPLIT_FILES + (SLOW_SPLIT_FILES if _slow_suite(config) else ())
-
-
-def pytest_collection_modifyitems(config, items):
-    """In the slow suite, the split files' tests first (see `SLOW_SPLIT_FILES`)."""
-    if _slow_suite(config):
-        split = _split_files(config)
-        items.sort(key=lambda item: item.nodeid.split("::", 1)[0] not in split)  # stable
-
 
 def pytest_xdist_make_scheduler(config, log):
-    """`--dist loadfile`, but with the tests of the split files spread across workers."""
+    """`--dist loadfile`, but with the tests of `SPLIT_FILES` spread across workers."""
     if config.getoption("dist") != "loadfile":
         return None
     from xdist.scheduler import LoadFileScheduling
 
-    split = _split_files(config)
-
     class SplitFileScheduling(LoadFileScheduling):
         def _split_scope(self, nodeid: str) -> str:
             path = nodeid.split("::", 1)[0]
-            return nodeid if path in split else path
+            return nodeid if path in SPLIT_FILES else path
 
     return SplitFileScheduling(config, log)
 
