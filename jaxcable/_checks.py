@@ -147,12 +147,12 @@ def _message(c: Condition) -> str:
     return f"{c.name} {c.requirement}, got {value}{where}"
 
 
-def guard(x, conditions: Sequence[Condition]):
+def guard(x, conditions: Sequence[Condition], hint: str = ""):
     """`x`, with an `eqx.error_if` for each traced condition, raising (at run time)
-    `EquinoxRuntimeError` naming the field if any entry breaks it."""
+    `EquinoxRuntimeError` naming the field if any entry breaks it, followed by `hint`."""
     for c in conditions:
         if _traced(c):
-            x = eqx.error_if(x, jnp.any(c.bad), f"{c.name} {c.requirement}")
+            x = eqx.error_if(x, jnp.any(c.bad), f"{c.name} {c.requirement}{hint}")
     return x
 
 

@@ -542,8 +542,37 @@ def test_bad_value_in_a_traced_model_is_named():
     bad = eqx.tree_at(lambda m: m.line.tension_law.axial_stiffness, model, -model.line.tension_law.axial_stiffness)
     with pytest.raises(ValueError, match="LineType.tension_law.axial_stiffness must be positive, got -"):
         jc.solve_statics(bad, env)
-    with pytest.raises(eqx.EquinoxRuntimeError, match="LineType.tension_law.axial_stiffness must be positive"):
+    with pytest.raises(
+        eqx.EquinoxRuntimeError,
+        match=r"LineType.tension_law.axial_stiffness must be positive; under jax.vmap, solve_statics\(\.\.\., "
+        r"throw=False\) solves the other cases",
+    ):
         eqx.filter_jit(lambda m: jc.solve_statics(m, env))(bad)
+
+
+def test_a_bad_case_in_a_vmapped_solve_is_named_and_the_others_solved():
+    """`jax.vmap` of `solve_statics(..., throw=False)` over three stiffnesses, the second
+    negative: it once raised for the whole batch. Now the good cases are each their own
+    equilibrium, the bad one fails at once (no steps, its free nodes NaN), and `failures()`
+    names its case, the field and the value."""
+    model = catenary_model(4)
+    env = jc.Environment(water_density=RHO, gravity=G)
+    stiffness = model.line.tension_law.axial_stiffness
+
+    def scaled(factor):
+        return eqx.tree_at(lambda m: m.line.tension_law.axial_stiffness, model, factor * stiffness)
+
+    batch = jax.vmap(lambda f: jc.solve_statics(scaled(f), env, throw=False))(jnp.array([1.0, -1.0, 2.0]))
+    assert batch.failures() == {
+        1: f"solve_statics: invalid input: LineType.tension_law.axial_stiffness must be positive, "
+        f"got {-float(np.ravel(stiffness)[0]):g}"
+    }
+    assert int(batch.steps[1]) == 0 and np.all(np.isnan(np.asarray(batch.state.positions[1][model.free_nodes])))
+    assert np.asarray(batch.invalid_input)[[0, 2]].tolist() == [-1, -1] and int(batch.invalid_input[1]) >= 0
+    for case, factor in ((0, 1.0), (2, 2.0)):
+        alone = jc.solve_statics(scaled(factor), env)
+        np.testing.assert_allclose(batch.state.positions[case], alone.state.positions, rtol=0, atol=1e-6)
+    assert jc.solve_statics(model, env).failures() == {}
 
 
 # ---------------------------------------------------------------------------------------

@@ -688,5 +688,7 @@ def _solution(model: CableNetwork, env: Environment, law: _Law, positions, itera
         required_strain=put(np.float64(required)),
         result=optx.RESULTS.successful,
         steps=put(np.int32(iterations)),
+        invalid_input=put(np.int32(-1)),
+        invalid_value=put(np.float64(np.nan)),
         method=METHOD,
     )

@@ -35,7 +35,14 @@ from .._solver.jacobian import NetworkJacobian
 from .._typing import RealScalarLike
 from .catenary import applies, catenary_statics
 from .pseudo_transient import PseudoTransient
-from .solution import FORCE_TOLERANCE, MAX_REQUIRED_STRAIN, MAX_STEPS, StaticSolution, still_water
+from .solution import (
+    FORCE_TOLERANCE,
+    MAX_REQUIRED_STRAIN,
+    MAX_STEPS,
+    StaticSolution,
+    failure_message,
+    still_water,
+)
 from .start import start_shape
 
 # Stiffness continuation (see `_equilibrium`): the softest network's typical strain,
@@ -44,12 +51,6 @@ from .start import start_shape
 SOFT_STRAIN = 0.01
 STAGES = 6
 STAGE_TOLERANCE = 1e-3
-
-# Failure's causes (`failure_message`), relative to the force scale: a node off the bed
-# whose segments carry less than `SLACK_SHARE` of it is on slack line, and a force left
-# below `STALL_SHARE` of it is close to the equilibrium.
-SLACK_SHARE = 1e-3
-STALL_SHARE = 1e-3
 
 
 def solve_statics(
@@ -109,7 +110,9 @@ def solve_statics(
         the stiffness continuation (static: a new value recompiles).
     - `force_tolerance`: the largest residual force on a free node that counts as
         equilibrium, relative to the scene's force scale (–).
-    - `throw`: raise if no equilibrium is found; otherwise check `result`.
+    - `throw`: raise if no equilibrium is found, or if a traced input breaks a
+        requirement; otherwise check `result` (and `StaticSolution.failures()`, which
+        says why, by case under `jax.vmap`).
 
     **Returns:**
 
@@ -124,14 +127,25 @@ def solve_statics(
     constrained nodes would have to stretch by more than `MAX_REQUIRED_STRAIN` (100 %)
     on average to reach from one to the other (a line far shorter than the distance
     between its ends). Those checks need concrete positions; under `jit` such a scene
-    fails to converge instead. `ValueError` naming the field and value of a bad input
-    (`equinox.EquinoxRuntimeError` naming the field where the model is traced). With
-    `throw=True`, `equinox.EquinoxRuntimeError` (a `RuntimeError`) if no equilibrium is
-    found, eagerly and under `jit` alike, saying why where the values are concrete.
+    fails to converge instead. `ValueError` naming the field and value of a bad input.
+    Where the model or the water is traced (built or batched inside `jax.vmap` or
+    `jit`), `equinox.EquinoxRuntimeError` naming the field with `throw=True`; with
+    `throw=False` nothing is raised: a case that breaks a requirement comes back failed,
+    with `invalid_input` set, and the other cases are solved. With `throw=True`,
+    `equinox.EquinoxRuntimeError` (a `RuntimeError`) if no equilibrium is found,
+    eagerly and under `jit` alike, saying why where the values are concrete.
     """
     check_held(model)
     start = model.node_positions if initial is None else initial.positions
-    start = checks.check(start, network_conditions(model, env))
+    conditions = network_conditions(model, env)
+    checks.enforce(conditions)
+    traced = [c for c in conditions if checks.traced((c.bad, c.value))]
+    broken = None
+    if throw:
+        start = checks.guard(start, traced, hint=_VMAP_HINT)
+    elif traced:  # a case that breaks one starts from NaN, on which the root find stops at once
+        broken = checks.violations(traced)
+        start = jnp.where(jnp.any(broken[0]), jnp.nan, start)
     if initial is None:
         # A single line in still water is a discrete catenary, found in numpy in
         # milliseconds where this solver compiles for seconds.
@@ -141,7 +155,7 @@ def solve_statics(
     _check_geometry(model, start, t)
     solution = _equilibrium(model, env, start, t, max_steps, force_tolerance, initial is None, still_water(env), False)
     if not throw:
-        return solution
+        return solution if broken is None else _with_invalid_input(solution, traced, *broken)
     failed = solution.result != optx.RESULTS.successful
     if checks.traced(failed):
         message = (
@@ -154,6 +168,31 @@ def solve_statics(
         message = failure_message(solution, force_tolerance, max_steps) if bool(failed) else ""
     residual = checks.raise_if(solution.residual, failed, message)
     return eqx.tree_at(lambda s: s.residual, solution, residual)
+
+
+# Said with the error of a traced input: under `vmap` it fails the whole batch.
+_VMAP_HINT = (
+    "; under jax.vmap, solve_statics(..., throw=False) solves the other cases and returns this one failed, and "
+    "StaticSolution.failures() names it"
+)
+
+
+def _with_invalid_input(solution: StaticSolution, conditions: list[checks.Condition], broken, values) -> StaticSolution:
+    """`solution`, failed where the traced `conditions` are `broken` (`checks.violations`,
+    with each one's first bad value), naming the first one broken and its value
+    (`StaticSolution.invalid_input`): a case of a batch that `throw=False` keeps from
+    failing the others."""
+    index = jnp.where(jnp.any(broken), jnp.argmax(broken), -1).astype(jnp.int32)
+    # As a sweep marks an invalid case; pyright takes an Enumeration's members for literals.
+    invalid: optx.RESULTS = optx.RESULTS.nonfinite_input  # pyright: ignore[reportAssignmentType]
+    result = optx.RESULTS.where(index >= 0, invalid, solution.result)
+    return dataclasses.replace(
+        solution,
+        result=result,
+        invalid_input=index,
+        invalid_value=values[jnp.maximum(index, 0)],
+        input_requirements=tuple(f"{c.name} {c.requirement}" for c in conditions),
+    )
 
 
 def prepare(
@@ -172,69 +211,6 @@ def prepare(
         return
     _required_strain.prepare(model, t)
     _equilibrium.prepare(model, env, model.node_positions, t, max_steps, force_tolerance, True, still_water(env), False)
-
-
-def failure_message(
-    solution: StaticSolution, force_tolerance: float = FORCE_TOLERANCE, max_steps: int = MAX_STEPS
-) -> str:
-    """Why `solution` (concrete, one case) is not an equilibrium, and what to try."""
-    result = solution.result
-    if solution.required_strain > MAX_REQUIRED_STRAIN:
-        return (
-            "solve_statics: the segments between two constrained nodes must stretch "
-            f"{100 * float(solution.required_strain):.3g} % to reach from one to the other, more than the "
-            f"{100 * MAX_REQUIRED_STRAIN:.0f} % allowed. Is a line's length or an end's position wrong?"
-        )
-    stretch = float(jnp.max(solution.strain))
-    if not np.isfinite(stretch) or stretch > MAX_REQUIRED_STRAIN:
-        return (
-            f"solve_statics found no equilibrium: segments were stretched by up to {100 * stretch:.3g} % and "
-            "still stretching. Loads that grow as a line stretches (the drag on a soft line, which grows with "
-            "its length) can outgrow its stiffness, and then there is no equilibrium: check the line's EA "
-            "against its drag and weight."
-        )
-    if result == optx.RESULTS.nonlinear_max_steps_reached:
-        why = f"its {max_steps} steps (max_steps) ran out"
-    elif result == optx.RESULTS.nonfinite:
-        why = "the forces became non-finite"
-    else:
-        why = "its steps stalled (every larger pseudo-time step raised the force)"
-    node = int(solution.worst_node)
-    position = np.array2string(np.asarray(solution.state.positions)[node], precision=4)
-    residual, scale = float(solution.residual), float(solution.force_scale)
-    tension, drag = float(solution.worst_tension), float(solution.worst_drag)
-    left = (
-        f"The largest force left is {residual:.4g} N, on node {node} at {position} m, against force_tolerance "
-        f"({force_tolerance}) times the scene's force scale ({scale:.4g} N)."
-    )
-    if solution.worst_on_seabed:
-        cause = (
-            f"node {node} lies on the seabed, which holds nothing sideways (statics has no friction): only the "
-            f"current's drag there ({drag:.3g} N, a fraction {drag / scale:.2g} of the force scale) and the line's "
-            f"tension ({tension:.3g} N) move it, and they were still laying the line out along the bed when {why}. "
-            f"{left} Start from a shape with the line laid out along the bed (initial=), or check the line's "
-            "length; in still water, slack line on the bed rests in any layout"
-        )
-    elif tension <= SLACK_SHARE * scale:
-        cause = (
-            f"node {node} is on slack line (its segments carry {tension:.3g} N), which has no stiffness to hold it, "
-            f"and it was still moving under its weight, buoyancy or drag ({drag:.3g} N) when {why}. {left} Check "
-            "that this stretch can rest (a line floating up, a buoy that cannot lift its line) or start from a "
-            "shape closer to its rest (initial=)"
-        )
-    elif residual <= STALL_SHARE * scale:
-        cause = (
-            f"{why} close to it, the force left a fraction {residual / scale:.2g} of the force scale, on taut line "
-            f"({tension:.4g} N) at node {node}. {left} Stiff segments whose stretch is far smaller than their turn "
-            "can stall there: start from a shape closer to the equilibrium (initial=)"
-        )
-    else:
-        cause = (
-            f"{why} far from it. {left} Check that this part of the network can rest (a line that must carry its "
-            "load nearly straight, a buoy that cannot lift its line), or start from a shape closer to the "
-            "equilibrium (initial=)"
-        )
-    return f"solve_statics found no equilibrium: {cause}; from Python, max_steps allows more steps."
 
 
 def _check_geometry(model: CableNetwork, start, t) -> None:
@@ -414,6 +390,8 @@ def _equilibrium(model, env, start, t, max_steps, force_tolerance, shaped, still
         required_strain=needed,
         result=result,
         steps=jnp.sum(stage_steps).astype(jnp.int32),
+        invalid_input=jnp.asarray(-1, jnp.int32),
+        invalid_value=jnp.asarray(jnp.nan),
     )
 
 
