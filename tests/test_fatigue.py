@@ -60,6 +60,11 @@ def test_the_damage_equivalent_load_of_a_sine_is_its_range():
     curve = jc.TN_CURVES["api_polyester"]
     result = jc.fatigue_damage(tension, t, curve, breaking_load=2.0e6)
     assert result.damage == pytest.approx(20 / (25000.0 * (8.0e4 / 2.0e6) ** -5.2), rel=1e-12)
+    # The same from the damage's own cycles, uncounted again; and 2A × 2^(1/m) at half the cycles.
+    assert result.equivalent_load(5.2, 20) == pytest.approx(8.0e4, rel=1e-12)
+    assert result.equivalent_load(3.0, 10) == pytest.approx(8.0e4 * 2 ** (1 / 3), rel=1e-12)
+    with pytest.raises(ValueError, match="exponent must be a positive number, got -1.0"):
+        result.equivalent_load(-1.0, 20)
 
 
 def test_the_standards_curves_in_both_forms():

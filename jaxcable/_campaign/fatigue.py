@@ -171,6 +171,11 @@ class FatigueDamage:
     counts: np.ndarray
     curve: str
 
+    def equivalent_load(self, exponent: SupportsFloat, equivalent_cycles: SupportsFloat) -> float:
+        """The damage-equivalent load (N) of these cycles: as
+        [`jaxcable.damage_equivalent_load`][] of the history, without counting it again."""
+        return _equivalent_range(self.ranges, self.counts, *_equivalence(exponent, equivalent_cycles))
+
 
 def fatigue_damage(
     tension: npt.ArrayLike,
@@ -227,6 +232,18 @@ def damage_equivalent_load(tension: npt.ArrayLike, exponent: SupportsFloat, equi
     `equivalent_cycles` times, does the damage of the history's rainflow cycles under a
     T–N curve of slope `exponent` (m): `(Σ n_i ΔT_i^m / N_eq)^(1/m)`. Independent of
     the curve's coefficient, so a way to compare load cases without one."""
+    m, cycles = _equivalence(exponent, equivalent_cycles)
+    ranges, _, counts = rainflow_cycles(tension)
+    return _equivalent_range(ranges, counts, m, cycles)
+
+
+def _equivalent_range(ranges: np.ndarray, counts: np.ndarray, m: float, cycles: float) -> float:
+    """`(Σ n_i ΔT_i^m / N_eq)^(1/m)` (N) of rainflow cycles."""
+    return float((np.sum(counts * ranges**m) / cycles) ** (1.0 / m))
+
+
+def _equivalence(exponent: SupportsFloat, equivalent_cycles: SupportsFloat) -> tuple[float, float]:
+    """A damage-equivalent load's exponent m and equivalent cycles, checked."""
     m, cycles = float(exponent), float(equivalent_cycles)
     if not (math.isfinite(m) and m > 0):
         raise ValueError(f"damage_equivalent_load: exponent must be a positive number, got {exponent!r}")
@@ -234,5 +251,4 @@ def damage_equivalent_load(tension: npt.ArrayLike, exponent: SupportsFloat, equi
         raise ValueError(
             f"damage_equivalent_load: equivalent_cycles must be a positive number, got {equivalent_cycles!r}"
         )
-    ranges, _, counts = rainflow_cycles(tension)
-    return float((np.sum(counts * ranges**m) / cycles) ** (1.0 / m))
+    return m, cycles

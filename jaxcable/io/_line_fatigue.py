@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._campaign.fatigue import TN_CURVES, damage_equivalent_load, fatigue_damage
+from .._campaign.fatigue import TN_CURVES, fatigue_damage
 from ._columns import aligned
 from ._scene import BuiltScene, SceneError
 from ._statistics import from_start
@@ -92,9 +92,7 @@ def line_fatigue(
                 segment=worst + 1,
                 annual_damage=r.annual_damage,
                 life=r.life,
-                equivalent_load=damage_equivalent_load(
-                    np.asarray(tension)[kept, np.asarray(segments)[worst]], curve.exponent, t[-1] - t[0]
-                ),
+                equivalent_load=r.equivalent_load(curve.exponent, t[-1] - t[0]),
                 start=float(t[0]),
                 end=float(t[-1]),
             )
