@@ -11,6 +11,13 @@ DEFAULT_XLA_FLAGS = os.environ.get("XLA_FLAGS", "")
 if "xla_cpu_use_fusion_emitters" not in DEFAULT_XLA_FLAGS:
     os.environ["XLA_FLAGS"] = f"{DEFAULT_XLA_FLAGS} --xla_cpu_use_fusion_emitters=false".strip()
 
+# One thread for each worker's XLA kernels, as `jaxcable run` has (`_cli._one_kernel_thread`):
+# the suite runs a worker a core, and each backend's default pool of a thread a core
+# handed a run's microsecond kernels between threads that the other worker needed. Ten
+# slow tests on 2 workers took 131 s with it against 173 s without (cold caches). The
+# notebooks' kernels inherit it. A `PJRT_NPROC` the caller set wins.
+os.environ.setdefault("PJRT_NPROC", "1")
+
 import jax  # noqa: E402 (after XLA's flags)
 import pytest  # noqa: E402
 
