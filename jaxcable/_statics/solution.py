@@ -60,8 +60,9 @@ class StaticSolution(eqx.Module):
     - `invalid_input`: which of `input_requirements` the inputs break, the first one;
         −1 where they break none. Only a traced input (a model built or batched inside
         `jax.vmap` or `jit`) solved with `throw=False` can break one: a concrete one is
-        refused before solving, and `throw=True` raises. Such a case's `result` is a
-        failure and its other fields mean nothing.
+        refused before solving, and `throw=True` raises. Such a case's `result` is
+        `optimistix.RESULTS.nonfinite_input` (as a sweep marks one), its free nodes
+        are NaN and its other fields mean nothing.
     - `invalid_value`: the first entry of that field that breaks it; NaN where none.
     - `input_requirements`: what the model's and the water's fields require, as
         `"LineType.tension_law.axial_stiffness must be positive"`, where the inputs
@@ -118,6 +119,7 @@ class StaticSolution(eqx.Module):
 
 
 def _entry(leaf, index: tuple[int, ...]):
+    """One case's entry of a batched leaf."""
     return leaf[index]
 
 
