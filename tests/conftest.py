@@ -1,3 +1,4 @@
+import collections
 import gc
 import os
 
@@ -10,13 +11,6 @@ import os
 DEFAULT_XLA_FLAGS = os.environ.get("XLA_FLAGS", "")
 if "xla_cpu_use_fusion_emitters" not in DEFAULT_XLA_FLAGS:
     os.environ["XLA_FLAGS"] = f"{DEFAULT_XLA_FLAGS} --xla_cpu_use_fusion_emitters=false".strip()
-
-# One thread for each worker's XLA kernels, as `jaxcable run` has (`_cli._one_kernel_thread`):
-# the suite runs a worker a core, and each backend's default pool of a thread a core
-# handed a run's microsecond kernels between threads that the other worker needed. Ten
-# slow tests on 2 workers took 131 s with it against 173 s without (cold caches). The
-# notebooks' kernels inherit it. A `PJRT_NPROC` the caller set wins.
-os.environ.setdefault("PJRT_NPROC", "1")
 
 import jax  # noqa: E402 (after XLA's flags)
 import pytest  # noqa: E402
@@ -47,6 +41,19 @@ def pytest_configure(config):
     # the processes the tests start (which read the environment).
     if cache is not None and not {"JAXCABLE_CACHE_DIR", "JAX_COMPILATION_CACHE_DIR"} & set(os.environ):
         os.environ["JAXCABLE_CACHE_DIR"] = str(cache.mkdir("jaxcable"))
+    # In the slow suite, one thread for each worker's XLA kernels, as `jaxcable run` has
+    # (`_cli._one_kernel_thread`): a worker a core, and a backend's default pool of a thread
+    # a core handed a run's microsecond kernels between threads the other worker needed.
+    # Ten slow tests on 2 workers took 131 s with it against 173 s without (cold caches),
+    # and the slow suite 55:17 CPU-minutes against about 57. The default suite, mostly
+    # compiling, took 27:41 with it against 26:11 without. Set here, before xdist starts
+    # the workers, which inherit it, as the notebooks' kernels do; the caller's wins.
+    if _slow_suite(config):
+        os.environ.setdefault("PJRT_NPROC", "1")
+
+
+def _slow_suite(config) -> bool:
+    return config.getoption("markexpr", "") == "slow"
 
 
 # Files whose tests are each a unit of work of their own under `--dist loadfile`, which
@@ -55,16 +62,67 @@ def pytest_configure(config):
 SPLIT_FILES = ("tests/test_notebooks.py",)
 
 
+# The units of work (files; a split file's tests) that take longest, in seconds of a fresh
+# clone's run on 2 workers (`--durations`, summed by file), handed to the workers first:
+# xdist hands out files by their number of tests, so a unit of a few long tests came last
+# and ran alone while the other worker idled (1:50 of the slow suite's 29:29 on 55:17
+# CPU-minutes). The rest follow, the files with the most tests first, as xdist orders them.
+LONGEST = {
+    "default": {
+        "tests/test_sweep.py": 111,
+        "tests/test_calibrate.py": 65,
+        "tests/test_specialisation.py": 54,
+        "tests/test_gradients.py": 52,
+        "tests/test_statics.py": 45,
+        "tests/test_campaign.py": 43,
+        "tests/test_simulate_api.py": 42,
+        "tests/test_dynamics.py": 38,
+        "tests/test_blocks.py": 37,
+    },
+    "slow": {
+        "tests/test_stiffness.py": 410,
+        "tests/test_calibrate.py": 318,
+        "tests/test_statics_fuzz.py": 292,
+        "tests/test_notebooks.py::test_notebook_runs[design_by_gradients]": 268,
+        "tests/test_parameter_derivatives.py": 249,
+        "tests/test_derivative_check.py": 159,
+        "tests/test_notebooks.py::test_notebook_runs[branched_systems]": 156,
+        "tests/test_notebooks.py::test_notebook_runs[derivatives_through_slack]": 152,
+        "tests/test_notebooks.py::test_notebook_runs[calibration]": 127,
+        "tests/test_simulate_api.py": 121,
+        "tests/test_notebooks.py::test_notebook_runs[growing_elements]": 91,
+        "tests/test_jacobian.py": 91,
+        "tests/test_sweep.py": 83,
+        "tests/test_notebooks.py::test_notebook_runs[cnoidal_loads]": 69,
+    },
+}
+
+
+def _unit(nodeid: str) -> str:
+    """The unit of work a test belongs to: its file, or itself in a `SPLIT_FILES` file."""
+    path = nodeid.split("::", 1)[0]
+    return nodeid if path in SPLIT_FILES else path
+
+
+def pytest_collection_modifyitems(config, items):
+    """The longest units first (`LONGEST`), then the files with the most tests."""
+    seconds = LONGEST["slow" if _slow_suite(config) else "default"]
+    counts = collections.Counter(item.nodeid.split("::", 1)[0] for item in items)
+    items.sort(key=lambda item: (-seconds.get(_unit(item.nodeid), 0), -counts[item.nodeid.split("::", 1)[0]]))
+
+
 def pytest_xdist_make_scheduler(config, log):
-    """`--dist loadfile`, but with the tests of `SPLIT_FILES` spread across workers."""
+    """`--dist loadfile`, but with the tests of `SPLIT_FILES` spread across workers, and
+    the units handed out in the collection's order (`pytest_collection_modifyitems`)."""
     if config.getoption("dist") != "loadfile":
         return None
     from xdist.scheduler import LoadFileScheduling
 
+    config.option.loadscopereorder = False
+
     class SplitFileScheduling(LoadFileScheduling):
         def _split_scope(self, nodeid: str) -> str:
-            path = nodeid.split("::", 1)[0]
-            return nodeid if path in SPLIT_FILES else path
+            return _unit(nodeid)
 
     return SplitFileScheduling(config, log)
 
