@@ -62,39 +62,28 @@ def _slow_suite(config) -> bool:
 SPLIT_FILES = ("tests/test_notebooks.py",)
 
 
-# The units of work (files; a split file's tests) that take longest, in seconds of a fresh
-# clone's run on 2 workers (`--durations`, summed by file), handed to the workers first:
-# xdist hands out files by their number of tests, so a unit of a few long tests came last
-# and ran alone while the other worker idled (1:50 of the slow suite's 29:29 on 55:17
-# CPU-minutes). The rest follow, the files with the most tests first, as xdist orders them.
-LONGEST = {
-    "default": {
-        "tests/test_sweep.py": 111,
-        "tests/test_calibrate.py": 65,
-        "tests/test_specialisation.py": 54,
-        "tests/test_gradients.py": 52,
-        "tests/test_statics.py": 45,
-        "tests/test_campaign.py": 43,
-        "tests/test_simulate_api.py": 42,
-        "tests/test_dynamics.py": 38,
-        "tests/test_blocks.py": 37,
-    },
-    "slow": {
-        "tests/test_stiffness.py": 410,
-        "tests/test_calibrate.py": 318,
-        "tests/test_statics_fuzz.py": 292,
-        "tests/test_notebooks.py::test_notebook_runs[design_by_gradients]": 268,
-        "tests/test_parameter_derivatives.py": 249,
-        "tests/test_derivative_check.py": 159,
-        "tests/test_notebooks.py::test_notebook_runs[branched_systems]": 156,
-        "tests/test_notebooks.py::test_notebook_runs[derivatives_through_slack]": 152,
-        "tests/test_notebooks.py::test_notebook_runs[calibration]": 127,
-        "tests/test_simulate_api.py": 121,
-        "tests/test_notebooks.py::test_notebook_runs[growing_elements]": 91,
-        "tests/test_jacobian.py": 91,
-        "tests/test_sweep.py": 83,
-        "tests/test_notebooks.py::test_notebook_runs[cnoidal_loads]": 69,
-    },
+# The slow suite's units of work (files; a split file's tests) that take longest, in
+# seconds of a fresh clone's run on 2 workers (`--durations`, summed by file), handed to
+# the workers first: xdist hands out files by their number of tests, so a unit of a few
+# long tests came last and ran alone while the other worker idled (1:50 of the slow
+# suite's 29:29 on 55:17 CPU-minutes). The rest follow, the files with the most tests
+# first, as xdist orders them. (The default suite keeps xdist's order: put in the same
+# way from its 40 longest tests, it ran 15:11 against 14:39.)
+SLOW_LONGEST = {
+    "tests/test_stiffness.py": 410,
+    "tests/test_calibrate.py": 318,
+    "tests/test_statics_fuzz.py": 292,
+    "tests/test_notebooks.py::test_notebook_runs[design_by_gradients]": 268,
+    "tests/test_parameter_derivatives.py": 249,
+    "tests/test_derivative_check.py": 159,
+    "tests/test_notebooks.py::test_notebook_runs[branched_systems]": 156,
+    "tests/test_notebooks.py::test_notebook_runs[derivatives_through_slack]": 152,
+    "tests/test_notebooks.py::test_notebook_runs[calibration]": 127,
+    "tests/test_simulate_api.py": 121,
+    "tests/test_notebooks.py::test_notebook_runs[growing_elements]": 91,
+    "tests/test_jacobian.py": 91,
+    "tests/test_sweep.py": 83,
+    "tests/test_notebooks.py::test_notebook_runs[cnoidal_loads]": 69,
 }
 
 
@@ -105,20 +94,25 @@ def _unit(nodeid: str) -> str:
 
 
 def pytest_collection_modifyitems(config, items):
-    """The longest units first (`LONGEST`), then the files with the most tests."""
-    seconds = LONGEST["slow" if _slow_suite(config) else "default"]
+    """In the slow suite, the longest units first (`SLOW_LONGEST`), then the files with
+    the most tests."""
+    if not _slow_suite(config):
+        return
+    seconds = SLOW_LONGEST
     counts = collections.Counter(item.nodeid.split("::", 1)[0] for item in items)
     items.sort(key=lambda item: (-seconds.get(_unit(item.nodeid), 0), -counts[item.nodeid.split("::", 1)[0]]))
 
 
 def pytest_xdist_make_scheduler(config, log):
     """`--dist loadfile`, but with the tests of `SPLIT_FILES` spread across workers, and
-    the units handed out in the collection's order (`pytest_collection_modifyitems`)."""
+    in the slow suite the units handed out in the collection's order
+    (`pytest_collection_modifyitems`)."""
     if config.getoption("dist") != "loadfile":
         return None
     from xdist.scheduler import LoadFileScheduling
 
-    config.option.loadscopereorder = False
+    if _slow_suite(config):
+        config.option.loadscopereorder = False
 
     class SplitFileScheduling(LoadFileScheduling):
         def _split_scope(self, nodeid: str) -> str:
