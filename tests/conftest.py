@@ -1,4 +1,3 @@
-import collections
 import gc
 import os
 
@@ -46,8 +45,9 @@ def pytest_configure(config):
     # a core handed a run's microsecond kernels between threads the other worker needed.
     # Ten slow tests on 2 workers took 131 s with it against 173 s without (cold caches),
     # and the slow suite 55:17 CPU-minutes against about 57. The default suite, mostly
-    # compiling, took 27:41 with it against 26:11 without. Set here, before xdist starts
-    # the workers, which inherit it, as the notebooks' kernels do; the caller's wins.
+    # compiling, gained nothing (27:41 CPU-minutes with it, 27:59 without). Set here,
+    # before xdist starts the workers, which inherit it, as the notebooks' kernels do;
+    # the caller's wins.
     if _slow_suite(config):
         os.environ.setdefault("PJRT_NPROC", "1")
 
@@ -62,61 +62,16 @@ def _slow_suite(config) -> bool:
 SPLIT_FILES = ("tests/test_notebooks.py",)
 
 
-# The slow suite's units of work (files; a split file's tests) that take longest, in
-# seconds of a fresh clone's run on 2 workers (`--durations`, summed by file), handed to
-# the workers first: xdist hands out files by their number of tests, so a unit of a few
-# long tests came last and ran alone while the other worker idled (1:50 of the slow
-# suite's 29:29 on 55:17 CPU-minutes). The rest follow, the files with the most tests
-# first, as xdist orders them. (The default suite keeps xdist's order: put in the same
-# way from its 40 longest tests, it ran 15:11 against 14:39.)
-SLOW_LONGEST = {
-    "tests/test_stiffness.py": 410,
-    "tests/test_calibrate.py": 318,
-    "tests/test_statics_fuzz.py": 292,
-    "tests/test_notebooks.py::test_notebook_runs[design_by_gradients]": 268,
-    "tests/test_parameter_derivatives.py": 249,
-    "tests/test_derivative_check.py": 159,
-    "tests/test_notebooks.py::test_notebook_runs[branched_systems]": 156,
-    "tests/test_notebooks.py::test_notebook_runs[derivatives_through_slack]": 152,
-    "tests/test_notebooks.py::test_notebook_runs[calibration]": 127,
-    "tests/test_simulate_api.py": 121,
-    "tests/test_notebooks.py::test_notebook_runs[growing_elements]": 91,
-    "tests/test_jacobian.py": 91,
-    "tests/test_sweep.py": 83,
-    "tests/test_notebooks.py::test_notebook_runs[cnoidal_loads]": 69,
-}
-
-
-def _unit(nodeid: str) -> str:
-    """The unit of work a test belongs to: its file, or itself in a `SPLIT_FILES` file."""
-    path = nodeid.split("::", 1)[0]
-    return nodeid if path in SPLIT_FILES else path
-
-
-def pytest_collection_modifyitems(config, items):
-    """In the slow suite, the longest units first (`SLOW_LONGEST`), then the files with
-    the most tests."""
-    if not _slow_suite(config):
-        return
-    seconds = SLOW_LONGEST
-    counts = collections.Counter(item.nodeid.split("::", 1)[0] for item in items)
-    items.sort(key=lambda item: (-seconds.get(_unit(item.nodeid), 0), -counts[item.nodeid.split("::", 1)[0]]))
-
-
 def pytest_xdist_make_scheduler(config, log):
-    """`--dist loadfile`, but with the tests of `SPLIT_FILES` spread across workers, and
-    in the slow suite the units handed out in the collection's order
-    (`pytest_collection_modifyitems`)."""
+    """`--dist loadfile`, but with the tests of `SPLIT_FILES` spread across workers."""
     if config.getoption("dist") != "loadfile":
         return None
     from xdist.scheduler import LoadFileScheduling
 
-    if _slow_suite(config):
-        config.option.loadscopereorder = False
-
     class SplitFileScheduling(LoadFileScheduling):
         def _split_scope(self, nodeid: str) -> str:
-            return _unit(nodeid)
+            path = nodeid.split("::", 1)[0]
+            return nodeid if path in SPLIT_FILES else path
 
     return SplitFileScheduling(config, log)
 
