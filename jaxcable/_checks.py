@@ -118,6 +118,11 @@ def _traced(condition: Condition) -> bool:
     return traced((condition.bad, condition.value))
 
 
+def traced_conditions(conditions: Sequence[Condition]) -> list[Condition]:
+    """The conditions on traced values: those `enforce` leaves to `guard` or `violations`."""
+    return [c for c in conditions if _traced(c)]
+
+
 def enforce(conditions: Sequence[Condition]) -> None:
     """Raise `ValueError` for the first concrete condition broken, naming the field, the
     entry (for an array) and its value. Traced conditions are `guard`'s."""

@@ -139,7 +139,7 @@ def solve_statics(
     start = model.node_positions if initial is None else initial.positions
     conditions = network_conditions(model, env)
     checks.enforce(conditions)
-    traced = [c for c in conditions if checks.traced((c.bad, c.value))]
+    traced = checks.traced_conditions(conditions)
     broken = None
     if throw:
         start = checks.guard(start, traced, hint=_VMAP_HINT)
