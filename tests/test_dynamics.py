@@ -391,14 +391,19 @@ def test_tension_law_through_slack(snap_runs, width):
     assert slack.mean() > 0.05  # the line really goes slack
     assert np.all(tension[slack] == 0.0)  # tension-only, exactly
     taut = strain >= width if width > 0 else strain > 0
-    np.testing.assert_allclose(tension[taut], C_E * strain[taut] + C_E1 * strain[taut] ** 2, rtol=1e-12)
+    # The run's strain is `stretched / length - 1`, and the law is applied to that
+    # difference as computed inside the run's program, which may round it differently from
+    # the strain it outputs by a few ε: the laws below agree to that, the law's slope
+    # (at most 2 C_E in the smoothing band) times 4ε.
+    atol = 2 * C_E * 4 * np.finfo(float).eps
+    np.testing.assert_allclose(tension[taut], C_E * strain[taut] + C_E1 * strain[taut] ** 2, rtol=1e-12, atol=atol)
     if width > 0:
         band = (strain > 0) & (strain < width)
         assert band.sum() > 10  # the smoothing band is visited
         assert np.all((tension[band] >= 0) & (tension[band] <= C_E * width + C_E1 * width**2))
         s = strain[band] / width
         law = (C_E * strain[band] + C_E1 * strain[band] ** 2) * s * s * (3 - 2 * s)
-        np.testing.assert_allclose(tension[band], law, rtol=1e-12)
+        np.testing.assert_allclose(tension[band], law, rtol=1e-12, atol=atol)
 
 
 @pytest.mark.parametrize("width", [0.0, 1e-3], ids=["sharp", "smoothed"])

@@ -44,14 +44,19 @@ def _lines(text: str, what: str) -> list[str]:
 def test_simulate_shows_simulated_seconds_and_the_same_answer(capsys):
     """`simulate(progress=True)` writes its bar in simulated seconds (to a log here:
     capsys is not a terminal), ending at the whole duration, and returns what the run
-    without a bar returns, bitwise."""
+    without a bar returns: the same steps, and the same tensions to rounding. (The bar's
+    callback makes it another program, which XLA without its optimisation passes, as
+    the default suite compiles, rounds differently, by about 1e-11 of the tension here;
+    with them the two agree bitwise.)"""
     model, env = anchored_line(n_segments=4)
     quiet = jc.simulate(model, env, 0.5, initial="rest")
     capsys.readouterr()
     shown = jc.simulate(model, env, 0.5, initial="rest", progress=True)
     lines = _lines(capsys.readouterr().err, "simulate")
     assert lines and lines[-1].startswith("simulate: 0.5/0.5 s simulated, ")
-    np.testing.assert_array_equal(shown.tension, quiet.tension)
+    for count in ("num_steps", "num_accepted_steps", "num_rejected_steps"):
+        assert int(shown.stats[count]) == int(quiet.stats[count]), count
+    np.testing.assert_allclose(shown.tension, quiet.tension, rtol=1e-10)
 
 
 def test_simulate_under_jit_shows_the_traced_duration(capsys):
