@@ -8,6 +8,7 @@ buoy to a fairlead driven in surge, in a current and a regular wave. Over its fi
 second nothing goes slack, so every derivative is well conditioned and must agree to
 0.1 %."""
 
+import jax
 import jax.numpy as jnp
 import pytest
 
@@ -135,3 +136,25 @@ def test_a_model_built_from_a_traced_length_and_junction():
         check = jc.check_derivative(fairlead_tension, jnp.array([43.0, 30.0]), direction=jnp.array(direction))
         assert check.trusted, check
         assert abs(check.derivative) > 1.0, check  # N/m: both reach the tension
+
+
+def test_a_derivative_where_a_node_is_held_by_nothing_names_the_node():
+    """A line lying slack on a frictionless seabed between two supports has an
+    equilibrium (found, without a derivative) but no derivative of it: nothing holds its
+    nodes sideways. `jax.grad` says so, naming the first such node (node 2, the first of
+    the branch's own nodes after the two junctions), in place of lineax's "operator is
+    singular"."""
+    line = jc.LineType(mass_per_length=50.0, diameter=0.08, tension_law=jc.LinearElastic(5e8))
+    env = jc.Environment(depth=DEPTH, seabed=jc.Seabed(stiffness=1e5, damping=0.0, friction=0.0))
+
+    def lowest(length):
+        ends = [[0.0, 0.0, -DEPTH], [90.0, 0.0, -DEPTH]]
+        held = {0: jc.Fixed(), 1: jc.Fixed()}
+        model = jc.CableNetwork.from_branches(ends, [jc.Branch(0, 1, line, length, 10)], held)
+        solution = jc.solve_statics(model, env)
+        return jnp.sum(solution.state.positions[:, 2]), solution
+
+    _, solution = lowest(100.0)  # 10 m longer than the supports are apart
+    assert bool(jnp.all(solution.tension == 0.0))
+    with pytest.raises(Exception, match="every segment at node 2 is slack, so nothing holds that node sideways"):
+        jax.grad(lambda length: lowest(length)[0])(100.0)

@@ -22,8 +22,10 @@ import typing
 import equinox as eqx
 import jax
 import jax.numpy as jnp
+import lineax as lx
 import numpy as np
 import optimistix as optx
+from jaxtyping import Array, Float, Int
 
 from .. import _checks as checks
 from .._equations import lagrangian as lag
@@ -421,9 +423,65 @@ def _implicit(model, env, t, value, graph: NetworkJacobian):
     of `validation/stiffness.py`'s line on the bed at N = 128: 15 such segments,
     smallest singular value 0), and the implicit derivative of every stage, which the
     `scan` computed when each root find had its own adjoint, failed in lineax there
-    although the final Jacobian is regular (condition number 1e8)."""
-    adjoint = optx.ImplicitAdjoint(linear_solver=graph)
+    although the final Jacobian is regular (condition number 1e8).
+
+    Where J is singular the equilibrium has no derivative, and the solve says which
+    node nothing holds ([`_EquilibriumSolve`][])."""
+    positions, _ = lag.full_state(model, t, jax.lax.stop_gradient(value), jnp.zeros_like(value))
+    adjoint = optx.ImplicitAdjoint(linear_solver=_EquilibriumSolve(model, graph, positions))
     return adjoint.apply(_settled, _balance, (jax.lax.stop_gradient(value), model, env, t), frozenset())[0]
+
+
+class _EquilibriumSolve(lx.AbstractLinearSolver):
+    """The network's linear solver for the implicit derivative of an equilibrium, which,
+    where the solve fails (J singular: the solution is not finite), names the first free
+    node with every segment at it slack, in place of lineax's "operator is singular".
+
+    Such a node is the usual cause: a slack segment pulls with nothing as its ends move
+    (the tension law is zero at and below zero strain), and the seabed pushes only up
+    (its friction acts on motion, not at rest), so nothing fixes the node sideways and
+    the equilibrium is not unique there. The check is on the derivative's path only:
+    a program that takes no derivative has no solve and no callback."""
+
+    graph: NetworkJacobian
+    loose: Int[Array, ""]
+    messages: tuple[str, ...] = eqx.field(static=True)
+
+    def __init__(self, model: CableNetwork, graph: NetworkJacobian, positions: Float[Array, "nodes 3"]):
+        self.graph = graph
+        taut = lag.segment_geometry(model, positions)[2] > 0
+        holding = jnp.zeros(model.n_nodes, int).at[model.segment_nodes.ravel()].add(jnp.repeat(taut, 2))
+        loose = holding[model.free_nodes] == 0
+        self.loose = jnp.where(jnp.any(loose), jnp.argmax(loose) + 1, 0)
+        self.messages = (
+            "solve_statics: the equilibrium has no derivative: the Jacobian of the free nodes' forces is singular "
+            "(or too ill-conditioned to solve) there, so the equilibrium does not depend smoothly on the inputs",
+            *(
+                f"solve_statics: the equilibrium has no derivative: every segment at node {int(node)} is slack, so "
+                "nothing holds that node sideways (a slack segment pulls with nothing, and the seabed pushes only up: "
+                "its friction acts on motion, not at rest) and the equilibrium is not unique there. Differentiate "
+                "where the line is taut at that node (shorter, or its supports further apart), or leave out what "
+                "depends on it"
+                for node in model.free_nodes
+            ),
+        )
+
+    def init(self, operator, options):
+        return self.graph.init(operator, options)
+
+    def compute(self, state, vector, options):
+        solution, result, stats = self.graph.compute(state, vector, options)
+        failed = jnp.logical_not(jnp.all(jnp.asarray([jnp.all(jnp.isfinite(x)) for x in jax.tree.leaves(solution)])))
+        return eqx.branched_error_if(solution, failed, self.loose, self.messages), result, stats
+
+    def transpose(self, state, options):
+        return self.graph.transpose(state, options)
+
+    def conj(self, state, options):
+        return self.graph.conj(state, options)
+
+    def assume_full_rank(self):
+        return self.graph.assume_full_rank()
 
 
 # optimistix takes these only as closure-free functions, which a runtime type checker's
