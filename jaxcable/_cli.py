@@ -1074,7 +1074,7 @@ def _calibrate(args) -> int:
             "warnings": result.warnings + (check.warnings if check is not None else []),
             "inflation": result.inflation,
             "residual_checks": [
-                {"record": r, "observable": o, **c._asdict()} for (r, o), c in result.residual_checks.items()
+                {"record": r, "observable": o, **dataclasses.asdict(c)} for (r, o), c in result.residual_checks.items()
             ],
         }
         if check is not None:

@@ -40,10 +40,9 @@ def test_cable_towed_along_the_flow_carries_its_tangential_drag():
     )
     times = np.linspace(0.0, 30.0, 61)
     speed = np.interp(times, [0.0, 10.0, 12.0, 30.0], [1.0, 1.0, 2.0, 2.0])
-    observables, result, success = rig.simulate(
-        times, {"speed": speed}, jc.calibration.rig_solver(rtol=1e-9, atol=1e-9)
-    )
-    assert bool(success)
+    towed = rig.simulate(times, {"speed": speed}, jc.calibration.rig_solver(rtol=1e-9, atol=1e-9))
+    observables, result = towed.observables, towed.simulation
+    assert bool(towed.success)
     c_tau = 0.5 * RHO * 0.01 * math.pi * diameter
     stretched = np.linalg.norm(np.diff(np.asarray(result.positions), axis=1), axis=-1)  # (times, segments)
     aft_of_middle = stretched[:, 1:].sum(axis=1) + 0.5 * stretched[:, 0]
@@ -99,8 +98,9 @@ def test_tow_load_is_the_support_reaction_and_exceeds_the_first_segment_tension(
     times = np.linspace(0.0, 4.0, 5)
     speeds = np.full(5, speed)
     solver = jc.calibration.rig_solver(rtol=1e-9, atol=1e-9)
-    observables, run, success = rig.simulate(times, {"speed": speeds}, solver)
-    assert bool(success)
+    towed = rig.simulate(times, {"speed": speeds}, solver)
+    observables, run = towed.observables, towed.simulation
+    assert bool(towed.success)
     # The same rig simulated plainly, from the rig's own starting state.
     initial = jc.State(run.positions[0], run.velocities[0])
     plain = jc.simulate(

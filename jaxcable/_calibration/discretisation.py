@@ -1,8 +1,8 @@
 """Whether a fit's segmentation is fine enough: its records re-predicted at finer
 segments, against their noise, and the linearised move of each fitted coefficient."""
 
+import dataclasses
 import warnings
-from typing import NamedTuple
 
 import jax.numpy as jnp
 import numpy as np
@@ -13,7 +13,8 @@ from .report import CalibrationResult
 from .towing import rig_from_conditions
 
 
-class DiscretisationCheck(NamedTuple):
+@dataclasses.dataclass(frozen=True)
+class DiscretisationCheck:
     """How far a finer segmentation moves a calibration's predictions.
 
     - `segments`: by record name, the fitted rig's segments and the finer one's.

@@ -22,10 +22,10 @@ discrepancy rather than noise. Discrepancy that hides under the noise is what
 linearised move of each fitted value.
 """
 
+import dataclasses
 import math
 import warnings
 from collections.abc import Mapping
-from typing import NamedTuple
 
 import numpy as np
 
@@ -71,7 +71,8 @@ UNCERTAIN = 0.05
 CORRELATED = 0.95
 
 
-class CalibrationResult(NamedTuple):
+@dataclasses.dataclass(frozen=True)
+class CalibrationResult:
     """What a calibration found.
 
     **Attributes:**
@@ -179,7 +180,8 @@ class CalibrationResult(NamedTuple):
         return "\n".join(lines)
 
 
-class ResidualCheck(NamedTuple):
+@dataclasses.dataclass(frozen=True)
+class ResidualCheck:
     """What one series' residuals (measured minus predicted, at the fitted values) say
     about the noise model: independent noise leaves no autocorrelation, no mean
     offset and about `n/2` runs of one sign.

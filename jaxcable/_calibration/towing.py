@@ -19,7 +19,7 @@ Two rigs are provided:
 import abc
 import inspect
 from collections.abc import Mapping
-from typing import ClassVar, NamedTuple
+from typing import ClassVar
 
 import equinox as eqx
 import jax.numpy as jnp
@@ -46,7 +46,7 @@ COEFFICIENTS = {
 """The coefficients calibration can fit, by name, with their symbols and units."""
 
 
-class TowingRun(NamedTuple):
+class TowingRun(eqx.Module):
     """A simulated towing test.
 
     - `observables`: by name, at the requested times (SI), each shape `(samples,)`.
