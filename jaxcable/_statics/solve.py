@@ -29,6 +29,7 @@ from jaxtyping import Array, Float, Int
 
 from .. import _checks as checks
 from .._equations import lagrangian as lag
+from .._model.indexing import sum_into
 from .._model.network import CableNetwork, check_held, network_conditions
 from .._model.state import State
 from .._programs import RUN_ONCE, program
@@ -449,8 +450,8 @@ class _EquilibriumSolve(lx.AbstractLinearSolver):
 
     def __init__(self, model: CableNetwork, graph: NetworkJacobian, positions: Float[Array, "nodes 3"]):
         self.graph = graph
-        taut = lag.segment_geometry(model, positions)[2] > 0
-        holding = jnp.zeros(model.n_nodes, int).at[model.segment_nodes.ravel()].add(jnp.repeat(taut, 2))
+        taut = (lag.segment_geometry(model, positions)[2] > 0).astype(positions.dtype)
+        holding = sum_into(jnp.concatenate([taut, taut]), model.topology.node_sums)  # taut segments at each node
         loose = holding[model.free_nodes] == 0
         self.loose = jnp.where(jnp.any(loose), jnp.argmax(loose) + 1, 0)
         self.messages = (
@@ -471,7 +472,7 @@ class _EquilibriumSolve(lx.AbstractLinearSolver):
 
     def compute(self, state, vector, options):
         solution, result, stats = self.graph.compute(state, vector, options)
-        failed = jnp.logical_not(jnp.all(jnp.asarray([jnp.all(jnp.isfinite(x)) for x in jax.tree.leaves(solution)])))
+        failed = result != lx.RESULTS.successful
         return eqx.branched_error_if(solution, failed, self.loose, self.messages), result, stats
 
     def transpose(self, state, options):
